@@ -1,0 +1,39 @@
+"""acausal: Modelica-like acausal modelling in Python.
+
+Write components and models with :mod:`acausal.language`, then
+:func:`simulate` them.  The engine runs one stage per module, in the order
+data flows:
+
+``flatten`` → ``partition`` → (per discrete state) ``alias`` → ``structure``
+→ ``blt`` → ``algebraic`` → ``codegen``, driven by ``translate``; then
+``events``, ``initialization`` and ``simulate``.  ``compare`` checks results
+against the Modelica reference results; ``explain`` shows the stages.
+"""
+
+from .errors import *  # noqa: F401,F403
+from .language import (
+    Boolean,
+    Component,
+    Connector,
+    Eq,
+    Experiment,
+    Flow,
+    If,
+    Integer,
+    Model,
+    Parameter,
+    Potential,
+    RealInput,
+    RealOutput,
+    StateSelect,
+    Variable,
+    der,
+    initial,
+    pre,
+    time,
+)
+from .result import Event, SimulationResult
+from .simulate import METHODS, simulate
+from .translate import Translation, translate
+
+__version__ = "0.1.0"

@@ -1,0 +1,255 @@
+"""Stage 3: alias elimination.
+
+Connections produce many equations of the forms ``a = b``, ``a = -b`` and
+``a = constant``.  Each set of variables joined by such equations keeps one
+representative; the others become aliases (``±representative`` or a
+constant) and vanish from the equation system.  Every eliminated name stays
+available in results through :attr:`AliasResult.aliases`.
+
+The representative is the member most likely to be wanted as a state:
+highest ``state_select``, then one that appears differentiated, then one with
+a fixed start value, then a component variable before a connector variable,
+then the shortest name.  Start attributes are merged into it (with the sign
+of the alias); two different fixed start values are an error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import sympy as sp
+
+from .errors import InitializationError
+from .flatten import FlatEquation, FlatVariable, der_name
+from .language import real_symbol, time
+
+__all__ = ["AliasResult", "eliminate_aliases", "derivative_order", "base_name"]
+
+
+def derivative_order(name: str) -> int:
+    """How many times ``name`` is differentiated: ``der(der(x))`` -> 2."""
+    order = 0
+    while name.startswith("der(") and name.endswith(")"):
+        name = name[4:-1]
+        order += 1
+    return order
+
+
+def base_name(name: str) -> str:
+    """The undifferentiated variable: ``der(der(x))`` -> ``x``."""
+    while name.startswith("der(") and name.endswith(")"):
+        name = name[4:-1]
+    return name
+
+
+@dataclass(frozen=True)
+class AliasResult:
+    """The output of :func:`eliminate_aliases`.
+
+    Attributes
+    ----------
+    equations : tuple of FlatEquation
+        The equations left, with aliases substituted.
+    aliases : dict
+        ``eliminated name -> expression`` of representatives and parameters.
+    variables : dict
+        ``name -> FlatVariable`` for the variables left, attributes merged.
+    eliminated : tuple of FlatEquation
+        The alias equations removed.
+    fixed_constants : tuple
+        ``(name, expression, start)`` for fixed variables found to be
+        constant: checked at initialization.
+    """
+
+    equations: tuple[FlatEquation, ...]
+    aliases: dict
+    variables: dict
+    eliminated: tuple[FlatEquation, ...]
+    fixed_constants: tuple
+
+
+def _alias_form(residual: sp.Expr, unknowns: set[str], parameters: set[str]):
+    """``([(name, coefficient), ...], constant)`` if the residual is alias-like.
+
+    Alias-like means ``c*a + constant`` (c a non-zero number) or ``a ± b``,
+    where constants are numbers and parameters (not time).
+    """
+    found = []
+    constant = sp.Integer(0)
+    for term in sp.Add.make_args(residual):
+        coeff, rest = term.as_coeff_Mul()
+        if isinstance(rest, sp.Symbol) and rest.name in unknowns:
+            found.append((rest.name, coeff))
+        elif not term.has(time) and all(s.name in parameters for s in term.free_symbols):
+            constant += term
+        else:
+            return None
+    if len(found) == 1 and found[0][1] != 0:
+        return found, constant
+    if len(found) == 2 and constant == 0 and abs(found[0][1]) == abs(found[1][1]) != 0:
+        return found, constant
+    return None
+
+
+def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, FlatVariable],
+                      parameters: set[str], keep: frozenset[str] = frozenset()) -> AliasResult:
+    """Remove alias equations from ``equations``.
+
+    Parameters
+    ----------
+    equations : tuple of FlatEquation
+    variables : dict
+        The continuous unknowns and their attributes.
+    parameters : set of str
+        Names of parameters (constants for this purpose).
+    keep : frozenset of str
+        Variables that must not be eliminated.
+    """
+    unknowns = {n for n, v in variables.items() if not v.is_discrete}
+    differentiated = set()
+    for eq in equations:
+        for sym in eq.residual.free_symbols:
+            if sym.name.startswith("der("):
+                differentiated.add(base_name(sym.name))
+
+    parent: dict[str, str] = {}
+    sign: dict[str, int] = {}  # x = sign[x] * parent[x]
+    constant_of: dict[str, sp.Expr] = {}  # root -> value
+
+    def find(x: str) -> tuple[str, int]:
+        path_sign = 1
+        node = x
+        chain = []
+        while parent.get(node, node) != node:
+            chain.append(node)
+            path_sign *= sign[node]
+            node = parent[node]
+        # compress
+        running = path_sign
+        for member in chain:
+            s = running
+            running *= sign[member]
+            parent[member], sign[member] = node, s
+        return node, path_sign
+
+    kept: list[FlatEquation] = []
+    eliminated: list[FlatEquation] = []
+    for eq in equations:
+        form = _alias_form(eq.residual, unknowns - keep, parameters)
+        if form is None:
+            kept.append(eq)
+            continue
+        found, constant = form
+        if len(found) == 1:
+            (name, coeff), = found
+            root, s = find(name)
+            if root in constant_of:
+                kept.append(eq)
+                continue
+            # coeff*name + constant = 0 -> name = -constant/coeff; root = s*name
+            constant_of[root] = sp.nsimplify(s) * (-constant / coeff)
+            eliminated.append(eq)
+            continue
+        (a, ca), (b, cb) = found
+        ra, sa = find(a)
+        rb, sb = find(b)
+        if ra == rb:
+            kept.append(eq)
+            continue
+        if ra in constant_of and rb in constant_of:
+            kept.append(eq)
+            continue
+        # ca*a + cb*b = 0 -> a = s*b with s = -cb/ca (= ±1)
+        s = int(-cb / ca)
+        # a = sa*ra, b = sb*rb  ->  ra = sa*s*sb*rb
+        link = sa * s * sb
+        if ra in constant_of:  # move the constant to the surviving root
+            constant_of[rb] = link * constant_of.pop(ra)
+        parent[ra], sign[ra] = rb, link
+        eliminated.append(eq)
+
+    # group members by root, choose representatives
+    groups: dict[str, list[str]] = {}
+    for name in list(parent):
+        root, _ = find(name)
+        groups.setdefault(root, []).append(name)
+    for root in list(constant_of):
+        groups.setdefault(root, [root])
+
+    def score(name: str):
+        v = variables[name]
+        return (-int(v.state_select), -(name in differentiated), -int(v.fixed),
+                v.role != "", name.count("."), len(name), name)
+
+    aliases: dict[str, sp.Expr] = {}
+    merged: dict[str, FlatVariable] = {}
+    fixed_constants = []
+    for root in sorted(groups):
+        members = sorted(set(groups[root]) | {root})
+        rel = {m: find(m)[1] for m in members}  # m = rel[m] * root
+        if root in constant_of:
+            value = constant_of[root]
+            for m in members:
+                aliases[m] = rel[m] * value
+                if variables[m].fixed:
+                    fixed_constants.append((m, rel[m] * value, variables[m].start))
+            continue
+        rep = min(members, key=score)
+        rep_sym = real_symbol(rep)
+        for m in members:
+            if m != rep:
+                aliases[m] = rel[m] * rel[rep] * rep_sym  # m = rel[m]*root = rel[m]*rel[rep]*rep
+        merged[rep] = _merge(rep, members, {m: rel[m] * rel[rep] for m in members}, variables)
+
+    for name, var in variables.items():
+        if name not in aliases and name not in merged and not var.is_discrete:
+            merged[name] = var
+
+    substitution = {real_symbol(n): e for n, e in aliases.items()}
+    # derivatives of aliases: der(a) -> s*der(rep), or 0 for constants
+    for eq in kept:
+        for sym in eq.residual.free_symbols:
+            if sym.name.startswith("der(") and base_name(sym.name) in aliases and sym not in substitution:
+                order = derivative_order(sym.name)
+                expr = aliases[base_name(sym.name)]
+                rep_syms = [s for s in expr.free_symbols if s.name in merged]
+                if not rep_syms:
+                    substitution[sym] = sp.Integer(0)
+                else:
+                    (rep_sym,) = rep_syms
+                    name = rep_sym.name
+                    for _ in range(order):
+                        name = der_name(name)
+                    substitution[sym] = expr.coeff(rep_sym) * real_symbol(name)
+    new_equations = tuple(FlatEquation(eq.residual.xreplace(substitution), eq.origin) for eq in kept)
+    return AliasResult(new_equations, aliases, merged, tuple(eliminated), tuple(fixed_constants))
+
+
+def _merge(rep: str, members: list[str], factor: dict[str, int], variables: dict[str, FlatVariable]):
+    """Attributes of the representative from all members (``m = factor[m] * rep``)."""
+    base = variables[rep]
+    fixed_from = None
+    start = base.start
+    for m in members:
+        v = variables[m]
+        if v.fixed:
+            value = factor[m] * v.start
+            if fixed_from is not None and abs(value - start) > 1e-10 * max(1.0, abs(start)):
+                raise InitializationError(
+                    f"conflicting initial values: {fixed_from} has fixed start "
+                    f"{variables[fixed_from].start} and {m} has fixed start {v.start}, but they are "
+                    f"connected so that {m} = {'-' if factor[m] * factor[fixed_from] < 0 else ''}"
+                    f"{fixed_from}",
+                    hint=f"remove fixed=True from one of them")
+            if fixed_from is None:
+                fixed_from, start = m, value
+    if fixed_from is None:
+        # no fixed value: take a non-zero start as the guess, representative first
+        for m in [rep] + [x for x in members if x != rep]:
+            if variables[m].start != 0:
+                start = factor[m] * variables[m].start
+                break
+    state_select = max(variables[m].state_select for m in members)
+    nominal = max(variables[m].nominal for m in members)
+    return replace(base, start=start, fixed=fixed_from is not None, state_select=state_select,
+                   nominal=nominal)

@@ -1,0 +1,265 @@
+"""Stage 7: generate straight-line Python code from the solution steps.
+
+For one system the generator writes a factory ``make(p)`` that binds the
+parameter values and returns functions of ``(t, x)``:
+
+* ``derivatives`` — only the steps the state derivatives need (the hot loop);
+* ``crossings`` — only the steps the watched relations need;
+* ``outputs`` — every unknown, for the output grid and events.
+
+Expressions are printed for scalars with the ``math`` module (faster than
+numpy on scalars) after common subexpression elimination.  The generated
+source is kept (:attr:`GeneratedCode.source`) and is the same text for the
+same model every time.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+from .algebraic import Assign, LinearSolve, NewtonSolve
+from .errors import SolverError
+
+__all__ = ["GeneratedCode", "generate", "newton_solve"]
+
+
+class _Printer(PythonCodePrinter):
+    """Python printer that also prints table functions by name."""
+
+    def __init__(self, functions: dict) -> None:
+        super().__init__({"fully_qualified_modules": True, "standard": "python3"})
+        self.functions = functions
+
+    def _print_Function(self, expr):  # noqa: N802 - sympy API
+        impl = getattr(type(expr), "_imp_", None) or getattr(expr.func, "_imp_", None)
+        if impl is not None:
+            name = f"_f_{type(expr).__name__}"
+            self.functions[name] = impl
+            return f"{name}({', '.join(self._print(a) for a in expr.args)})"
+        return super()._print_Function(expr)
+
+    def _print_Symbol(self, expr):  # noqa: N802
+        return expr.name
+
+
+@dataclass(frozen=True)
+class GeneratedCode:
+    """Generated source and the factory it defines."""
+
+    source: str
+    make: Callable = field(repr=False, compare=False)
+    n_derivative_steps: int
+    n_steps: int
+
+
+def newton_solve(residual: Callable, guess: np.ndarray, what: str, tol: float = 1e-10,
+                 max_iter: int = 50) -> np.ndarray:
+    """Newton's method with a finite-difference Jacobian and step halving."""
+    z = np.array(guess, dtype=float)
+    r = np.asarray(residual(z), dtype=float)
+    for _ in range(max_iter):
+        norm = np.max(np.abs(r)) if r.size else 0.0
+        if norm <= tol * (1.0 + np.max(np.abs(z), initial=0.0)):
+            return z
+        n = z.size
+        J = np.empty((n, n))
+        for k in range(n):
+            h = 1e-7 * max(1.0, abs(z[k]))
+            dz = z.copy()
+            dz[k] += h
+            J[:, k] = (np.asarray(residual(dz), dtype=float) - r) / h
+        try:
+            step = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError as exc:
+            raise SolverError(f"Newton iteration for {what}: singular Jacobian",
+                              hint="the equations may not determine these unknowns here") from exc
+        lam = 1.0
+        for _ in range(30):
+            trial = z + lam * step
+            r_trial = np.asarray(residual(trial), dtype=float)
+            if np.all(np.isfinite(r_trial)) and np.max(np.abs(r_trial)) < norm:
+                break
+            lam *= 0.5
+        z, r = trial, r_trial
+    raise SolverError(f"Newton iteration for {what} did not converge in {max_iter} iterations "
+                      f"(residual {np.max(np.abs(r)):.3g})",
+                      hint="check start values (they are the initial guesses) of the unknowns named")
+
+
+def _needed(steps: Sequence, targets: set[str]) -> list[int]:
+    """Indices of the steps needed for ``targets`` (in order)."""
+    needed = set(targets)
+    chosen = []
+    for k in range(len(steps) - 1, -1, -1):
+        step = steps[k]
+        if needed & set(step.defines):
+            chosen.append(k)
+            needed |= step.reads()
+    return sorted(chosen)
+
+
+def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
+             unknowns: Sequence[str], parameters: Sequence[str],
+             crossings: Sequence[sp.Expr] = (), name: str = "system",
+             guesses: dict[str, float] | None = None) -> GeneratedCode:
+    """Generate the code of one system.
+
+    Parameters
+    ----------
+    steps : sequence of Assign, LinearSolve, NewtonSolve
+    states : names read from ``x``
+    derivatives : unknowns returned by ``derivatives`` (one per state)
+    unknowns : every unknown, in the order ``outputs`` returns them
+    parameters : names bound from ``p`` in this order
+    crossings : expressions returned by ``crossings``
+    guesses : start values, the first guesses of Newton iterations
+    """
+    guesses = guesses or {}
+    local: dict[str, str] = {}
+    for k, n in enumerate(states):
+        local[n] = f"x{k}"
+    for k, n in enumerate(unknowns):
+        local[n] = f"v{k}"
+    for k, n in enumerate(parameters):
+        local[n] = f"p{k}"
+    local["time"] = "t"
+    rename = {}
+
+    def loc(expr: sp.Expr) -> sp.Expr:
+        mapping = {}
+        for s in expr.free_symbols:
+            if s.name not in local:
+                raise SolverError(f"generated code for {name}: {s.name} is not known here")
+            target = rename.get(s.name)
+            if target is None:
+                target = rename[s.name] = sp.Symbol(local[s.name], real=True)
+            mapping[s] = target
+        return expr.xreplace(mapping)
+
+    functions: dict = {}
+    printer = _Printer(functions)
+    blocks_code: list[list[str]] = []
+    for index, step in enumerate(steps):
+        blocks_code.append(_step_code(step, index, loc, printer, local))
+
+    deriv_steps = _needed(steps, set(derivatives))
+    cross_reads = set()
+    for g in crossings:
+        cross_reads |= {s.name for s in g.free_symbols}
+    cross_steps = _needed(steps, cross_reads)
+
+    lines = [f"# generated by acausal for {name}", "def make(p):"]
+    if parameters:
+        lines.append(f"    {', '.join(local[n] for n in parameters)}, = p")
+    lines.append("    _state = {}")
+    for index, step in enumerate(steps):
+        if isinstance(step, NewtonSolve):
+            start = [float(guesses.get(t, 0.0)) for t in step.tears]
+            lines.append(f"    _start{index} = np.array({start!r})")
+    unpack = f"        {', '.join(local[n] for n in states)}, = x" if states else None
+
+    def function(fname: str, chosen: list[int], result: str) -> None:
+        lines.append(f"    def {fname}(t, x):")
+        if unpack:
+            lines.append(unpack)
+        for k in chosen:
+            lines.extend("        " + line for line in blocks_code[k])
+        lines.append(f"        return {result}")
+
+    function("derivatives", deriv_steps, _tuple(local[d] for d in derivatives))
+    cross_exprs = [loc(g) for g in crossings]
+    function("crossings", cross_steps, _tuple(printer.doprint(g) for g in cross_exprs))
+    function("outputs", list(range(len(steps))), _tuple(local[u] for u in unknowns))
+    lines.append("    return derivatives, crossings, outputs")
+    source = "\n".join(lines) + "\n"
+    namespace = {"math": math, "np": np, "_newton": newton_solve, "_linalg_error": _linalg_error,
+                 "_solve": _dense_solve}
+    namespace.update(functions)
+    exec(compile(source, f"<acausal {name}>", "exec"), namespace)
+    return GeneratedCode(source, namespace["make"], len(deriv_steps), len(steps))
+
+
+def _tuple(items) -> str:
+    items = list(items)
+    if not items:
+        return "()"
+    return "(" + ", ".join(items) + ("," if len(items) == 1 else "") + ")"
+
+
+def _linalg_error(what: str):
+    return SolverError(f"singular linear system in {what}",
+                       hint="the equations do not determine these unknowns in this mode; two "
+                            "elements may lock the same motion (see docs)")
+
+
+def _dense_solve(A, b, what):
+    try:
+        return np.linalg.solve(A, b)
+    except np.linalg.LinAlgError:
+        raise _linalg_error(what) from None
+
+
+def _cse_lines(exprs: list[sp.Expr], printer, prefix: str) -> tuple[list[str], list[str]]:
+    """Common subexpressions (as lines) and the reduced expressions (printed)."""
+    symbols = sp.numbered_symbols(prefix)
+    replacements, reduced = sp.cse(exprs, symbols=symbols, optimizations=None, order="canonical")
+    lines = [f"{sym} = {printer.doprint(e)}" for sym, e in replacements]
+    return lines, [printer.doprint(e) for e in reduced]
+
+
+def _step_code(step, index: int, loc, printer, local) -> list[str]:
+    prefix = f"c{index}_"
+    if isinstance(step, Assign):
+        pre, (text,) = _cse_lines([loc(step.expression)], printer, prefix)
+        return pre + [f"{local[step.variable]} = {text}"]
+    what = repr("; ".join(step.origins[:3]))
+    inner = [(local[a.variable], loc(a.expression)) for a in step.inner]
+    if isinstance(step, LinearSolve):
+        n = len(step.tears)
+        flat = [loc(e) for row in step.A for e in row] + [loc(e) for e in step.b]
+        pre, printed = _cse_lines(flat, printer, prefix)
+        A = [printed[r * n:(r + 1) * n] for r in range(n)]
+        b = printed[n * n:]
+        z = [local[t] for t in step.tears]
+        lines = list(pre)
+        if n == 1:
+            lines += [f"_a = {A[0][0]}", "if _a == 0.0:", f"    raise _linalg_error({what})",
+                      f"{z[0]} = ({b[0]}) / _a"]
+        elif n == 2:
+            lines += [f"_a00 = {A[0][0]}", f"_a01 = {A[0][1]}", f"_a10 = {A[1][0]}", f"_a11 = {A[1][1]}",
+                      f"_b0 = {b[0]}", f"_b1 = {b[1]}", "_det = _a00 * _a11 - _a01 * _a10",
+                      "if _det == 0.0:", f"    raise _linalg_error({what})",
+                      f"{z[0]} = (_b0 * _a11 - _a01 * _b1) / _det",
+                      f"{z[1]} = (_a00 * _b1 - _b0 * _a10) / _det"]
+        else:
+            rows = ", ".join("(" + ", ".join(r) + ")" for r in A)
+            lines += [f"_A = np.array(({rows},))", f"_b = np.array(({', '.join(b)},))",
+                      f"{', '.join(z)}, = _solve(_A, _b, {what})"]
+        for var, expr in inner:
+            ipre, (text,) = _cse_lines([expr], printer, f"{prefix}i{var}_")
+            lines += ipre + [f"{var} = {text}"]
+        return lines
+    # NewtonSolve: a local residual function over the tearing unknowns
+    z = [local[t] for t in step.tears]
+    lines = [f"def _res{index}(_z):", f"    {', '.join(z)}, = _z"]
+    for var, expr in inner:
+        ipre, (text,) = _cse_lines([expr], printer, f"{prefix}i{var}_")
+        lines += ["    " + l for l in ipre] + [f"    {var} = {text}"]
+    res_pre, res_printed = _cse_lines([loc(r) for r in step.residuals], printer, prefix)
+    lines += ["    " + l for l in res_pre] + [f"    return ({', '.join(res_printed)},)"]
+    guess = f"_guess{index}"
+    lines = [f"{guess} = _state.get({index})"] + lines
+    lines += [f"if {guess} is None:", f"    {guess} = _start{index}",
+              f"_sol{index} = _newton(_res{index}, {guess}, {what})",
+              f"_state[{index}] = _sol{index}",
+              f"{', '.join(z)}, = _sol{index}"]
+    for var, expr in inner:
+        ipre, (text,) = _cse_lines([expr], printer, f"{prefix}o{var}_")
+        lines += ipre + [f"{var} = {text}"]
+    return lines

@@ -1,0 +1,192 @@
+"""Stage 8: the discrete part at events — Modelica's event iteration.
+
+At an event instant, with the ``pre()`` values held fixed, the continuous
+equations (of the discrete state the current guess selects) and the
+discrete equations are solved together by fixed-point iteration; then, if a
+discrete variable differs from its ``pre()`` value, ``pre`` takes the new
+values and the whole is repeated until nothing changes (Otter, Elmqvist &
+Mattsson 1999; Dymola and OpenModelica do the same).
+
+Relations are evaluated with the continuous values at the event, with a
+small hysteresis against their value before it (see
+:meth:`acausal.partition.Relation.shifted`).
+
+References
+----------
+.. [1] M. Otter, H. Elmqvist and S. E. Mattsson, "Hybrid modeling in Modelica
+   based on the synchronous data flow principle", Proc. CACSD'99, 1999.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import sympy as sp
+
+from .errors import EventIterationError
+from .flatten import INITIAL
+from .translate import ModeSystem, Translation
+
+__all__ = ["DiscreteEvaluator", "EventOutcome", "mode_values"]
+
+
+def mode_values(translation: Translation, system: ModeSystem, t: float, x) -> dict[str, float]:
+    """All continuous variables at ``(t, x)``: unknowns, states and aliases."""
+    values = system.values(t, x)
+    plan = _alias_plan(translation, system)
+    for name, coeff, source in plan:
+        values[name] = coeff if source is None else coeff * values[source]
+    return values
+
+
+def _alias_plan(translation: Translation, system: ModeSystem):
+    plan = getattr(system, "_alias_plan", None)
+    if plan is not None:
+        return plan
+    params = {sp.Symbol(n, real=True): sp.Float(v) for n, v in translation.parameter_values.items()}
+    plan = []
+    for name, expr in system.aliases.aliases.items():
+        expr = sp.sympify(expr).xreplace(params)
+        syms = [s for s in expr.free_symbols]
+        if not syms:
+            plan.append((name, float(expr), None))
+        else:
+            (sym,) = syms
+            plan.append((name, float(expr.coeff(sym)), sym.name))
+    object.__setattr__(system, "_alias_plan", plan)
+    return plan
+
+
+@dataclass(frozen=True)
+class EventOutcome:
+    """The fixed point reached by event iteration."""
+
+    discrete: dict
+    relations: tuple[bool, ...]
+    system: ModeSystem
+    values: dict
+    iterations: int
+    changes: tuple
+
+
+class DiscreteEvaluator:
+    """Evaluates relations and discrete equations of a translated model."""
+
+    def __init__(self, translation: Translation, relation_epsilon: float = 1e-10,
+                 max_iterations: int = 20) -> None:
+        self.translation = translation
+        self.partitioned = translation.partitioned
+        self.relations = self.partitioned.relations
+        self.epsilon = relation_epsilon
+        self.max_iterations = max_iterations
+        variables = translation.flat.variable_map
+        self.kinds = {n: variables[n].kind for n in self.partitioned.discrete_variables}
+        self.equations = []
+        for eq in self.partitioned.discrete_equations:
+            args = sorted(eq.rhs.free_symbols, key=lambda s: s.name)
+            fn = sp.lambdify(args, eq.rhs, modules="math") if args else (lambda v=eq.rhs: v)
+            self.equations.append((eq.variable, [a.name for a in args], fn, eq.origin))
+
+    # -- keys -----------------------------------------------------------------
+
+    def key(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> tuple:
+        out = []
+        for sym in self.translation.selectors:
+            name = sym.name
+            if name.startswith("$rel"):
+                out.append(bool(relations[int(name[4:])]))
+            elif sym is INITIAL:
+                out.append(bool(initial))
+            elif name.startswith("pre("):
+                out.append(pre[name[4:-1]])
+            else:
+                out.append(discrete[name])
+        return tuple(out)
+
+    # -- relations --------------------------------------------------------------
+
+    def relation_values(self, system: ModeSystem, t: float, x, previous, exact: bool = False):
+        """Relation values at ``(t, x)``; with hysteresis against ``previous``."""
+        if not self.relations:
+            return ()
+        raw = system.crossings(t, x)
+        out = []
+        for k, rel in enumerate(self.relations):
+            lhs, rhs = raw[2 * k], raw[2 * k + 1]
+            g = lhs - rhs
+            if exact:
+                out.append(rel.holds(g))
+            else:
+                eps = self.epsilon * max(1.0, abs(lhs), abs(rhs))
+                out.append(rel.holds_with_hysteresis(g, previous[k], eps))
+        return tuple(out)
+
+    # -- discrete equations -------------------------------------------------------
+
+    def evaluate_discrete(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> dict:
+        """One pass over the discrete equations in dependency order."""
+        current = dict(discrete)
+        env = {}
+        for k, value in enumerate(relations):
+            env[f"$rel{k}"] = value
+        env[INITIAL.name] = initial
+        for name, value in pre.items():
+            env[f"pre({name})"] = value
+        for variable, args, fn, origin in self.equations:
+            env.update(current)
+            value = fn(*[env[a] for a in args])
+            current[variable] = bool(value) if self.kinds[variable] == "boolean" else int(value)
+        return current
+
+    # -- event iteration ------------------------------------------------------------
+
+    def iterate(self, t: float, values: Mapping[str, float], pre: Mapping, relations_before,
+                initial: bool = False) -> EventOutcome:
+        """Modelica event iteration at time ``t``.
+
+        Parameters
+        ----------
+        values : mapping
+            Continuous values (states at least) at the event.
+        pre : mapping
+            Discrete values before the event.
+        relations_before : sequence of bool
+            Relation values before the event (the hysteresis reference).
+        """
+        pre = dict(pre)
+        first_pre = dict(pre)
+        discrete = dict(pre)
+        relations = tuple(relations_before)
+        history = []
+        passes = 0
+        for _outer in range(self.max_iterations):
+            for _inner in range(self.max_iterations):
+                passes += 1
+                system = self.translation.system(self.key(discrete, pre, relations, initial))
+                x = [values[s] for s in system.states]
+                new_relations = self.relation_values(system, t, x, relations_before)
+                new_discrete = self.evaluate_discrete(discrete, pre, new_relations, initial)
+                if new_discrete == discrete and new_relations == relations:
+                    break
+                discrete, relations = new_discrete, new_relations
+            else:
+                self._fail(t, history + [discrete], "the mixed continuous/discrete system")
+            history.append(dict(discrete))
+            if discrete == pre:
+                system = self.translation.system(self.key(discrete, pre, relations, initial))
+                x = [values[s] for s in system.states]
+                full = mode_values(self.translation, system, t, x)
+                changes = tuple((n, first_pre[n], discrete[n]) for n in discrete
+                                if discrete[n] != first_pre[n])
+                return EventOutcome(discrete, relations, system, full, passes, changes)
+            pre = dict(discrete)
+        self._fail(t, history, "event iteration")
+
+    def _fail(self, t: float, history, what: str):
+        changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})
+        raise EventIterationError(
+            f"{what} at t = {t:.12g} did not converge in {self.max_iterations} iterations; "
+            f"still changing: {', '.join(changing) or 'unknown'}",
+            hint="the discrete variables named may flip each other back and forth (e.g. friction "
+                 "elements that lock the same motion); add a compliance or check the conditions")

@@ -1,0 +1,602 @@
+"""Stage 1: flatten a model into one list of variables and equations.
+
+Flattening walks the component tree, gives every variable its dotted
+Modelica name (``clutch1.flange_a.tau``), turns ``connect()`` statements into
+equations (potentials equal, flows sum to zero, unconnected flows zero),
+resolves parameter bindings to numbers and expands ``der(expression)`` by the
+chain rule.  Every equation remembers where it came from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Iterable
+
+import numpy as np
+import sympy as sp
+
+from .errors import ConnectionError_, EquationError, ModelDefinitionError, ParameterError
+from .language import (
+    Boolean,
+    BoundConnector,
+    Component,
+    Connector,
+    Experiment,
+    Flow,
+    Integer,
+    Model,
+    Parameter,
+    Potential,
+    StateSelect,
+    Variable,
+    der,
+    initial,
+    pre,
+    real_symbol,
+    time,
+)
+
+__all__ = [
+    "Origin",
+    "FlatParameter",
+    "FlatVariable",
+    "FlatEquation",
+    "DiscreteEquation",
+    "FlatModel",
+    "flatten",
+    "der_name",
+    "pre_name",
+    "INITIAL",
+]
+
+#: The symbol ``initial()`` becomes after flattening.
+INITIAL = sp.Symbol("initial()")
+
+
+def der_name(name: str) -> str:
+    """Name of the derivative variable of ``name``."""
+    return f"der({name})"
+
+
+def pre_name(name: str) -> str:
+    return f"pre({name})"
+
+
+@dataclass(frozen=True)
+class Origin:
+    """Where an equation or variable comes from, for messages and teaching."""
+
+    component: str  #: dotted path of the instance ('' for the model)
+    component_class: str  #: class of the instance
+    declared_in: str  #: class whose ``equations`` wrote it (or 'connect')
+    index: int  #: position in that list
+    text: str  #: the equation as written
+
+    def __str__(self) -> str:
+        where = self.component or "(model)"
+        if self.declared_in in ("connect", "unconnected", "binding"):
+            return f"{where}: {self.declared_in}: {self.text}"
+        return f"{where} ({self.declared_in} eq. {self.index + 1}): {self.text}"
+
+
+@dataclass(frozen=True)
+class FlatParameter:
+    name: str
+    value: float
+    unit: str
+    component: str
+
+
+@dataclass(frozen=True)
+class FlatVariable:
+    """A variable of the flat model with its attributes evaluated to numbers."""
+
+    name: str
+    kind: str  #: 'continuous', 'boolean' or 'integer'
+    start: float
+    fixed: bool
+    nominal: float
+    state_select: StateSelect
+    unit: str
+    component: str
+    causality: str = ""
+    role: str = ""  #: 'potential', 'flow' or ''
+
+    @property
+    def is_discrete(self) -> bool:
+        return self.kind in ("boolean", "integer")
+
+
+@dataclass(frozen=True)
+class FlatEquation:
+    """``residual = 0``."""
+
+    residual: sp.Expr
+    origin: Origin
+
+    def __str__(self) -> str:
+        return f"0 = {self.residual}"
+
+
+@dataclass(frozen=True)
+class DiscreteEquation:
+    """``variable := rhs`` for a Boolean or Integer variable."""
+
+    variable: str
+    rhs: sp.Basic
+    origin: Origin
+
+
+@dataclass(frozen=True)
+class FlatModel:
+    """The flat model: the output of :func:`flatten`.
+
+    Attributes
+    ----------
+    parameters : tuple of FlatParameter
+        Numeric parameters (bindings resolved).
+    structural_parameters : dict
+        ``name -> value`` of parameters evaluated at build time.
+    variables : tuple of FlatVariable
+        Continuous and discrete variables, in declaration order.
+    equations : tuple of FlatEquation
+        Continuous equations, component equations first, then connections.
+    discrete_equations : tuple of DiscreteEquation
+    initial_equations : tuple of FlatEquation
+    """
+
+    name: str
+    modelica_class: str | None
+    experiment: Experiment
+    parameters: tuple[FlatParameter, ...]
+    structural_parameters: dict
+    variables: tuple[FlatVariable, ...]
+    equations: tuple[FlatEquation, ...]
+    discrete_equations: tuple[DiscreteEquation, ...]
+    initial_equations: tuple[FlatEquation, ...]
+    functions: dict = field(default_factory=dict)
+
+    @property
+    def variable_map(self) -> dict[str, FlatVariable]:
+        return {v.name: v for v in self.variables}
+
+    @property
+    def parameter_values(self) -> dict[str, float]:
+        return {p.name: p.value for p in self.parameters}
+
+    def summary(self) -> str:
+        n_cont = sum(not v.is_discrete for v in self.variables)
+        return (f"{self.name}: {n_cont} continuous and {len(self.variables) - n_cont} discrete "
+                f"variables, {len(self.equations)} equations, {len(self.discrete_equations)} "
+                f"discrete equations, {len(self.parameters)} parameters")
+
+
+# --------------------------------------------------------------------------
+
+
+def flatten(model: Component) -> FlatModel:
+    """Flatten ``model`` (a :class:`~acausal.language.Model` instance).
+
+    Raises
+    ------
+    ModelDefinitionError
+        For equations that are not equations, bad connections, unconnected
+        inputs and unresolvable parameter bindings.
+    """
+    return _Flattener(model).run()
+
+
+class _Flattener:
+    def __init__(self, model: Component) -> None:
+        if not isinstance(model, Component):
+            raise ModelDefinitionError(f"flatten() takes a Model instance, not {type(model).__name__}",
+                                       hint="instantiate the class first: flatten(MyModel())")
+        self.model = model
+        self.components: list[Component] = list(model.walk())
+        self.parameters: dict[str, tuple[Any, str, Component]] = {}
+        self.structural: dict[str, Any] = {}
+        self.variables: dict[str, FlatVariable] = {}
+        self.signal_declarations: dict[str, tuple[Variable, Component]] = {}
+        self.equations: list[FlatEquation] = []
+        self.discrete_equations: list[DiscreteEquation] = []
+        self.initial_equations: list[FlatEquation] = []
+        self.unknown_parameters: list[str] = []
+
+    # -- declarations ---------------------------------------------------------
+
+    def run(self) -> FlatModel:
+        for component in self.components:
+            self._declare(component)
+        values = self._resolve_parameters()
+        self.values = values
+        for component in self.components:
+            self._declare_variables(component, values)
+        for component in self.components:
+            self._collect_equations(component)
+        self._connect()
+        for name in self.unknown_parameters:
+            sym = real_symbol(name)
+            origin = Origin(name.rpartition(".")[0], "", "binding", 0, f"der({name}) = 0")
+            self.equations.append(FlatEquation(real_symbol(der_name(name)) - 0 * sym, origin))
+        model = self.model
+        return FlatModel(
+            name=type(model).__name__,
+            modelica_class=getattr(model, "modelica_class", None),
+            experiment=getattr(model, "experiment", Experiment()),
+            parameters=tuple(FlatParameter(n, values[n], self.parameters[n][1],
+                                           self.parameters[n][2].path)
+                             for n in self.parameters if n not in self.unknown_parameters),
+            structural_parameters=dict(self.structural),
+            variables=tuple(self.variables.values()),
+            equations=tuple(self.equations),
+            discrete_equations=tuple(self.discrete_equations),
+            initial_equations=tuple(self.initial_equations),
+        )
+
+    def _declare(self, component: Component) -> None:
+        for key, decl in component.declarations().items():
+            if isinstance(decl, Parameter):
+                path = component._path_of(key)
+                binding = component.parameter_binding(key)
+                if decl.structural:
+                    self.structural[path] = binding
+                    continue
+                self.parameters[path] = (binding, decl.unit, component)
+                if not decl.fixed:
+                    self.unknown_parameters.append(path)
+
+    def _resolve_parameters(self) -> dict[str, float]:
+        """Evaluate every parameter binding to a number, following references."""
+        values: dict[str, float] = {}
+        resolving: list[str] = []
+
+        def resolve(name: str) -> float:
+            if name in values:
+                return values[name]
+            if name in resolving:
+                cycle = " -> ".join(resolving[resolving.index(name):] + [name])
+                raise ParameterError(f"parameter bindings form a cycle: {cycle}",
+                                     hint="give one of them a numeric value")
+            binding, _unit, component = self.parameters[name]
+            resolving.append(name)
+            try:
+                value = self._evaluate_binding(name, binding, component, resolve)
+            finally:
+                resolving.pop()
+            values[name] = value
+            return value
+
+        for name in self.parameters:
+            resolve(name)
+        # min/max checks
+        for component in self.components:
+            for key, decl in component.declarations().items():
+                if isinstance(decl, Parameter) and not decl.structural:
+                    path = component._path_of(key)
+                    value = values[path]
+                    if decl.min is not None and value < decl.min:
+                        raise ParameterError(f"parameter {path} = {value} is below its minimum {decl.min}",
+                                             hint=f"{type(component).__name__}.{key} must be >= {decl.min}")
+                    if decl.max is not None and value > decl.max:
+                        raise ParameterError(f"parameter {path} = {value} is above its maximum {decl.max}",
+                                             hint=f"{type(component).__name__}.{key} must be <= {decl.max}")
+        return values
+
+    def _evaluate_binding(self, name, binding, component, resolve) -> float:
+        if binding is None:
+            raise ParameterError(f"parameter {name} has no value",
+                                 hint=f"give it one: {type(component).__name__}({name.rpartition('.')[2]}=...)")
+        if isinstance(binding, (bool, np.bool_)):
+            return float(binding)
+        if isinstance(binding, (int, float, np.number)):
+            return float(binding)
+        if isinstance(binding, sp.Basic):
+            subs = {}
+            for sym in binding.free_symbols:
+                if sym.name not in self.parameters:
+                    raise ParameterError(f"parameter {name} is bound to {binding}, but {sym.name} "
+                                         f"is not a parameter",
+                                         hint="bind parameters only to numbers or other parameters")
+                subs[sym] = resolve(sym.name)
+            value = binding.subs(subs)
+            try:
+                return float(value)
+            except TypeError as exc:
+                raise ParameterError(f"parameter {name} = {binding} does not evaluate to a number") from exc
+        raise ParameterError(f"parameter {name} has a value of type {type(binding).__name__}: {binding!r}",
+                             hint="numeric parameters take numbers or expressions of parameters; "
+                                  "declare it structural=True for other values")
+
+    def _number(self, value: Any, what: str) -> float:
+        if isinstance(value, sp.Basic):
+            subs = {s: self.values[s.name] for s in value.free_symbols if s.name in self.values}
+            value = value.subs(subs)
+        try:
+            return float(value)
+        except (TypeError, ValueError) as exc:
+            raise ModelDefinitionError(f"{what} = {value} is not a number",
+                                       hint="attributes take numbers or expressions of parameters") from exc
+
+    def _declare_variables(self, component: Component, values) -> None:
+        for key, decl in component.declarations().items():
+            if isinstance(decl, Connector):
+                if not decl.enabled(component):
+                    continue
+                path = component._path_of(key)
+                for var_name, var in type(decl).variables().items():
+                    self._add_variable(f"{path}.{var_name}", var, component, None)
+            elif isinstance(decl, Variable):
+                if not decl.enabled(component):
+                    continue
+                self._add_variable(component._path_of(key), decl, component, key)
+        for name in self.unknown_parameters:
+            binding, unit, owner = self.parameters[name]
+            if owner is component:
+                self.variables[name] = FlatVariable(
+                    name=name, kind="continuous", start=values.get(name, 0.0) if False else
+                    self._number(binding, name) if not isinstance(binding, sp.Basic) else 0.0,
+                    fixed=False, nominal=1.0, state_select=StateSelect.default, unit=unit,
+                    component=component.path)
+
+    def _add_variable(self, path: str, decl: Variable, component: Component, key: str | None) -> None:
+        def attr(name):
+            if key is None:
+                value = getattr(decl, name)
+                return value(component) if callable(value) and not isinstance(value, sp.Basic) else value
+            return component.attribute(key, name)
+
+        kind = "boolean" if isinstance(decl, Boolean) else "integer" if isinstance(decl, Integer) \
+            else "continuous"
+        nominal = attr("nominal")
+        start = attr("start")
+        if kind == "continuous":
+            start = self._number(start, f"{path}.start")
+        else:
+            start = int(bool(start)) if kind == "boolean" else int(start)
+        variable = FlatVariable(
+            name=path, kind=kind, start=start, fixed=bool(attr("fixed")),
+            nominal=1.0 if nominal is None else abs(self._number(nominal, f"{path}.nominal")) or 1.0,
+            state_select=StateSelect(attr("state_select") if kind == "continuous" else 2),
+            unit=decl.unit, component=component.path, causality=decl.causality,
+            role=getattr(decl, "connector_role", ""))
+        self.variables[path] = variable
+        if decl.causality:
+            self.signal_declarations[path] = (decl, component)
+
+    # -- equations --------------------------------------------------------------
+
+    def _collect_equations(self, component: Component) -> None:
+        for klass in reversed(type(component).__mro__):
+            for method_name, target in (("equations", self.equations),
+                                        ("initial_equations", self.initial_equations)):
+                method = vars(klass).get(method_name)
+                if method is None:
+                    continue
+                items = method(component)
+                if items is None:
+                    continue
+                if not isinstance(items, (list, tuple)):
+                    items = [items]
+                for index, item in enumerate(items):
+                    origin = Origin(component.path, type(component).__name__, klass.__name__, index,
+                                    _text(item))
+                    self._add_equation(item, origin, target)
+
+    def _add_equation(self, item: Any, origin: Origin, target: list) -> None:
+        if isinstance(item, (bool, np.bool_)) or item in (sp.true, sp.false):
+            raise EquationError(
+                f"equation {origin.index + 1} of {origin.declared_in} in {origin.component or 'the model'} "
+                f"is the Python value {item}, not an equation",
+                hint="write Eq(lhs, rhs) (or lhs - rhs); `lhs == rhs` compares the two sides "
+                     "and gives a bool")
+        if isinstance(item, sp.Equality):
+            lhs, rhs = item.lhs, item.rhs
+            if isinstance(lhs, sp.Symbol) and lhs.name in self.variables \
+                    and self.variables[lhs.name].is_discrete:
+                if target is not self.equations:
+                    target.append(FlatEquation(self._expand(lhs - rhs), origin))
+                    return
+                self.discrete_equations.append(DiscreteEquation(lhs.name, self._expand(rhs), origin))
+                return
+            residual = lhs - rhs
+        elif isinstance(item, sp.Basic) and not isinstance(item, sp.logic.boolalg.Boolean):
+            residual = item
+        elif isinstance(item, (int, float)):
+            residual = sp.Float(item)
+        else:
+            raise EquationError(
+                f"equation {origin.index + 1} of {origin.declared_in} in {origin.component or 'the model'} "
+                f"is a {type(item).__name__} ({item!r}), not an equation",
+                hint="write Eq(lhs, rhs) with sympy expressions")
+        self._check_symbols(residual, origin)
+        target.append(FlatEquation(self._expand(residual), origin))
+
+    def _check_symbols(self, expr: sp.Basic, origin: Origin) -> None:
+        for sym in expr.free_symbols:
+            if sym is time or sym.name in self.variables or sym.name in self.parameters:
+                continue
+            raise EquationError(f"{origin}: unknown name {sym.name}",
+                                hint="every symbol must be a declared variable or parameter of the "
+                                     "model (a disabled conditional connector has no variables)")
+
+    def _expand(self, expr: sp.Basic) -> sp.Basic:
+        """Replace der(), pre() and initial() by plain symbols (chain rule for der)."""
+        if not isinstance(expr, sp.Basic):
+            return expr
+
+        def rewrite(node: sp.Basic) -> sp.Basic:
+            if isinstance(node, sp.Function) and node.func == pre:
+                (arg,) = node.args
+                arg = rewrite(arg)
+                if not isinstance(arg, sp.Symbol):
+                    raise EquationError(f"pre() takes a variable, not {arg}")
+                return sp.Symbol(pre_name(arg.name), **arg.assumptions0)
+            if isinstance(node, sp.Function) and node.func == initial:
+                return INITIAL
+            if isinstance(node, sp.Function) and node.func == der:
+                (arg,) = node.args
+                return self._time_derivative(rewrite(arg))
+            if not node.args:
+                return node
+            new_args = [rewrite(a) for a in node.args]
+            if all(a is b for a, b in zip(new_args, node.args)):
+                return node
+            return node.func(*new_args)
+
+        return rewrite(expr)
+
+    def _time_derivative(self, expr: sp.Basic) -> sp.Basic:
+        result = sp.diff(expr, time) if expr.has(time) else sp.Integer(0)
+        for sym in sorted(expr.free_symbols, key=lambda s: s.name):
+            if sym is time or sym.name in self.parameters and sym.name not in self.unknown_parameters:
+                continue
+            if sym.name in self.variables and self.variables[sym.name].is_discrete:
+                continue  # piecewise constant
+            result += sp.diff(expr, sym) * real_symbol(der_name(sym.name))
+        return result
+
+    # -- connections ------------------------------------------------------------
+
+    def _connect(self) -> None:
+        parent: dict[tuple, tuple] = {}
+        members: dict[tuple, dict] = {}  # element -> info
+        order: list[tuple] = []
+
+        def find(x):
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+
+        def element_of(end, owner: Component, statement: str):
+            if isinstance(end, BoundConnector):
+                if not end.enabled:
+                    raise ConnectionError_(
+                        f"{statement}: connector {end.path} is disabled",
+                        hint=f"enable it ({_condition(end)}) or remove the connection")
+                outside = end.owner is owner
+                return ("physical", end.path, outside), end
+            if isinstance(end, sp.Symbol) and end.name in self.signal_declarations:
+                return ("signal", end.name, False), end
+            if isinstance(end, sp.Symbol) and end.name in self.variables:
+                raise ConnectionError_(f"{statement}: {end.name} is a variable, not a connector",
+                                       hint="connect() joins connectors (flanges, ports) or signal "
+                                            "inputs and outputs")
+            raise ConnectionError_(f"{statement}: {end!r} is not a connector of this model",
+                                   hint="a disabled conditional connector cannot be connected")
+
+        # every enabled physical connector is an 'inside' element, connected or not
+        for component in self.components:
+            for key, decl in component.declarations().items():
+                if isinstance(decl, Connector) and decl.enabled(component):
+                    bound = getattr(component, key)
+                    el = ("physical", bound.path, False)
+                    parent[el] = el
+                    members[el] = bound
+                    order.append(el)
+
+        signal_edges: list[tuple[str, str, str]] = []
+        connect_text: dict[tuple, str] = {}
+        for component in self.components:
+            for a, b in component._connections:
+                statement = f"connect({_end_name(a)}, {_end_name(b)}) in {component.path or 'the model'}"
+                ea, ba = element_of(a, component, statement)
+                eb, bb = element_of(b, component, statement)
+                if ea[0] != eb[0]:
+                    raise ConnectionError_(f"{statement}: cannot connect a signal to a physical connector")
+                if ea[0] == "signal":
+                    signal_edges.append((ea[1], eb[1], statement))
+                    continue
+                fa, fb = type(ba.declaration).family, type(bb.declaration).family
+                if fa != fb:
+                    raise ConnectionError_(
+                        f"{statement}: {ba.path} is a {type(ba.declaration).__name__} ({fa}) but "
+                        f"{bb.path} is a {type(bb.declaration).__name__} ({fb})",
+                        hint="only connectors of the same kind can be connected")
+                for el, bound in ((ea, ba), (eb, bb)):
+                    if el not in parent:
+                        parent[el] = el
+                        members[el] = bound
+                        order.append(el)
+                ra, rb = find(ea), find(eb)
+                if ra != rb:
+                    # keep the earlier-declared element as root: deterministic
+                    if order.index(rb) < order.index(ra):
+                        ra, rb = rb, ra
+                    parent[rb] = ra
+                connect_text[find(ea)] = statement
+
+        sets: dict[tuple, list[tuple]] = {}
+        for el in order:
+            sets.setdefault(find(el), []).append(el)
+        for root, elements in sets.items():
+            bound0 = members[elements[0]]
+            variables = type(bound0.declaration).variables()
+            if len(elements) == 1:
+                for var_name, var in variables.items():
+                    if isinstance(var, Flow) and not elements[0][2]:
+                        name = f"{bound0.path}.{var_name}"
+                        origin = Origin(bound0.owner.path, type(bound0.owner).__name__, "unconnected", 0,
+                                        f"{name} = 0")
+                        self.equations.append(FlatEquation(real_symbol(name), origin))
+                continue
+            text = " ~ ".join(f"{members[e].path}" for e in elements)
+            for var_name, var in variables.items():
+                symbols = [real_symbol(f"{members[e].path}.{var_name}") for e in elements]
+                origin = Origin("", type(self.model).__name__, "connect", 0, "")
+                if isinstance(var, Potential):
+                    for sym in symbols[1:]:
+                        self.equations.append(FlatEquation(
+                            sym - symbols[0],
+                            Origin(origin.component, origin.component_class, "connect", 0,
+                                   f"{sym.name} = {symbols[0].name}  [{text}]")))
+                elif isinstance(var, Flow):
+                    total = sum(((-1 if e[2] else 1) * s for e, s in zip(elements, symbols)), sp.Integer(0))
+                    self.equations.append(FlatEquation(
+                        total, Origin(origin.component, origin.component_class, "connect", 0,
+                                      f"0 = {total}  [{text}]")))
+
+        # signals: equality per connection; every input must be connected
+        connected_inputs = set()
+        for a, b, statement in signal_edges:
+            da, db = self.signal_declarations[a][0], self.signal_declarations[b][0]
+            if da.causality == "output" and db.causality == "output":
+                raise ConnectionError_(f"{statement}: two outputs cannot be connected",
+                                       hint="connect an output to one or more inputs")
+            for name, decl in ((a, da), (b, db)):
+                if decl.causality == "input":
+                    connected_inputs.add(name)
+            self.equations.append(FlatEquation(
+                real_symbol(b) - real_symbol(a),
+                Origin("", type(self.model).__name__, "connect", 0, f"{b} = {a}")))
+        for name, (decl, component) in self.signal_declarations.items():
+            if decl.causality == "input" and name not in connected_inputs and component is not self.model:
+                # an input driven from inside its own component (hierarchical) is fine
+                if self._assigned_inside(name):
+                    continue
+                raise ConnectionError_(f"input {name} of {type(component).__name__} is not connected",
+                                       hint=f"connect a signal source to {name}")
+
+    def _assigned_inside(self, name: str) -> bool:
+        sym = real_symbol(name)
+        return any(sym in eq.residual.free_symbols and eq.origin.declared_in != "connect"
+                   and eq.origin.component != name.rpartition(".")[0] for eq in self.equations)
+
+
+def _condition(end: BoundConnector) -> str:
+    cond = end.declaration.condition
+    return f"{cond}=True" if isinstance(cond, str) else "its condition"
+
+
+def _end_name(end) -> str:
+    if isinstance(end, BoundConnector):
+        return end.path
+    if isinstance(end, sp.Symbol):
+        return end.name
+    return repr(end)
+
+
+def _text(item: Any) -> str:
+    if isinstance(item, sp.Equality):
+        return f"{item.lhs} = {item.rhs}"
+    return f"0 = {item}" if isinstance(item, sp.Basic) else repr(item)

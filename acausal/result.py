@@ -1,0 +1,143 @@
+"""The simulation result: every variable by dotted name, events, status."""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, Sequence
+
+import numpy as np
+
+__all__ = ["Event", "SimulationResult"]
+
+
+@dataclass(frozen=True)
+class Event:
+    """One event instant.
+
+    Attributes
+    ----------
+    time : float
+    kind : str
+        ``'initial'`` (the event iteration after initialization), ``'time'``
+        or ``'state'``.
+    relations : tuple of str
+        The relations whose crossing fired it (state events), or the time
+        relations reached (time events).
+    changes : tuple of (str, old, new)
+        Discrete variables that changed, with their values before and after.
+    iterations : int
+        Passes of the event iteration.
+    """
+
+    time: float
+    kind: str
+    relations: tuple[str, ...]
+    changes: tuple[tuple[str, object, object], ...]
+    iterations: int = 1
+
+    def __str__(self) -> str:
+        changed = ", ".join(f"{n}: {a}->{b}" for n, a, b in self.changes) or "no discrete change"
+        why = f" ({'; '.join(self.relations)})" if self.relations else ""
+        return f"t={self.time:.9g} {self.kind}{why}: {changed}"
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """What a simulation computed.
+
+    Like scipy's ``OdeResult`` it carries a status and a message instead of
+    raising when a run stops early: everything computed up to the failure
+    is kept.  Variables are read by dotted name, ``result["inertia1.w"]``.
+
+    Attributes
+    ----------
+    time : ndarray
+        Output times; an event time appears twice (left and right limit).
+    status : int
+        0 for success, -1 for a run that stopped early.
+    message : str
+    events : tuple of Event
+    modes : tuple of str
+        Discrete states visited, in the order first visited.
+    compiled_modes : int
+        Discrete states compiled (visited, or tried during event iteration).
+    stats : dict
+        Right-hand side evaluations, steps, seconds spent.
+    notes : tuple of str
+        Warnings, e.g. fixed start values relaxed as redundant.
+    error : Exception or None
+        The error that stopped the run.
+    """
+
+    time: np.ndarray
+    columns: dict = field(repr=False)
+    status: int = 0
+    message: str = "The simulation reached the stop time."
+    events: tuple = ()
+    modes: tuple = ()
+    compiled_modes: int = 0
+    stats: dict = field(default_factory=dict)
+    notes: tuple = ()
+    error: Exception | None = None
+    model_name: str = ""
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.columns)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.columns[name]
+        except KeyError:
+            import difflib
+
+            close = difflib.get_close_matches(name, list(self.columns), n=3)
+            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            raise KeyError(f"{name!r} is not a variable of {self.model_name or 'this model'}{hint}") from None
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.columns
+
+    def final(self, name: str) -> float:
+        return float(self[name][-1])
+
+    def raise_for_status(self) -> "SimulationResult":
+        """Raise the stored error if the run failed; return self otherwise."""
+        if self.error is not None:
+            raise self.error
+        return self
+
+    def to_csv(self, path: str | Path, signals: Sequence[str] | None = None) -> Path:
+        """Write a CSV in the layout of the MSL reference results.
+
+        ``"time"`` first, then dotted names as headers; Booleans as 0/1.
+        """
+        names = list(self.columns) if signals is None else list(signals)
+        for n in names:
+            self[n]  # clear KeyError for unknown names
+        path = Path(path)
+        with path.open("w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["time"] + names)
+            data = np.column_stack([self.time] + [np.asarray(self.columns[n], dtype=float)
+                                                  for n in names])
+            for row in data:
+                writer.writerow([repr(float(v)) for v in row])
+        return path
+
+    def summary(self) -> str:
+        lines = [f"{self.model_name}: {'ok' if self.success else 'FAILED'} — {self.message}",
+                 f"  {len(self.time)} output points, {len(self.events)} events, "
+                 f"{len(self.modes)} discrete states visited, {self.compiled_modes} compiled"]
+        for key in ("steps", "rhs_evaluations", "translate_seconds", "simulate_seconds"):
+            if key in self.stats:
+                value = self.stats[key]
+                lines.append(f"  {key}: {value:.4g}" if isinstance(value, float) else f"  {key}: {value}")
+        lines += [f"  note: {n}" for n in self.notes]
+        return "\n".join(lines)

@@ -1,0 +1,454 @@
+"""Stage 4: structural analysis — balance, matching, index reduction, states.
+
+The equations left after alias elimination are analysed as a bipartite
+graph of equations and unknowns:
+
+1. *Balance and singularity.*  Each variable and its derivatives form one
+   "family"; a solvable DAE matches every equation to a distinct family.
+   This check runs first because Pantelides' algorithm does not terminate on
+   a structurally singular system.
+2. *Index reduction* (Pantelides 1988): equations that constrain states only
+   are differentiated until every equation can be matched to a highest
+   derivative or an algebraic variable.
+3. *State selection* (dummy derivatives, Mattsson & Söderlind 1993): for
+   each level of differentiated equations as many derivatives as equations
+   become ordinary algebraic unknowns, chosen by ``state_select``.
+4. *Matching* of the final system: every equation to the unknown it solves.
+
+The graph algorithms work on plain index lists (``G[i]`` = unknowns of
+equation ``i``, ``A[j]`` = index of ``der(v_j)`` or -1, ``B[i]`` = index of the
+derivative of equation ``i`` or -1), as in ModiaBase.jl.
+
+References
+----------
+.. [1] C. C. Pantelides, "The consistent initialization of differential-
+   algebraic systems", SIAM J. Sci. Stat. Comput. 9(2), 213-231, 1988.
+.. [2] S. E. Mattsson and G. Söderlind, "Index reduction in differential-
+   algebraic equations using dummy derivatives", SIAM J. Sci. Comput. 14(3),
+   677-692, 1993.
+.. [3] J. E. Hopcroft and R. M. Karp, "An n^5/2 algorithm for maximum
+   matchings in bipartite graphs", SIAM J. Comput. 2(4), 1973.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import networkx as nx
+import sympy as sp
+
+from .alias import base_name, derivative_order
+from .errors import (
+    OverDeterminedError,
+    StructurallySingularError,
+    StructuralError,
+    UnderDeterminedError,
+)
+from .flatten import FlatEquation, FlatVariable, Origin, der_name
+from .language import StateSelect, real_symbol, time
+
+__all__ = [
+    "StructuralResult",
+    "analyse",
+    "augmenting_path",
+    "priority_matching",
+    "check_balance",
+    "differentiate",
+]
+
+
+# --------------------------------------------------------------------------
+# Matching helpers on plain lists
+# --------------------------------------------------------------------------
+
+
+def augmenting_path(root: int, G: Sequence[Sequence[int]], assign: list[int],
+                    allowed: Callable[[int], bool], visited_eqs: set[int],
+                    visited_vars: set[int]) -> bool:
+    """Try to match equation ``root`` by an augmenting path (iterative DFS).
+
+    ``assign[j]`` is the equation matched to unknown ``j`` or -1; it is
+    updated in place on success.  The equations and unknowns visited are
+    added to the two sets (Pantelides colours them).
+    """
+    visited_eqs.add(root)
+    for j in G[root]:
+        if allowed(j) and assign[j] == -1:
+            assign[j] = root
+            return True
+    stack = [(root, iter(G[root]))]
+    via: list[int] = []
+    while stack:
+        eq, candidates = stack[-1]
+        for j in candidates:
+            if not allowed(j) or j in visited_vars:
+                continue
+            visited_vars.add(j)
+            nxt = assign[j]
+            if nxt in visited_eqs:
+                continue
+            visited_eqs.add(nxt)
+            for k in G[nxt]:
+                if allowed(k) and assign[k] == -1:
+                    assign[k] = nxt
+                    assign[j] = eq
+                    for level, v in enumerate(via):
+                        assign[v] = stack[level][0]
+                    return True
+            via.append(j)
+            stack.append((nxt, iter(G[nxt])))
+            break
+        else:
+            stack.pop()
+            if via:
+                via.pop()
+    return False
+
+
+def priority_matching(G: Sequence[Sequence[int]], n_vars: int, order: Sequence[int],
+                      allowed: Callable[[int], bool] = lambda j: True) -> list[int]:
+    """Maximum matching that matches equations in ``order`` first.
+
+    Returns ``assign`` (unknown -> equation or -1).  Equations earlier in
+    ``order`` are never left unmatched in favour of later ones (greedy on a
+    transversal matroid).
+    """
+    assign = [-1] * n_vars
+    for i in order:
+        augmenting_path(i, G, assign, allowed, set(), set())
+    return assign
+
+
+# --------------------------------------------------------------------------
+# Differentiation
+# --------------------------------------------------------------------------
+
+
+def differentiate(residual: sp.Expr, parameters: set[str]) -> sp.Expr:
+    """Total time derivative of a residual, derivatives as ``der(x)`` symbols."""
+    result = sp.diff(residual, time) if residual.has(time) else sp.Integer(0)
+    for sym in sorted(residual.free_symbols, key=lambda s: s.name):
+        if sym is time or sym.name in parameters:
+            continue
+        result += sp.diff(residual, sym) * real_symbol(der_name(sym.name))
+    return result
+
+
+# --------------------------------------------------------------------------
+# Result
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class StructuralResult:
+    """The output of :func:`analyse`.
+
+    Attributes
+    ----------
+    equations : tuple of FlatEquation
+        Original equations followed by those differentiated by index
+        reduction.
+    states : tuple of str
+        Continuous states, in a deterministic order.
+    derivatives : tuple of str
+        ``derivatives[k]`` is the unknown holding the derivative of
+        ``states[k]``.
+    unknowns : tuple of str
+        Everything solved from the states at each evaluation.
+    matching : tuple of int
+        ``matching[i]`` = index in ``unknowns`` solved by equation ``i``.
+    incidence : tuple of tuple of int
+        Unknowns (indices) occurring in each equation.
+    differentiated : tuple of (int, int)
+        ``(i, k)``: equation ``i`` is the time derivative of equation ``k``.
+    dummy_derivatives : tuple of str
+        Derivatives made algebraic by state selection.
+    """
+
+    equations: tuple[FlatEquation, ...]
+    states: tuple[str, ...]
+    derivatives: tuple[str, ...]
+    unknowns: tuple[str, ...]
+    matching: tuple[int, ...]
+    incidence: tuple[tuple[int, ...], ...]
+    differentiated: tuple[tuple[int, int], ...]
+    dummy_derivatives: tuple[str, ...]
+
+    @property
+    def index_reduced(self) -> bool:
+        return bool(self.differentiated)
+
+
+def _incidence(residual: sp.Expr, values: dict) -> set[str]:
+    """Names occurring in a residual once parameters take their values.
+
+    Substituting the values first drops terms whose coefficient is zero
+    (a damper with d = 0 does not make its torque depend on its speed).
+    """
+    expr = residual.xreplace(values) if values else residual
+    return {s.name for s in expr.free_symbols if s is not time}
+
+
+# --------------------------------------------------------------------------
+# Balance check
+# --------------------------------------------------------------------------
+
+
+def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str]],
+                  families: Sequence[str], context: str = "the model",
+                  unknown_label: str = "variables") -> None:
+    """Raise a clear error unless equations and variable families match perfectly."""
+    graph = nx.Graph()
+    eq_nodes = [("e", i) for i in range(len(equations))]
+    graph.add_nodes_from(eq_nodes, bipartite=0)
+    graph.add_nodes_from((("v", f) for f in families), bipartite=1)
+    family_set = set(families)
+    for i, names in enumerate(incidence):
+        for name in sorted(names):
+            fam = base_name(name)
+            if fam in family_set:
+                graph.add_edge(("e", i), ("v", fam))
+    matching = nx.bipartite.hopcroft_karp_matching(graph, top_nodes=eq_nodes)
+    unmatched_eqs = [i for i in range(len(equations)) if ("e", i) not in matching]
+    unmatched_vars = [f for f in families if ("v", f) not in matching]
+    if not unmatched_eqs and not unmatched_vars:
+        return
+    # Follow alternating paths from the unmatched ones: the whole over- or
+    # under-determined part (Dulmage-Mendelsohn), so the message names the
+    # components involved and not an arbitrary equation of them.
+    over_eqs = _alternating_reach([("e", i) for i in unmatched_eqs], graph, matching)
+    under_vars = _alternating_reach([("v", f) for f in unmatched_vars], graph, matching)
+    over = sorted(i for kind, i in over_eqs if kind == "e")
+    under = [f for f in families if ("v", f) in under_vars]
+    n_eq, n_var = len(equations), len(families)
+    lines = []
+    if over:
+        lines.append(f"equations in the over-determined part ({len(unmatched_eqs)} too many):")
+        lines += [f"    {equations[i].origin}" for i in over[:12]]
+        if len(over) > 12:
+            lines.append(f"    ... and {len(over) - 12} more")
+    if under:
+        lines.append(f"{unknown_label} in the under-determined part ({len(unmatched_vars)} "
+                     f"without an equation):")
+        lines.append("    " + ", ".join(under[:20]) + (" ..." if len(under) > 20 else ""))
+    detail = "\n  ".join(lines)
+    if n_eq > n_var:
+        raise OverDeterminedError(
+            f"{context} is over-determined: {n_eq} equations for {n_var} {unknown_label}\n  {detail}",
+            hint="two components may prescribe the same quantity (e.g. a Fixed or a motion source "
+                 "on a flange whose position is already set), or an equation is written twice")
+    if n_eq < n_var:
+        raise UnderDeterminedError(
+            f"{context} is under-determined: {n_eq} equations for {n_var} {unknown_label}\n  {detail}",
+            hint="a component may be missing (e.g. a Fixed to ground a drive train, or a source), or a "
+                 "connector is left unconnected where it should not be")
+    raise StructurallySingularError(
+        f"{context} is structurally singular: {n_eq} equations and {n_var} {unknown_label}, but they "
+        f"cannot be paired\n  {detail}",
+        hint="some equations constrain the same variables while others are left free; check the "
+             "connections of the components named")
+
+
+def _alternating_reach(start, graph, matching):
+    seen = set(start)
+    frontier = list(start)
+    while frontier:
+        node = frontier.pop()
+        for nb in graph.neighbors(node):
+            mate = matching.get(nb)
+            if mate is not None and mate not in seen:
+                seen.add(mate)
+                frontier.append(mate)
+    return seen
+
+
+# --------------------------------------------------------------------------
+# Index reduction and state selection
+# --------------------------------------------------------------------------
+
+
+def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable],
+            parameter_values: dict[str, float], context: str = "the model") -> StructuralResult:
+    """Balance check, Pantelides, dummy derivatives and final matching.
+
+    Parameters
+    ----------
+    equations : sequence of FlatEquation
+        Continuous equations (after alias elimination).
+    variables : dict
+        The continuous unknowns left (name -> FlatVariable, attributes merged).
+    parameter_values : dict
+        For structural zeros.
+    """
+    parameters = set(parameter_values)
+    values = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
+    order_of = {name: k for k, name in enumerate(variables)}
+
+    # variable list V with derivative chains: A[j] = index of der(V[j]) or -1
+    V: list[str] = []
+    index: dict[str, int] = {}
+    A: list[int] = []
+
+    def add_var(name: str) -> int:
+        if name in index:
+            return index[name]
+        base = base_name(name)
+        if base not in variables:
+            raise StructuralError(f"{context}: {name} is neither a variable nor a parameter")
+        if derivative_order(name) > 0:
+            lower = add_var(name[4:-1])
+        else:
+            lower = -1
+        index[name] = len(V)
+        V.append(name)
+        A.append(-1)
+        if lower >= 0:
+            A[lower] = index[name]
+        return index[name]
+
+    eqs: list[FlatEquation] = list(equations)
+    incidence_names = [_incidence(eq.residual, values) for eq in eqs]
+    for names in incidence_names:
+        for name in sorted(names, key=lambda n: (order_of.get(base_name(n), 0), derivative_order(n))):
+            add_var(name)
+    families = [n for n in variables]
+    check_balance(eqs, incidence_names, families, context)
+
+    G: list[list[int]] = [sorted(index[n] for n in names) for names in incidence_names]
+    B: list[int] = [-1] * len(eqs)
+    parent_eq: list[int] = [-1] * len(eqs)
+    assign: list[int] = [-1] * len(V)
+
+    def highest(j: int) -> bool:
+        return A[j] == -1
+
+    n_original = len(eqs)
+    for k in range(n_original):
+        i = k
+        while True:
+            visited_eqs: set[int] = set()
+            visited_vars: set[int] = set()
+            if len(assign) < len(V):
+                assign.extend([-1] * (len(V) - len(assign)))
+            if augmenting_path(i, G, assign, highest, visited_eqs, visited_vars):
+                break
+            # Differentiate the coloured part (Pantelides, step 3b)
+            for j in sorted(visited_vars):
+                if A[j] == -1:
+                    add_var(der_name(V[j]))
+            assign.extend([-1] * (len(V) - len(assign)))
+            for l in sorted(visited_eqs):
+                derivative = differentiate(eqs[l].residual, parameters)
+                origin = eqs[l].origin
+                new_origin = Origin(origin.component, origin.component_class, origin.declared_in,
+                                    origin.index, f"d/dt[{origin.text}]")
+                B[l] = len(eqs)
+                eqs.append(FlatEquation(derivative, new_origin))
+                parent_eq.append(l)
+                B.append(-1)
+                names = _incidence(derivative, values)
+                for name in sorted(names, key=lambda n: (derivative_order(n), n)):
+                    add_var(name)
+                G.append(sorted(index[n] for n in names))
+            assign.extend([-1] * (len(V) - len(assign)))
+            for j in sorted(visited_vars):
+                if assign[j] != -1:
+                    assign[A[j]] = B[assign[j]]
+            i = B[i]
+
+    dummies = _select_dummy_derivatives(eqs, G, A, V, B, parent_eq, variables, order_of, context)
+
+    states = [V[j] for j in range(len(V)) if A[j] != -1 and V[A[j]] not in dummies]
+    states.sort(key=lambda n: (order_of[base_name(n)], derivative_order(n)))
+    derivatives = [der_name(s) for s in states]
+    state_set = set(states)
+    unknowns = [v for v in V if v not in state_set]
+    unknowns.sort(key=lambda n: (order_of[base_name(n)], derivative_order(n)))
+    u_index = {n: k for k, n in enumerate(unknowns)}
+    incidence = [tuple(sorted(u_index[V[j]] for j in G[i] if V[j] in u_index)) for i in range(len(eqs))]
+
+    if len(eqs) != len(unknowns):
+        raise StructuralError(f"{context}: after index reduction {len(eqs)} equations for "
+                              f"{len(unknowns)} unknowns (internal inconsistency)")
+    assign_u = priority_matching(incidence, len(unknowns), range(len(eqs)))
+    if any(a == -1 for a in assign_u):
+        missing = [unknowns[j] for j, a in enumerate(assign_u) if a == -1]
+        matched = set(assign_u)
+        lonely = [eqs[i].origin for i in range(len(eqs)) if i not in matched]
+        raise StructurallySingularError(
+            f"{context}: after state selection no equation is left for {', '.join(missing[:8])}; "
+            f"unmatched equations: " + "; ".join(str(o) for o in lonely[:5]),
+            hint="the states chosen may be constrained twice; try state_select on the variables named")
+    matching = [-1] * len(eqs)
+    for j, i in enumerate(assign_u):
+        matching[i] = j
+    differentiated = tuple((i, parent_eq[i]) for i in range(len(eqs)) if parent_eq[i] >= 0)
+    return StructuralResult(tuple(eqs), tuple(states), tuple(derivatives), tuple(unknowns),
+                            tuple(matching), tuple(incidence), differentiated,
+                            tuple(sorted(dummies, key=lambda n: (order_of[base_name(n)], n))))
+
+
+def _select_dummy_derivatives(eqs, G, A, V, B, parent_eq, variables, order_of, context) -> set[str]:
+    """Mattsson-Söderlind: pick, level by level, derivatives to make algebraic."""
+    level_eqs = [i for i in range(len(eqs)) if parent_eq[i] >= 0 and B[i] == -1]
+    dummies: set[str] = set()
+    candidates: list[int] | None = None
+    while level_eqs:
+        if candidates is None:
+            cols = sorted({j for i in level_eqs for j in G[i]
+                           if A[j] == -1 and derivative_order(V[j]) > 0})
+        else:
+            cols = candidates
+        # Most eager to become a dummy first: low state_select; then higher
+        # derivative order (keep w as a state rather than der(phi)); then the
+        # later-declared variable, so the first inertia of a chain keeps its states.
+        def eagerness(j: int):
+            base = base_name(V[j])
+            return (int(variables[base].state_select), -derivative_order(V[j]), -order_of[base], V[j])
+
+        ordered = sorted(cols, key=eagerness)
+        row_pos = {i: r for r, i in enumerate(level_eqs)}
+        col_set = set(ordered)
+        # incremental bipartite matching, columns in preference order
+        col_adj = {j: [] for j in ordered}
+        for i in level_eqs:
+            for j in G[i]:
+                if j in col_set:
+                    col_adj[j].append(row_pos[i])
+        row_mate = [-1] * len(level_eqs)
+        chosen = []
+        for j in ordered:
+            if len(chosen) == len(level_eqs):
+                break
+            if augmenting_path(j, _ColumnView(col_adj), row_mate, lambda r: True, set(), set()):
+                chosen.append(j)
+        if len(chosen) < len(level_eqs):
+            names = ", ".join(str(eqs[i].origin) for i in level_eqs[:5])
+            raise StructurallySingularError(
+                f"{context}: cannot select states for the constraint equations {names}",
+                hint="the constraints may be redundant (e.g. a closed loop of rigid connections)")
+        for j in chosen:
+            if variables[base_name(V[j])].state_select == StateSelect.always:
+                raise StructuralError(
+                    f"{context}: {base_name(V[j])} has state_select=always but cannot be a state "
+                    f"because of the constraint {eqs[level_eqs[0]].origin}",
+                    hint="lower its state_select or remove the constraint")
+            dummies.add(V[j])
+        # one level down: the equations these were differentiated from, if
+        # they are derivatives themselves; candidates: integrals of the chosen
+        level_eqs = [parent_eq[i] for i in level_eqs if parent_eq[parent_eq[i]] >= 0]
+        integral = {A[k]: k for k in range(len(V)) if A[k] != -1}
+        candidates = sorted(integral[j] for j in chosen if j in integral
+                            and derivative_order(V[integral[j]]) > 0)
+    return dummies
+
+
+class _ColumnView:
+    """Adapter so :func:`augmenting_path` matches columns (as 'equations') to rows."""
+
+    def __init__(self, adjacency: dict[int, list[int]]) -> None:
+        self.adjacency = adjacency
+
+    def __getitem__(self, j: int) -> list[int]:
+        return self.adjacency[j]

@@ -1,0 +1,274 @@
+"""One-dimensional interpolation tables as sympy functions.
+
+:func:`table_function` turns an ``n x 2`` table into a sympy function class,
+the way Modelica's ``CombiTable1D`` with ``smoothness = LinearSegments`` and
+``extrapolation = LastTwoPoints`` evaluates it (the friction characteristics
+``tau_pos`` and ``mu_pos`` of the Rotational library):
+
+* linear interpolation between rows (column 1 strictly increasing);
+* linear extrapolation through the first two rows below the table and through
+  the last two rows above it;
+* a one-row table is a constant.
+
+The class works symbolically (``T(w)`` is an unevaluated application,
+``T(0)`` a Float, ``diff(T(w), w)`` the piecewise-constant slope as another
+table function) and numerically (``T._imp_`` / ``T.numeric`` for floats,
+``T.evaluate`` for arrays; ``sympy.lambdify`` picks ``_imp_`` up by itself).
+"""
+
+from __future__ import annotations
+
+import keyword
+import re
+from bisect import bisect_right
+from typing import Any, Callable
+
+import numpy as np
+import sympy as sp
+from sympy.core.function import ArgumentIndexError
+
+from .errors import ParameterError
+
+__all__ = ["table_function", "validate_table"]
+
+#: (class name, shape, table bytes) -> class; the same table under the same
+#: name always gives the same class, so equations built twice compare equal.
+_CLASSES: dict[tuple, type] = {}
+
+
+def _identifier(name: str) -> str:
+    """``name`` as a valid Python identifier: dots and other symbols become '_'."""
+    if not isinstance(name, str) or not name:
+        raise ParameterError(f"a table function needs a non-empty name, not {name!r}",
+                             hint="derive it from the component path, e.g. 'clutch1.mu_pos'")
+    text = re.sub(r"[^0-9A-Za-z_]", "_", name)
+    if text[0].isdigit():
+        text = "_" + text
+    if keyword.iskeyword(text):
+        text += "_"
+    return text
+
+
+def validate_table(table: Any, name: str = "table") -> np.ndarray:
+    """Check a CombiTable1D table and return it as a read-only float array.
+
+    Raises
+    ------
+    ParameterError
+        If the table is empty, not ``n x 2``, contains non-finite values, or
+        its first column is not strictly increasing.
+    """
+    example = "e.g. [[0, 1]] or [[0, 0.5], [1, 0.4]]"
+    try:
+        data = np.array(table, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"table {name} is not a numeric matrix: {table!r}",
+                             hint=f"give an n x 2 list of rows, {example}") from exc
+    if data.size == 0:
+        raise ParameterError(f"table {name} is empty",
+                             hint=f"give at least one row [x, y], {example}")
+    if data.ndim != 2 or data.shape[1] != 2:
+        raise ParameterError(f"table {name} must be an n x 2 matrix, but its shape is {data.shape}",
+                             hint=f"one row [x, y] per point, {example}")
+    if not np.all(np.isfinite(data)):
+        raise ParameterError(f"table {name} contains non-finite values (nan or inf)",
+                             hint="every entry must be a finite number")
+    steps = np.diff(data[:, 0])
+    if np.any(steps <= 0):
+        row = int(np.argmax(steps <= 0)) + 1
+        raise ParameterError(
+            f"table {name}: the first column must be strictly increasing, but row {row + 1} "
+            f"(x = {data[row, 0]:g}) does not exceed row {row} (x = {data[row - 1, 0]:g})",
+            hint="sort the rows by x and remove repeated x values")
+    data.setflags(write=False)
+    return data
+
+
+def table_function(name: str, table: Any) -> type[sp.Function]:
+    """A sympy function class interpolating ``table`` (CombiTable1D, LinearSegments).
+
+    Parameters
+    ----------
+    name : str
+        Name of the generated class (and of the function in generated code);
+        characters that are not valid in a Python identifier, such as dots,
+        become underscores (``"brake.mu_pos"`` -> ``brake_mu_pos``).
+    table : array_like, shape (n, 2)
+        Rows ``[x, y]`` with strictly increasing ``x``.
+
+    Returns
+    -------
+    type
+        A subclass of :class:`sympy.Function` with one argument.  Applied to a
+        sympy number it evaluates to a Float; its derivative is another table
+        function (piecewise constant, the right segment's slope at a
+        breakpoint).  ``_imp_``/``numeric`` evaluate a float, ``evaluate`` an
+        array.  The same name and table always return the same class.
+
+    Raises
+    ------
+    ParameterError
+        For an invalid table (see :func:`validate_table`).
+
+    Examples
+    --------
+    >>> T = table_function("T", [[0, 1], [1, 3]])
+    >>> T(2), T(-1)
+    (5.00000000000000, -1.00000000000000)
+    """
+    ident = _identifier(name)
+    data = validate_table(table, name)
+    key = (ident, data.shape, data.tobytes())
+    cls = _CLASSES.get(key)
+    if cls is None:
+        cls = _interpolation_class(ident, data)
+        _CLASSES[key] = cls
+    return cls
+
+
+# --------------------------------------------------------------------------
+
+
+def _segment_functions(xs: tuple, ys: tuple, slopes: tuple) -> tuple[Callable, Callable]:
+    """Scalar and vectorised linear interpolation with LastTwoPoints extrapolation."""
+    n = len(xs)
+    last = n - 2
+    x_last, y_last, s_last = xs[-1], ys[-1], slopes[-1]
+
+    def scalar(x: float) -> float:
+        i = bisect_right(xs, x) - 1
+        if i > last:  # at or beyond the last breakpoint: anchor at the last row
+            return y_last + s_last * (x - x_last)
+        if i < 0:
+            i = 0
+        return ys[i] + slopes[i] * (x - xs[i])
+
+    xa, ya, sa = np.array(xs), np.array(ys), np.array(slopes)
+
+    def vector(x):
+        arr = np.asarray(x, dtype=float)
+        i = np.searchsorted(xa, arr, side="right") - 1
+        high = i > last
+        i = np.clip(i, 0, last)
+        y = np.where(high, y_last + s_last * (arr - x_last), ya[i] + sa[i] * (arr - xa[i]))
+        return float(y) if y.ndim == 0 else y
+
+    return scalar, vector
+
+
+def _step_functions(xs: tuple, values: tuple) -> tuple[Callable, Callable]:
+    """Piecewise-constant function: ``values[i]`` on ``[xs[i], xs[i+1])``, clamped outside."""
+    last = len(values) - 1
+
+    def scalar(x: float) -> float:
+        i = bisect_right(xs, x) - 1
+        return values[0 if i < 0 else last if i > last else i]
+
+    xa, va = np.array(xs), np.array(values)
+
+    def vector(x):
+        arr = np.asarray(x, dtype=float)
+        i = np.clip(np.searchsorted(xa, arr, side="right") - 1, 0, last)
+        y = va[i]
+        return float(y) if y.ndim == 0 else y
+
+    return scalar, vector
+
+
+def _constant_functions(value: float) -> tuple[Callable, Callable]:
+    def scalar(x: float) -> float:
+        return value
+
+    def vector(x):
+        arr = np.asarray(x, dtype=float)
+        return value if arr.ndim == 0 else np.full(arr.shape, value)
+
+    return scalar, vector
+
+
+def _make_class(ident: str, scalar: Callable, vector: Callable, *, constant: float | None,
+                derivative: Callable[[], Any], attributes: dict) -> type[sp.Function]:
+    """Build the sympy Function subclass around a scalar and a vector implementation."""
+
+    def imp(x):
+        if isinstance(x, np.ndarray):
+            return vector(x)
+        return scalar(float(x))
+
+    def eval_(cls, x):
+        if constant is not None:
+            return sp.Float(constant)
+        if isinstance(x, sp.Number) and x.is_finite:
+            return sp.Float(scalar(float(x)))
+        return None
+
+    def evaluate(cls, x):
+        """Vectorised evaluation at an array (or scalar) of abscissae."""
+        return vector(x)
+
+    def fdiff(self, argindex=1):
+        if argindex != 1:
+            raise ArgumentIndexError(self, argindex)
+        result = derivative()
+        return result(self.args[0]) if isinstance(result, type) else result
+
+    def _eval_evalf(self, prec):
+        x = self.args[0].evalf(prec)
+        if isinstance(x, sp.Number) and x.is_finite:
+            return sp.Float(scalar(float(x)), prec)
+        return None
+
+    def _eval_is_real(self):
+        return self.args[0].is_real
+
+    namespace = {
+        "__module__": __name__,
+        "__doc__": f"Table function {ident} (linear segments, LastTwoPoints extrapolation).",
+        "nargs": 1,
+        "eval": classmethod(eval_),
+        "evaluate": classmethod(evaluate),
+        "fdiff": fdiff,
+        "_eval_evalf": _eval_evalf,
+        "_eval_is_real": _eval_is_real,
+        "_imp_": staticmethod(imp),
+        "numeric": staticmethod(imp),
+        **attributes,
+    }
+    return type(ident, (sp.Function,), namespace)
+
+
+def _interpolation_class(ident: str, data: np.ndarray) -> type[sp.Function]:
+    xs = tuple(float(v) for v in data[:, 0])
+    ys = tuple(float(v) for v in data[:, 1])
+    if len(xs) == 1:
+        scalar, vector = _constant_functions(ys[0])
+        slopes: tuple = ()
+        constant: float | None = ys[0]
+    else:
+        slopes = tuple((ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i]) for i in range(len(xs) - 1))
+        scalar, vector = _segment_functions(xs, ys, slopes)
+        constant = None
+
+    derivative_class: list = []
+
+    def derivative():
+        if not slopes:
+            return sp.Integer(0)
+        if not derivative_class:
+            derivative_class.append(_slope_class(f"{ident}_slope", xs, slopes))
+        return derivative_class[0]
+
+    return _make_class(ident, scalar, vector, constant=constant, derivative=derivative,
+                       attributes={"table": data, "breakpoints": xs, "slopes": slopes,
+                                   "kind": "linear"})
+
+
+def _slope_class(ident: str, xs: tuple, slopes: tuple) -> type[sp.Function]:
+    if len(slopes) == 1:
+        scalar, vector = _constant_functions(slopes[0])
+        constant: float | None = slopes[0]
+    else:
+        scalar, vector = _step_functions(xs, slopes)
+        constant = None
+    return _make_class(ident, scalar, vector, constant=constant, derivative=lambda: sp.Integer(0),
+                       attributes={"breakpoints": xs, "values": slopes, "kind": "steps"})

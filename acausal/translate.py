@@ -1,0 +1,292 @@
+"""The translation driver: run the stages, once per visited discrete state.
+
+:func:`translate` flattens and partitions a model once.  The continuous
+system of a discrete state — its equations specialised to the values of the
+discrete symbols, aliases removed, index reduced, sorted, torn and compiled
+— is built by :meth:`Translation.system` the first time that state is
+visited and cached afterwards.  Initialization systems are built the same
+way.  Each stage's output stays on the :class:`ModeSystem` for inspection.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+import sympy as sp
+
+from .algebraic import AlgebraicResult, solve_blocks
+from .alias import AliasResult, eliminate_aliases
+from .blt import BLTResult, sort_blt
+from .codegen import GeneratedCode, generate
+from .errors import InitializationError, OverDeterminedError, StructuralError, UnderDeterminedError
+from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
+from .language import Component, real_symbol
+from .partition import PartitionedModel, partition
+from .structure import StructuralResult, analyse, check_balance, priority_matching
+
+__all__ = ["ModeSystem", "InitialSystem", "Translation", "translate"]
+
+
+def _value_of(value) -> Any:
+    if isinstance(value, (bool, np.bool_)):
+        return sp.true if value else sp.false
+    return sp.Integer(int(value))
+
+
+def describe_key(selectors, key) -> str:
+    """Readable form of a discrete state: ``clutch.mode=0, clutch.locked=True``."""
+    parts = []
+    for sym, value in zip(selectors, key):
+        if sym.name.startswith("$rel") or sym is INITIAL:
+            continue
+        parts.append(f"{sym.name}={value}")
+    return ", ".join(parts) or "(continuous)"
+
+
+@dataclass(frozen=True)
+class ModeSystem:
+    """The compiled continuous system of one discrete state.
+
+    Attributes
+    ----------
+    key : tuple
+        Values of :attr:`PartitionedModel.selectors`, in that order.
+    equations : tuple of FlatEquation
+        Specialised equations.
+    aliases, structure, blt, algebraic, code
+        The outputs of the stages, in pipeline order.
+    timings : dict
+        Seconds spent in each stage.
+    """
+
+    key: tuple
+    description: str
+    equations: tuple[FlatEquation, ...]
+    aliases: AliasResult
+    structure: StructuralResult
+    blt: BLTResult
+    algebraic: AlgebraicResult
+    code: GeneratedCode
+    timings: dict
+    derivatives: Any = field(repr=False, compare=False)
+    crossings: Any = field(repr=False, compare=False)
+    outputs: Any = field(repr=False, compare=False)
+
+    @property
+    def states(self) -> tuple[str, ...]:
+        return self.structure.states
+
+    @property
+    def unknowns(self) -> tuple[str, ...]:
+        return self.structure.unknowns
+
+    def values(self, t: float, x) -> dict[str, float]:
+        """Every continuous variable and derivative at ``(t, x)``, aliases included."""
+        out = dict(zip(self.structure.states, map(float, x)))
+        out.update(zip(self.structure.unknowns, self.outputs(t, x)))
+        return out
+
+
+@dataclass(frozen=True)
+class InitialSystem:
+    """The compiled initialization problem of one discrete state."""
+
+    key: tuple
+    equations: tuple[FlatEquation, ...]
+    unknowns: tuple[str, ...]
+    relaxed: tuple[tuple[str, float], ...]  #: fixed start values dropped as redundant
+    blt: BLTResult
+    algebraic: AlgebraicResult
+    code: GeneratedCode
+    outputs: Any = field(repr=False, compare=False)
+
+
+class Translation:
+    """A translated model: flat and partitioned once, systems built lazily.
+
+    Attributes
+    ----------
+    flat : FlatModel
+    partitioned : PartitionedModel
+    systems : dict
+        ``key -> ModeSystem`` for every discrete state compiled so far.
+    initial_systems : dict
+    """
+
+    def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float) -> None:
+        self.flat = flat
+        self.partitioned = partitioned
+        self.parameter_names = tuple(p.name for p in flat.parameters)
+        self.parameter_values = dict(flat.parameter_values)
+        self.parameter_vector = tuple(self.parameter_values[n] for n in self.parameter_names)
+        self.continuous = {n: v for n, v in flat.variable_map.items() if not v.is_discrete}
+        self.systems: dict[tuple, ModeSystem] = {}
+        self.initial_systems: dict[tuple, InitialSystem] = {}
+        self.flatten_seconds = flatten_seconds
+
+    # -- discrete states ----------------------------------------------------
+
+    @property
+    def selectors(self) -> tuple[sp.Symbol, ...]:
+        return self.partitioned.selectors
+
+    def key_of(self, assignment: Mapping[str, Any]) -> tuple:
+        """The discrete state for values of discrete symbols (by name)."""
+        return tuple(assignment[s.name] for s in self.selectors)
+
+    def specialise(self, key: tuple, equations=None) -> tuple[FlatEquation, ...]:
+        subs = {s: _value_of(v) for s, v in zip(self.selectors, key)}
+        source = self.partitioned.equations if equations is None else equations
+        out = []
+        for eq in source:
+            residual = eq.residual.xreplace(subs) if subs else eq.residual
+            leftover = [s.name for s in residual.free_symbols if s.name.startswith("$rel")
+                        or s is INITIAL or s.name in self.partitioned.discrete_variables]
+            if leftover:
+                raise StructuralError(f"{eq.origin}: discrete value {leftover[0]} left after "
+                                      f"specialisation")
+            out.append(FlatEquation(residual, eq.origin))
+        return tuple(out)
+
+    # -- building systems -----------------------------------------------------
+
+    def system(self, key: tuple) -> ModeSystem:
+        """The compiled system of discrete state ``key`` (built on first use)."""
+        cached = self.systems.get(key)
+        if cached is not None:
+            return cached
+        description = describe_key(self.selectors, key)
+        context = f"{self.flat.name} [{description}]" if self.partitioned.is_hybrid else self.flat.name
+        timings = {}
+        t0 = _time.perf_counter()
+        equations = self.specialise(key)
+        timings["specialise"] = _time.perf_counter() - t0
+        t0 = _time.perf_counter()
+        aliases = eliminate_aliases(equations, self.continuous, set(self.parameter_values))
+        timings["alias"] = _time.perf_counter() - t0
+        t0 = _time.perf_counter()
+        structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context)
+        timings["structure"] = _time.perf_counter() - t0
+        t0 = _time.perf_counter()
+        blt = sort_blt(structure.incidence, structure.matching)
+        timings["blt"] = _time.perf_counter() - t0
+        t0 = _time.perf_counter()
+        algebraic = solve_blocks(structure.equations, structure.unknowns, blt, self.parameter_values)
+        timings["algebraic"] = _time.perf_counter() - t0
+        t0 = _time.perf_counter()
+        crossings = self._crossing_expressions(aliases)
+        guesses = {n: v.start for n, v in aliases.variables.items()}
+        code = generate(algebraic.steps, structure.states, structure.derivatives, structure.unknowns,
+                        self.parameter_names, crossings, name=context, guesses=guesses)
+        derivatives, crossing_fn, outputs = code.make(self.parameter_vector)
+        timings["codegen"] = _time.perf_counter() - t0
+        system = ModeSystem(key, description, equations, aliases, structure, blt, algebraic, code,
+                            timings, derivatives, crossing_fn, outputs)
+        self.systems[key] = system
+        return system
+
+    def _crossing_expressions(self, aliases: AliasResult) -> list[sp.Expr]:
+        substitution = {real_symbol(n): e for n, e in aliases.aliases.items()}
+        out = []
+        for r in self.partitioned.relations:
+            out += [sp.sympify(r.lhs).xreplace(substitution), sp.sympify(r.rhs).xreplace(substitution)]
+        return out
+
+    def initial_system(self, key: tuple) -> InitialSystem:
+        """The initialization problem of discrete state ``key`` (with initial() true)."""
+        cached = self.initial_systems.get(key)
+        if cached is not None:
+            return cached
+        mode = self.system(key)
+        context = f"initialization of {self.flat.name}"
+        if self.partitioned.is_hybrid:
+            context += f" [{mode.description}]"
+        substitution = {real_symbol(n): e for n, e in mode.aliases.aliases.items()}
+        user = [FlatEquation(e.residual.xreplace(substitution), e.origin)
+                for e in self.specialise(key, self.partitioned.initial_equations)]
+        variables = mode.aliases.variables
+        state_set = set(mode.structure.states)
+        fixed_states, fixed_others = [], []
+        for name, var in variables.items():
+            if var.fixed:
+                eq = FlatEquation(real_symbol(name) - var.start,
+                                  Origin(var.component, "", "fixed start", 0, f"{name} = {var.start:g}"))
+                (fixed_states if name in state_set else fixed_others).append((name, eq))
+        self._check_fixed_constants(mode.aliases)
+        dae = list(mode.structure.equations)
+        equations = dae + user + [e for _, e in fixed_states] + [e for _, e in fixed_others]
+        fixed_names = [n for n, _ in fixed_states] + [n for n, _ in fixed_others]
+        unknowns = list(mode.structure.unknowns) + list(mode.structure.states)
+        u_index = {n: k for k, n in enumerate(unknowns)}
+        values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
+        incidence = []
+        for eq in equations:
+            names = {s.name for s in eq.residual.xreplace(values).free_symbols}
+            extra = sorted(n for n in names if n not in u_index and n != "time")
+            if extra:
+                raise InitializationError(f"{context}: {eq.origin} uses {extra[0]}, which is "
+                                          f"not an unknown of the initialization problem")
+            incidence.append(tuple(sorted(u_index[n] for n in names if n in u_index)))
+        assign = priority_matching(incidence, len(unknowns), range(len(equations)))
+        matched = set(a for a in assign if a >= 0)
+        n_fixed0 = len(dae) + len(user)
+        unmatched = [i for i in range(len(equations)) if i not in matched]
+        hard = [i for i in unmatched if i < n_fixed0]
+        if hard:
+            lines = "\n  ".join(str(equations[i].origin) for i in hard[:10])
+            raise OverDeterminedError(f"{context} is over-determined:\n  {lines}",
+                                      hint="an initial equation may repeat what the model already fixes")
+        missing = [unknowns[j] for j, a in enumerate(assign) if a == -1]
+        if missing:
+            states = [m for m in missing if m in state_set]
+            names = ", ".join(states or missing)
+            raise InitializationError(
+                f"{context}: missing initial values; nothing fixes {names}",
+                hint="give start values with fixed=True, e.g. Inertia(w=dict(start=0, fixed=True)), "
+                     "or add initial equations")
+        relaxed = tuple((fixed_names[i - n_fixed0], variables[fixed_names[i - n_fixed0]].start)
+                        for i in unmatched)
+        kept = [i for i in range(len(equations)) if i in matched]
+        renumber = {i: k for k, i in enumerate(kept)}
+        kept_eqs = [equations[i] for i in kept]
+        kept_inc = [incidence[i] for i in kept]
+        matching = [0] * len(kept)
+        for j, i in enumerate(assign):
+            matching[renumber[i]] = j
+        blt = sort_blt(kept_inc, matching)
+        algebraic = solve_blocks(kept_eqs, unknowns, blt, self.parameter_values)
+        guesses = {n: v.start for n, v in variables.items()}
+        code = generate(algebraic.steps, (), (), unknowns, self.parameter_names, (),
+                        name=context, guesses=guesses)
+        _, _, outputs = code.make(self.parameter_vector)
+        system = InitialSystem(key, tuple(kept_eqs), tuple(unknowns), relaxed, blt, algebraic, code,
+                               outputs)
+        self.initial_systems[key] = system
+        return system
+
+    def _check_fixed_constants(self, aliases: AliasResult) -> None:
+        values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
+        for name, expr, start in aliases.fixed_constants:
+            value = float(sp.sympify(expr).xreplace(values))
+            if abs(value - start) > 1e-10 * max(1.0, abs(value)):
+                raise InitializationError(
+                    f"conflicting initial values: {name} has fixed start {start}, but the model "
+                    f"makes it the constant {expr} = {value}",
+                    hint=f"remove fixed=True from {name} or change its start value")
+
+    # -- summary --------------------------------------------------------------
+
+    @property
+    def translation_seconds(self) -> float:
+        return self.flatten_seconds + sum(sum(s.timings.values()) for s in self.systems.values())
+
+
+def translate(model: Component) -> Translation:
+    """Flatten and partition ``model``; its systems are compiled on demand."""
+    t0 = _time.perf_counter()
+    flat = flatten(model)
+    partitioned = partition(flat)
+    return Translation(flat, partitioned, _time.perf_counter() - t0)
