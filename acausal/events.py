@@ -19,12 +19,13 @@ References
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from typing import Mapping
 
 import sympy as sp
 
-from .errors import EventIterationError
+from .errors import EventIterationError, SimulationError
 from .flatten import INITIAL
 from .translate import ModeSystem, Translation
 
@@ -161,14 +162,23 @@ class DiscreteEvaluator:
         history = []
         passes = 0
         for _outer in range(self.max_iterations):
+            seen = []
             for _inner in range(self.max_iterations):
                 passes += 1
-                system = self.translation.system(self.key(discrete, pre, relations, initial))
-                x = [values[s] for s in system.states]
-                new_relations = self.relation_values(system, t, x, relations_before)
-                new_discrete = self.evaluate_discrete(discrete, pre, new_relations, initial)
+                new_discrete, new_relations = self._pass(t, values, discrete, pre, relations,
+                                                         relations_before, initial)
                 if new_discrete == discrete and new_relations == relations:
                     break
+                state = (tuple(sorted(new_discrete.items())), new_relations)
+                if state in seen:
+                    # The fixed-point iteration cycles: search for a consistent
+                    # assignment instead (as OpenModelica's mixed-system solver does).
+                    found = self._search(t, values, pre, new_relations, relations_before, initial,
+                                         seen, new_discrete)
+                    if found is None:
+                        self._fail(t, [dict(d) for d, _ in seen], "the mixed continuous/discrete system")
+                    new_discrete, new_relations = found
+                seen.append(state)
                 discrete, relations = new_discrete, new_relations
             else:
                 self._fail(t, history + [discrete], "the mixed continuous/discrete system")
@@ -182,6 +192,41 @@ class DiscreteEvaluator:
                 return EventOutcome(discrete, relations, system, full, passes, changes)
             pre = dict(discrete)
         self._fail(t, history, "event iteration")
+
+    def _pass(self, t, values, discrete, pre, relations, relations_before, initial):
+        """Solve the continuous part for a guess, then re-evaluate the discrete part."""
+        system = self.translation.system(self.key(discrete, pre, relations, initial))
+        x = [values[s] for s in system.states]
+        new_relations = self.relation_values(system, t, x, relations_before)
+        return self.evaluate_discrete(discrete, pre, new_relations, initial), new_relations
+
+    def _search(self, t, values, pre, relations, relations_before, initial, cycle, current):
+        """The first consistent assignment with fewest flips from the pre values.
+
+        Only discrete variables that select continuous equations are searched,
+        and only those of the components whose variables were cycling; the
+        others follow from the discrete equations.
+        """
+        cycling = {n for (a, _), (b, _) in zip(cycle, cycle[1:] + cycle[:1])
+                   for (n, va), (_, vb) in zip(a, b) if va != vb}
+        owners = {n.rpartition(".")[0] for n in cycling}
+        selectors = [s.name for s in self.translation.selectors
+                     if s.name in self.kinds and s.name.rpartition(".")[0] in owners]
+        booleans = [n for n in selectors if self.kinds[n] == "boolean"]
+        base = {**current, **{n: pre[n] for n in booleans}}
+        for flips in range(len(booleans) + 1):
+            for chosen in itertools.combinations(booleans, flips):
+                candidate = dict(base)
+                for n in chosen:
+                    candidate[n] = not candidate[n]
+                try:
+                    result, rels = self._pass(t, values, candidate, pre, relations,
+                                              relations_before, initial)
+                except SimulationError:
+                    continue  # e.g. a singular system in an impossible configuration
+                if all(result[n] == candidate[n] for n in selectors):
+                    return result, rels
+        return None
 
     def _fail(self, t: float, history, what: str):
         changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})

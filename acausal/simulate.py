@@ -149,12 +149,8 @@ class _Run:
             state = initialize(self.translation, self.evaluator, t0)
             self.notes.extend(state.notes)
             outcome = state.outcome
-            system0 = self.translation.system(
-                self.evaluator.key(state.initial_discrete, state.initial_discrete,
-                                   state.initial_relations, False))
-            if outcome.changes:
-                x_left = [state.initial_values[s] for s in system0.states]
-                self.rows.append((t0, system0, x_left, dict(state.initial_discrete)))
+            # Like Dymola, only the values after the post-initialization event
+            # iteration are written at the start time (one row, not two).
             self.events.append(Event(t0, "initial", (), outcome.changes, outcome.iterations))
             self._integrate(t0, t1, outcome)
         except SimulationError as exc:

@@ -1,0 +1,44 @@
+"""Connectors and partial models shared by the component libraries.
+
+Mirrors the ``Interfaces`` packages of the Modelica Standard Library:
+:mod:`components.rotational` (flanges and rotational partials),
+:mod:`components.thermal` (heat ports and conditional heat ports),
+:mod:`components.blocks` (signal block partials) and
+:mod:`components.friction` (the friction state machine).
+"""
+
+from .blocks import SI2SO, SISO, SO, SignalSource
+from .friction import PartialFriction
+from .rotational import (
+    Flange,
+    Flange_a,
+    Flange_b,
+    PartialAbsoluteSensor,
+    PartialCompliant,
+    PartialCompliantWithRelativeStates,
+    PartialElementaryOneFlangeAndSupport2,
+    PartialElementaryTwoFlangesAndSupport2,
+    PartialRelativeSensor,
+    PartialTorque,
+    PartialTwoFlanges,
+    Support,
+)
+from .thermal import (
+    Element1D,
+    HeatPort,
+    HeatPort_a,
+    HeatPort_b,
+    PartialElementaryConditionalHeatPort,
+    PartialElementaryConditionalHeatPortWithoutT,
+)
+
+__all__ = [
+    "Flange", "Flange_a", "Flange_b", "Support",
+    "PartialTwoFlanges", "PartialCompliant", "PartialCompliantWithRelativeStates",
+    "PartialElementaryOneFlangeAndSupport2", "PartialElementaryTwoFlangesAndSupport2",
+    "PartialTorque", "PartialAbsoluteSensor", "PartialRelativeSensor",
+    "HeatPort", "HeatPort_a", "HeatPort_b", "Element1D",
+    "PartialElementaryConditionalHeatPortWithoutT", "PartialElementaryConditionalHeatPort",
+    "SO", "SignalSource", "SI2SO", "SISO",
+    "PartialFriction",
+]

@@ -1,0 +1,35 @@
+"""Partial signal blocks (Modelica.Blocks.Interfaces)."""
+
+from __future__ import annotations
+
+from acausal.language import Component, Parameter, RealInput, RealOutput
+
+__all__ = ["SO", "SignalSource", "SI2SO", "SISO"]
+
+
+class SO(Component):
+    """Single output block (Modelica.Blocks.Interfaces.SO): the output ``y``."""
+
+    y = RealOutput(description="Connector of Real output signal")
+
+
+class SignalSource(SO):
+    """Base of signal sources (Modelica.Blocks.Interfaces.SignalSource): ``offset`` and ``startTime``."""
+
+    offset = Parameter(0.0, description="Offset of output signal y")
+    startTime = Parameter(0.0, unit="s", description="Output y = offset for time < startTime")  # noqa: N815
+
+
+class SI2SO(Component):
+    """Two inputs, one output (Modelica.Blocks.Interfaces.SI2SO): ``u1``, ``u2`` and ``y``."""
+
+    u1 = RealInput(description="Connector of Real input signal 1")
+    u2 = RealInput(description="Connector of Real input signal 2")
+    y = RealOutput(description="Connector of Real output signal")
+
+
+class SISO(Component):
+    """Single input, single output (Modelica.Blocks.Interfaces.SISO): ``u`` and ``y``."""
+
+    u = RealInput(description="Connector of Real input signal")
+    y = RealOutput(description="Connector of Real output signal")

@@ -1,0 +1,133 @@
+"""The friction state machine shared by BearingFriction, Brake and Clutch."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from acausal.language import Boolean, Component, Eq, Integer, Parameter, Variable, pre
+
+from .logic import is_initial, pre_boolean
+
+__all__ = ["PartialFriction", "Unknown", "Free", "Forward", "Stuck", "Backward"]
+
+#: Values of ``mode``.
+Unknown = 3  #: value of mode is not known
+Free = 2  #: element is not active
+Forward = 1  #: w_relfric > 0 (forward sliding)
+Stuck = 0  #: w_relfric = 0 (forward sliding, locked or backward sliding starts)
+Backward = -1  #: w_relfric < 0 (backward sliding)
+
+
+class PartialFriction(Component):
+    """Coulomb friction state machine (Modelica.Mechanics.Rotational.Interfaces.PartialFriction).
+
+    The friction element is described by a path variable ``sa`` at the
+    acceleration level, following Otter, Elmqvist and Mattsson (1999): while
+    locked the constraint is on the relative acceleration (``a_relfric = 0``,
+    the friction torque ``sa`` is whatever keeps it there), so the relative
+    velocity stays a state in every mode and the equation structure never
+    changes.  Sliding starts when ``sa`` exceeds the static limit
+    ``tau0_max`` (and continues to "start" while it exceeds ``tau0``); the
+    ``mode`` becomes Forward or Backward only once the relative velocity has
+    the matching sign (the waiting phase).  The subclass defines
+    ``w_relfric``, ``a_relfric``, ``tau0``, ``tau0_max`` and ``free`` by
+    equations, plus its friction torque (``sa`` when ``locked``).
+
+    The equations are those of MSL v4.1.0 (spec section 2.9, F1-F5), including
+    the final ``sa - sign(w_relfric)*tau0_max`` branch of ``a_relfric``.  The
+    one extension is ``K_locked``: in the locked branch this project uses
+    ``a_relfric = -K_locked*w_relfric`` (a first-order pull of the drifting
+    relative velocity back to zero); with the default ``K_locked = 0`` it is
+    exactly the MSL equation ``a_relfric = 0``.
+
+    Parameters
+    ----------
+    w_small : float, default 1e10 rad/s
+        Relative angular velocity near zero if jumps due to a reinit of the
+        velocity can occur; the large default disables it.
+    K_locked : float, default 0 1/s
+        Velocity feedback gain in the locked mode (project extension, not MSL).
+
+    Notes
+    -----
+    ``mode`` takes the values of the module constants Unknown (3), Free (2),
+    Forward (1), Stuck (0) and Backward (-1).  ``mode``, ``startForward`` and
+    ``startBackward`` are fixed at their start values, so during
+    initialization ``pre(mode) = Unknown`` and the element starts sliding only
+    if ``w_relfric`` is non-zero.
+
+    References
+    ----------
+    .. [1] M. Otter, H. Elmqvist and S. E. Mattsson, "Hybrid Modeling in
+       Modelica based on the Synchronous Data Flow Principle", CACSD'99,
+       Hawaii, August 1999.
+    """
+
+    Unknown = Unknown
+    Free = Free
+    Forward = Forward
+    Stuck = Stuck
+    Backward = Backward
+
+    w_small = Parameter(1.0e10, unit="rad/s",
+                        description="Relative angular velocity near to zero if jumps due to a reinit(..) "
+                                    "of the velocity can occur (set to low value only if such impulses "
+                                    "can occur)")
+    K_locked = Parameter(0.0, unit="1/s", min=0,  # noqa: N815 - project name
+                         description="Velocity feedback gain while locked: a_relfric = -K_locked*w_relfric "
+                                     "(0 = MSL behaviour)")
+
+    # defined by the subclass
+    w_relfric = Variable(unit="rad/s", description="Relative angular velocity between frictional surfaces")
+    a_relfric = Variable(unit="rad/s2", description="Relative angular acceleration between frictional surfaces")
+    tau0 = Variable(unit="N.m", description="Friction torque for w=0 and forward sliding")
+    tau0_max = Variable(unit="N.m", description="Maximum friction torque for w=0 and locked")
+    free = Boolean(description="true, if frictional element is not active")
+
+    # defined here
+    sa = Variable(unit="1", description="Path parameter of friction characteristic tau = f(a_relfric)")
+    startForward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
+                           description="true, if w_rel=0 and start of forward sliding")
+    startBackward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
+                            description="true, if w_rel=0 and start of backward sliding")
+    locked = Boolean(start=False, description="true, if w_rel=0 and not sliding")
+    mode = Integer(start=Unknown, fixed=True, min=Backward, max=Unknown,
+                   description="Mode of friction (-1 backward sliding, 0 stuck, 1 forward sliding, "
+                               "2 inactive, 3 unknown)")
+
+    def equations(self):
+        sa, w = self.sa, self.w_relfric
+        tau0, tau0_max = self.tau0, self.tau0_max
+        pre_mode = pre(self.mode)
+        was = {value: sp.Eq(pre_mode, value) for value in (Stuck, Forward, Backward, Free)}
+
+        start_forward = sp.Or(
+            sp.And(was[Stuck], sp.Or(sa > tau0_max, sp.And(pre_boolean(self.startForward), sa > tau0))),
+            sp.And(was[Backward], w > self.w_small),
+            sp.And(is_initial(), w > 0))
+        start_backward = sp.Or(
+            sp.And(was[Stuck], sp.Or(sa < -tau0_max, sp.And(pre_boolean(self.startBackward), sa < -tau0))),
+            sp.And(was[Forward], w < -self.w_small),
+            sp.And(is_initial(), w < 0))
+        locked = sp.And(sp.Not(self.free),
+                        sp.Not(sp.Or(was[Forward], self.startForward, was[Backward], self.startBackward)))
+        a_relfric = sp.Piecewise(
+            (-self.K_locked * w, self.locked),
+            (sa, self.free),
+            (sa - tau0_max, self.startForward),
+            (sa + tau0_max, self.startBackward),
+            (sa - tau0_max, was[Forward]),
+            (sa + tau0_max, was[Backward]),
+            (sa - sp.sign(w) * tau0_max, True))
+        mode = sp.Piecewise(
+            (Free, self.free),
+            (Forward, sp.And(sp.Or(was[Forward], was[Free], self.startForward), w > 0)),
+            (Backward, sp.And(sp.Or(was[Backward], was[Free], self.startBackward), w < 0)),
+            (Stuck, True))
+        return [
+            Eq(self.startForward, start_forward),   # F1
+            Eq(self.startBackward, start_backward),  # F2
+            Eq(self.locked, locked),                 # F3
+            Eq(self.a_relfric, a_relfric),           # F4
+            Eq(self.mode, mode),                     # F5
+        ]

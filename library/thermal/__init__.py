@@ -1,0 +1,17 @@
+"""Modelica.Thermal.HeatTransfer: lumped heat transfer (components, sources, sensors, Celsius)."""
+
+from components.thermal import HeatPort, HeatPort_a, HeatPort_b
+
+from . import celsius as Celsius  # noqa: N812 - Modelica package name
+from .celsius import CelsiusFixedTemperature, CelsiusTemperatureSensor
+from .components import Convection, HeatCapacitor, ThermalConductor, ThermalResistor
+from .sensors import HeatFlowSensor, TemperatureSensor
+from .sources import FixedHeatFlow, FixedTemperature, PrescribedHeatFlow, PrescribedTemperature
+
+__all__ = [
+    "HeatPort", "HeatPort_a", "HeatPort_b",
+    "HeatCapacitor", "ThermalConductor", "ThermalResistor", "Convection",
+    "FixedTemperature", "PrescribedTemperature", "FixedHeatFlow", "PrescribedHeatFlow",
+    "TemperatureSensor", "HeatFlowSensor",
+    "Celsius", "CelsiusFixedTemperature", "CelsiusTemperatureSensor",
+]
