@@ -54,8 +54,9 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     """Solve the initialization problem at ``start_time``."""
     flat = translation.flat
     variables = flat.variable_map
-    discrete = {n: variables[n].start for n in translation.partitioned.discrete_variables}
-    fixed_pre = {n: variables[n].start for n in discrete if variables[n].fixed}
+    discrete = {n: (bool(variables[n].start) if variables[n].kind == "boolean" else int(variables[n].start))
+                for n in translation.partitioned.discrete_variables}
+    fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
     relations = tuple(False for _ in translation.partitioned.relations)
     notes: list[str] = []
     values = None

@@ -122,6 +122,8 @@ class Translation:
         self.parameter_names = tuple(p.name for p in flat.parameters)
         self.parameter_values = dict(flat.parameter_values)
         self.parameter_vector = tuple(self.parameter_values[n] for n in self.parameter_names)
+        self._zero_parameters = {real_symbol(n): sp.Integer(0) for n, v in self.parameter_values.items()
+                                 if v == 0}
         self.continuous = {n: v for n, v in flat.variable_map.items() if not v.is_discrete}
         self.systems: dict[tuple, ModeSystem] = {}
         self.initial_systems: dict[tuple, InitialSystem] = {}
@@ -139,6 +141,9 @@ class Translation:
 
     def specialise(self, key: tuple, equations=None) -> tuple[FlatEquation, ...]:
         subs = {s: _value_of(v) for s, v in zip(self.selectors, key)}
+        # Parameters that are zero are structural zeros: the matching ignores
+        # the terms they multiply, so the generated code must not contain them.
+        subs.update(self._zero_parameters)
         source = self.partitioned.equations if equations is None else equations
         out = []
         for eq in source:
