@@ -79,7 +79,8 @@ class PartialFriction(Component):
 
     # defined by the subclass
     w_relfric = Variable(unit="rad/s", description="Relative angular velocity between frictional surfaces")
-    a_relfric = Variable(unit="rad/s2", description="Relative angular acceleration between frictional surfaces")
+    a_relfric = Variable(unit="rad/s2",
+                         description="Relative angular acceleration between frictional surfaces")
     tau0 = Variable(unit="N.m", description="Friction torque for w=0 and forward sliding")
     tau0_max = Variable(unit="N.m", description="Maximum friction torque for w=0 and locked")
     free = Boolean(description="true, if frictional element is not active")

@@ -74,7 +74,8 @@ class PartialCompliant(PartialTwoFlanges):
     (``flange_b.tau = tau``, ``flange_a.tau = -tau``).
     """
 
-    phi_rel = Variable(start=0.0, unit="rad", description="Relative rotation angle (= flange_b.phi - flange_a.phi)")
+    phi_rel = Variable(start=0.0, unit="rad",
+                       description="Relative rotation angle (= flange_b.phi - flange_a.phi)")
     tau = Variable(unit="N.m", description="Torque between flanges (= flange_b.tau)")
 
     def equations(self):
@@ -99,7 +100,8 @@ class PartialCompliantWithRelativeStates(PartialTwoFlanges):
     ``phi_nominal`` (1e-4 rad) scales the error control of ``phi_rel``.
     """
 
-    phi_nominal = Parameter(1e-4, unit="rad", min=0, description="Nominal value of phi_rel (used for scaling)")
+    phi_nominal = Parameter(1e-4, unit="rad", min=0,
+                            description="Nominal value of phi_rel (used for scaling)")
     stateSelect = Parameter(StateSelect.prefer, structural=True,  # noqa: N815 - Modelica name
                             description="Priority to use phi_rel and w_rel as states")
     phi_rel = Variable(start=0.0, unit="rad", nominal=_phi_rel_nominal,
@@ -174,7 +176,10 @@ class PartialTorque(PartialElementaryOneFlangeAndSupport2):
 
 
 class PartialAbsoluteSensor(Component):
-    """Base of absolute sensors (Modelica.Mechanics.Rotational.Interfaces.PartialAbsoluteSensor): ``0 = flange.tau``."""
+    """Base of absolute sensors (Modelica.Mechanics.Rotational.Interfaces.PartialAbsoluteSensor).
+
+    ``0 = flange.tau``.
+    """
 
     flange = Flange_a(description="Flange to be measured")
 
@@ -183,7 +188,10 @@ class PartialAbsoluteSensor(Component):
 
 
 class PartialRelativeSensor(Component):
-    """Base of relative sensors (Modelica.Mechanics.Rotational.Interfaces.PartialRelativeSensor): ``0 = flange_a.tau + flange_b.tau``."""
+    """Base of relative sensors (Modelica.Mechanics.Rotational.Interfaces.PartialRelativeSensor).
+
+    ``0 = flange_a.tau + flange_b.tau``.
+    """
 
     flange_a = Flange_a()
     flange_b = Flange_b()

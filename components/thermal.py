@@ -23,7 +23,8 @@ class HeatPort(Connector):
 
     family = "thermal"
     T = Potential(unit="K", start=293.15, description="Port temperature")
-    Q_flow = Flow(unit="W", description="Heat flow rate (positive if flowing from outside into the component)")
+    Q_flow = Flow(unit="W",
+                  description="Heat flow rate (positive if flowing from outside into the component)")
 
 
 class HeatPort_a(HeatPort):  # noqa: N801 - Modelica name
@@ -66,7 +67,8 @@ class PartialElementaryConditionalHeatPortWithoutT(Component):
                             description="= true, if heatPort is enabled")
     heatPort = HeatPort_a(condition="useHeatPort",  # noqa: N815 - Modelica name
                           description="Optional port to which dissipated losses are transported")
-    lossPower = Variable(unit="W", description="Loss power leaving component via heatPort (> 0, if heat is flowing out of component)")  # noqa: N815
+    lossPower = Variable(unit="W",
+                         description="Loss power leaving component via heatPort (> 0, if heat is flowing out of component)")  # noqa: N815
 
     def equations(self):
         if self.useHeatPort:

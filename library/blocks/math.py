@@ -35,7 +35,10 @@ class Add(SI2SO):
 
 
 class Feedback(SI2SO):
-    """Output difference between commanded and feedback input (Modelica.Blocks.Math.Feedback): ``y = u1 - u2``."""
+    """Output difference between commanded and feedback input (Modelica.Blocks.Math.Feedback).
+
+    ``y = u1 - u2``.
+    """
 
     def equations(self):
         return [Eq(self.y, self.u1 - self.u2)]

@@ -20,7 +20,10 @@ class Constant(SO):
 
 
 class Step(SignalSource):
-    """Generate a step signal (Modelica.Blocks.Sources.Step): ``y = offset + (0 if time < startTime else height)``."""
+    """Generate a step signal (Modelica.Blocks.Sources.Step).
+
+    ``y = offset + (0 if time < startTime else height)``.
+    """
 
     height = Parameter(1.0, description="Height of step")
 

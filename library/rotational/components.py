@@ -126,8 +126,10 @@ class Inertia(PartialTwoFlanges):
     J = Parameter(1.0, unit="kg.m2", min=0, description="Moment of inertia")
     stateSelect = Parameter(StateSelect.default, structural=True,  # noqa: N815 - Modelica name
                             description="Priority to use phi and w as states")
-    phi = Variable(unit="rad", state_select=lambda c: c.stateSelect, description="Absolute rotation angle of component")
-    w = Variable(unit="rad/s", state_select=lambda c: c.stateSelect, description="Absolute angular velocity of component (= der(phi))")
+    phi = Variable(unit="rad", state_select=lambda c: c.stateSelect,
+                   description="Absolute rotation angle of component")
+    w = Variable(unit="rad/s", state_select=lambda c: c.stateSelect,
+                 description="Absolute angular velocity of component (= der(phi))")
     a = Variable(unit="rad/s2", description="Absolute angular acceleration of component (= der(w))")
 
     def equations(self):
@@ -141,7 +143,10 @@ class Inertia(PartialTwoFlanges):
 
 
 class Fixed(Component):
-    """Flange fixed in the housing at an angle (Modelica.Mechanics.Rotational.Components.Fixed): ``flange.phi = phi0``."""
+    """Flange fixed in the housing at an angle (Modelica.Mechanics.Rotational.Components.Fixed).
+
+    ``flange.phi = phi0``.
+    """
 
     phi0 = Parameter(0.0, unit="rad", description="Fixed offset angle of housing")
     flange = Flange_b(description="Flange fixed in housing at a given angle")
@@ -151,7 +156,10 @@ class Fixed(Component):
 
 
 class Spring(PartialCompliant):
-    """Linear 1D rotational spring (Modelica.Mechanics.Rotational.Components.Spring): ``tau = c*(phi_rel - phi_rel0)``."""
+    """Linear 1D rotational spring (Modelica.Mechanics.Rotational.Components.Spring).
+
+    ``tau = c*(phi_rel - phi_rel0)``.
+    """
 
     c = Parameter(1.0e5, unit="N.m/rad", min=0, description="Spring constant")
     phi_rel0 = Parameter(0.0, unit="rad", description="Unstretched spring angle")
@@ -253,7 +261,8 @@ class BearingFriction(_TableFriction, PartialElementaryTwoFlangesAndSupport2, Pa
 
     tau_pos = Parameter([[0.0, 1.0]], structural=True, unit="N.m",
                         description="[w,tau] positive sliding friction characteristic (w>=0)")
-    peak = Parameter(1.0, min=1, description="Peak for maximum friction torque at w==0 (tau0_max = peak*tau_pos[1,2])")
+    peak = Parameter(1.0, min=1,
+                     description="Peak for maximum friction torque at w==0 (tau0_max = peak*tau_pos[1,2])")
     phi = Variable(unit="rad", description="Angle between shaft flanges (flange_a, flange_b) and support")
     tau = Variable(unit="N.m", description="Friction torque")
     w = Variable(unit="rad/s", description="Absolute angular velocity of flange_a and flange_b")
@@ -292,10 +301,12 @@ class Clutch(_TableFriction, PartialCompliantWithRelativeStates, PartialFriction
 
     mu_pos = Parameter([[0.0, 0.5]], structural=True,
                        description="[w,mu] positive sliding friction coefficient (w_rel>=0)")
-    peak = Parameter(1.0, min=1, description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
+    peak = Parameter(1.0, min=1,
+                     description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
     cgeo = Parameter(1.0, min=0, description="Geometry constant containing friction distribution assumption")
     fn_max = Parameter(1.0, unit="N", min=0, description="Maximum normal force")
-    f_normalized = RealInput(unit="1", description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; clutch is engaged if > 0)")
+    f_normalized = RealInput(unit="1",
+                             description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; clutch is engaged if > 0)")
     mu = Variable(unit="1", description="Friction coefficient")
     fn = Variable(unit="N", description="Normal force (fn=fn_max*f_normalized)")
 
@@ -330,10 +341,12 @@ class Brake(_TableFriction, PartialElementaryTwoFlangesAndSupport2, PartialFrict
 
     mu_pos = Parameter([[0.0, 0.5]], structural=True,
                        description="[w,mu] positive sliding friction coefficient (w>=0)")
-    peak = Parameter(1.0, min=1, description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
+    peak = Parameter(1.0, min=1,
+                     description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
     cgeo = Parameter(1.0, min=0, description="Geometry constant containing friction distribution assumption")
     fn_max = Parameter(1.0, unit="N", min=0, description="Maximum normal force")
-    f_normalized = RealInput(unit="1", description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; brake is active if > 0)")
+    f_normalized = RealInput(unit="1",
+                             description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; brake is active if > 0)")
     phi = Variable(unit="rad", description="Angle between shaft flanges (flange_a, flange_b) and support")
     tau = Variable(unit="N.m", description="Brake friction torque")
     w = Variable(unit="rad/s", description="Absolute angular velocity of flange_a and flange_b")
@@ -380,23 +393,27 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
 
     mu_pos = Parameter([[0.0, 0.5]], structural=True,
                        description="[w,mu] positive sliding friction coefficient (w_rel>=0)")
-    peak = Parameter(1.0, min=1, description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
+    peak = Parameter(1.0, min=1,
+                     description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
     cgeo = Parameter(1.0, min=0, description="Geometry constant containing friction distribution assumption")
     fn_max = Parameter(1.0, unit="N", min=0, description="Maximum normal force")
     w_small = Parameter(1.0e10, unit="rad/s",
                         description="Relative angular velocity near to zero if jumps due to a reinit(..) "
                                     "of the velocity can occur")
-    f_normalized = RealInput(unit="1", description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; clutch is engaged if > 0)")
+    f_normalized = RealInput(unit="1",
+                             description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; clutch is engaged if > 0)")
     u = Variable(unit="1", description="Normalized force input signal (0..1)")
     mu = Variable(unit="1", description="Friction coefficient")
     fn = Variable(unit="N", description="Normal force (=fn_max*inPort.signal)")
-    startForward = Boolean(start=False, description="true, if w_rel=0 and start of forward sliding")  # noqa: N815
+    startForward = Boolean(start=False,
+                           description="true, if w_rel=0 and start of forward sliding")  # noqa: N815
     locked = Boolean(start=False, description="true, if w_rel=0 and not sliding")
     stuck = Boolean(start=False, description="w_rel <= 0 and not sliding")
     tau0 = Variable(unit="N.m", description="Friction torque for w=0 and sliding (protected)")
     tau0_max = Variable(unit="N.m", description="Maximum friction torque for w=0 and locked (protected)")
     free = Boolean(description="true, if frictional element is not active (protected)")
-    sa = Variable(unit="1", description="Path parameter of tau = f(a_rel) friction characteristic (protected)")
+    sa = Variable(unit="1",
+                  description="Path parameter of tau = f(a_rel) friction characteristic (protected)")
 
     def equations(self):
         MU = _table(self, "mu_pos")

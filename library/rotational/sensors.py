@@ -10,7 +10,10 @@ __all__ = ["AngleSensor", "SpeedSensor", "AccSensor", "TorqueSensor", "RelAngleS
 
 
 class AngleSensor(PartialAbsoluteSensor):
-    """Ideal sensor of the absolute flange angle (Modelica.Mechanics.Rotational.Sensors.AngleSensor): ``phi = flange.phi``."""
+    """Ideal sensor of the absolute flange angle (Modelica.Mechanics.Rotational.Sensors.AngleSensor).
+
+    ``phi = flange.phi``.
+    """
 
     phi = RealOutput(unit="rad", description="Absolute angle of flange")
 
@@ -19,7 +22,10 @@ class AngleSensor(PartialAbsoluteSensor):
 
 
 class SpeedSensor(PartialAbsoluteSensor):
-    """Ideal sensor of the absolute angular velocity (Modelica.Mechanics.Rotational.Sensors.SpeedSensor): ``w = der(flange.phi)``."""
+    """Ideal sensor of the absolute angular velocity (Modelica.Mechanics.Rotational.Sensors.SpeedSensor).
+
+    ``w = der(flange.phi)``.
+    """
 
     w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange")
 
@@ -28,7 +34,10 @@ class SpeedSensor(PartialAbsoluteSensor):
 
 
 class AccSensor(PartialAbsoluteSensor):
-    """Ideal sensor of the absolute angular acceleration (Modelica.Mechanics.Rotational.Sensors.AccSensor): ``a = der(w)``, ``w = der(flange.phi)``."""
+    """Ideal sensor of the absolute angular acceleration (Modelica.Mechanics.Rotational.Sensors.AccSensor).
+
+    ``a = der(w)``, ``w = der(flange.phi)``.
+    """
 
     w = Variable(unit="rad/s", description="Absolute angular velocity of flange")
     a = RealOutput(unit="rad/s2", description="Absolute angular acceleration of flange")
@@ -38,28 +47,41 @@ class AccSensor(PartialAbsoluteSensor):
 
 
 class TorqueSensor(PartialRelativeSensor):
-    """Ideal sensor of the torque in a flange (Modelica.Mechanics.Rotational.Sensors.TorqueSensor): ``tau = flange_a.tau``, rigid connection."""
+    """Ideal sensor of the torque in a flange (Modelica.Mechanics.Rotational.Sensors.TorqueSensor).
 
-    tau = RealOutput(unit="N.m", description="Torque in flange flange_a and flange_b (tau = flange_a.tau = -flange_b.tau)")
+    ``tau = flange_a.tau``, rigid connection.
+    """
+
+    tau = RealOutput(unit="N.m",
+                     description="Torque in flange flange_a and flange_b (tau = flange_a.tau = -flange_b.tau)")
 
     def equations(self):
         return [Eq(self.flange_a.phi, self.flange_b.phi), Eq(self.tau, self.flange_a.tau)]
 
 
 class RelAngleSensor(PartialRelativeSensor):
-    """Ideal sensor of the relative angle (Modelica.Mechanics.Rotational.Sensors.RelAngleSensor): ``phi_rel = flange_b.phi - flange_a.phi``."""
+    """Ideal sensor of the relative angle (Modelica.Mechanics.Rotational.Sensors.RelAngleSensor).
 
-    phi_rel = RealOutput(unit="rad", description="Relative angle between two flanges (= flange_b.phi - flange_a.phi)")
+    ``phi_rel = flange_b.phi - flange_a.phi``.
+    """
+
+    phi_rel = RealOutput(unit="rad",
+                         description="Relative angle between two flanges (= flange_b.phi - flange_a.phi)")
 
     def equations(self):
         return [Eq(self.phi_rel, self.flange_b.phi - self.flange_a.phi), Eq(0, self.flange_a.tau)]
 
 
 class RelSpeedSensor(PartialRelativeSensor):
-    """Ideal sensor of the relative angular velocity (Modelica.Mechanics.Rotational.Sensors.RelSpeedSensor): ``w_rel = der(flange_b.phi - flange_a.phi)``."""
+    """Ideal sensor of the relative angular velocity (Modelica.Mechanics.Rotational.Sensors.RelSpeedSensor).
 
-    w_rel = RealOutput(unit="rad/s", description="Relative angular velocity between two flanges (= der(flange_b.phi) - der(flange_a.phi))")
-    phi_rel = Variable(unit="rad", description="Relative angle between two flanges (flange_b.phi - flange_a.phi) (protected)")
+    ``w_rel = der(flange_b.phi - flange_a.phi)``.
+    """
+
+    w_rel = RealOutput(unit="rad/s",
+                       description="Relative angular velocity between two flanges (= der(flange_b.phi) - der(flange_a.phi))")
+    phi_rel = Variable(unit="rad",
+                       description="Relative angle between two flanges (flange_b.phi - flange_a.phi) (protected)")
 
     def equations(self):
         return [
@@ -70,7 +92,10 @@ class RelSpeedSensor(PartialRelativeSensor):
 
 
 class PowerSensor(PartialRelativeSensor):
-    """Ideal sensor of the power through a flange (Modelica.Mechanics.Rotational.Sensors.PowerSensor): ``power = flange_a.tau*der(flange_a.phi)``."""
+    """Ideal sensor of the power through a flange (Modelica.Mechanics.Rotational.Sensors.PowerSensor).
+
+    ``power = flange_a.tau*der(flange_a.phi)``.
+    """
 
     power = RealOutput(unit="W", description="Power in flange flange_a")
 
@@ -88,7 +113,8 @@ class MultiSensor(PartialRelativeSensor):
 
     power = RealOutput(unit="W", description="Power in flange flange_a")
     w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange_a")
-    tau = RealOutput(unit="N.m", description="Torque in flange flange_a and flange_b (tau = flange_a.tau = -flange_b.tau)")
+    tau = RealOutput(unit="N.m",
+                     description="Torque in flange flange_a and flange_b (tau = flange_a.tau = -flange_b.tau)")
 
     def equations(self):
         return [

@@ -28,7 +28,8 @@ class ConstantTorque(PartialTorque):
     as a load); ``w = der(phi)`` is the speed relative to the support.
     """
 
-    tau_constant = Parameter(None, unit="N.m", description="Constant torque (if negative, torque is acting as load)")
+    tau_constant = Parameter(None, unit="N.m",
+                             description="Constant torque (if negative, torque is acting as load)")
     tau = Variable(unit="N.m", description="Accelerating torque acting at flange (= -flange.tau)")
     w = Variable(unit="rad/s", description="Angular velocity of flange with respect to support (= der(phi))")
 
@@ -47,7 +48,8 @@ class TorqueStep(PartialTorque):
     ``tau = -flange.tau``; the step is a time event.
     """
 
-    stepTorque = Parameter(1.0, unit="N.m", description="Height of torque step (if negative, torque is acting as load)")  # noqa: N815
+    stepTorque = Parameter(1.0, unit="N.m",
+                           description="Height of torque step (if negative, torque is acting as load)")  # noqa: N815
     offsetTorque = Parameter(0.0, unit="N.m", description="Offset of torque")  # noqa: N815
     startTime = Parameter(0.0, unit="s", description="Torque = offset for time < startTime")  # noqa: N815
     tau = Variable(unit="N.m", description="Accelerating torque acting at flange (= -flange.tau)")

@@ -16,7 +16,10 @@ ZERO_CELSIUS = 273.15
 
 
 class CelsiusFixedTemperature(Component):
-    """Fixed temperature boundary condition in degC (Modelica.Thermal.HeatTransfer.Celsius.FixedTemperature): ``port.T = T + 273.15``."""
+    """Fixed temperature boundary condition in degC (Modelica.Thermal.HeatTransfer.Celsius.FixedTemperature).
+
+    ``port.T = T + 273.15``.
+    """
 
     T = Parameter(None, unit="degC", description="Fixed temperature at the port")
     port = HeatPort_b()
@@ -26,7 +29,10 @@ class CelsiusFixedTemperature(Component):
 
 
 class CelsiusTemperatureSensor(Component):
-    """Absolute temperature sensor in degC (Modelica.Thermal.HeatTransfer.Celsius.TemperatureSensor): ``T = port.T - 273.15``, ``port.Q_flow = 0``."""
+    """Absolute temperature sensor in degC (Modelica.Thermal.HeatTransfer.Celsius.TemperatureSensor).
+
+    ``T = port.T - 273.15``, ``port.Q_flow = 0``.
+    """
 
     T = RealOutput(unit="degC", description="Absolute temperature in degree Celsius as output signal")
     port = HeatPort_a()

@@ -29,7 +29,10 @@ class HeatCapacitor(Component):
 
 
 class ThermalConductor(Element1D):
-    """Lumped thermal element transporting heat without storing it (Modelica.Thermal.HeatTransfer.Components.ThermalConductor): ``Q_flow = G*dT``."""
+    """Lumped thermal element transporting heat without storing it (Modelica.Thermal.HeatTransfer.Components.ThermalConductor).
+
+    ``Q_flow = G*dT``.
+    """
 
     G = Parameter(None, unit="W/K", description="Constant thermal conductance of material")
 
@@ -38,7 +41,10 @@ class ThermalConductor(Element1D):
 
 
 class ThermalResistor(Element1D):
-    """Lumped thermal element transporting heat without storing it (Modelica.Thermal.HeatTransfer.Components.ThermalResistor): ``dT = R*Q_flow``."""
+    """Lumped thermal element transporting heat without storing it (Modelica.Thermal.HeatTransfer.Components.ThermalResistor).
+
+    ``dT = R*Q_flow``.
+    """
 
     R = Parameter(None, unit="K/W", description="Constant thermal resistance of material")
 

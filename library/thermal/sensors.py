@@ -9,7 +9,10 @@ __all__ = ["TemperatureSensor", "HeatFlowSensor"]
 
 
 class TemperatureSensor(Component):
-    """Absolute temperature sensor in kelvin (Modelica.Thermal.HeatTransfer.Sensors.TemperatureSensor): ``T = port.T``, ``port.Q_flow = 0``."""
+    """Absolute temperature sensor in kelvin (Modelica.Thermal.HeatTransfer.Sensors.TemperatureSensor).
+
+    ``T = port.T``, ``port.Q_flow = 0``.
+    """
 
     T = RealOutput(unit="K", description="Absolute temperature as output signal")
     port = HeatPort_a()
@@ -19,7 +22,10 @@ class TemperatureSensor(Component):
 
 
 class HeatFlowSensor(Component):
-    """Heat flow rate sensor (Modelica.Thermal.HeatTransfer.Sensors.HeatFlowSensor): ``Q_flow = port_a.Q_flow`` through equal temperatures."""
+    """Heat flow rate sensor (Modelica.Thermal.HeatTransfer.Sensors.HeatFlowSensor).
+
+    ``Q_flow = port_a.Q_flow`` through equal temperatures.
+    """
 
     Q_flow = RealOutput(unit="W", description="Heat flow from port_a to port_b as output signal")
     port_a = HeatPort_a()

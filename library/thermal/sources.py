@@ -9,7 +9,10 @@ __all__ = ["FixedTemperature", "PrescribedTemperature", "FixedHeatFlow", "Prescr
 
 
 class FixedTemperature(Component):
-    """Fixed temperature boundary condition in kelvin (Modelica.Thermal.HeatTransfer.Sources.FixedTemperature): ``port.T = T``."""
+    """Fixed temperature boundary condition in kelvin (Modelica.Thermal.HeatTransfer.Sources.FixedTemperature).
+
+    ``port.T = T``.
+    """
 
     T = Parameter(None, unit="K", description="Fixed temperature at port")
     port = HeatPort_b()
@@ -19,7 +22,10 @@ class FixedTemperature(Component):
 
 
 class PrescribedTemperature(Component):
-    """Variable temperature boundary condition in kelvin (Modelica.Thermal.HeatTransfer.Sources.PrescribedTemperature): ``port.T = T`` (input)."""
+    """Variable temperature boundary condition in kelvin (Modelica.Thermal.HeatTransfer.Sources.PrescribedTemperature).
+
+    ``port.T = T`` (input).
+    """
 
     T = RealInput(unit="K")
     port = HeatPort_b()
