@@ -140,6 +140,28 @@ class DiscreteEvaluator:
             current[variable] = bool(value) if self.kinds[variable] == "boolean" else int(value)
         return current
 
+    def relevant_relations(self, discrete: Mapping, relations) -> tuple[int, ...]:
+        """State relations whose flip could change something in this discrete state.
+
+        A relation that only matters in another mode (``sa > tau0_max`` while
+        sliding) need not be watched: flipping it alone leaves every discrete
+        variable as it is.  Relations that select continuous equations are
+        always watched.  At the next event all relations are re-evaluated.
+        """
+        selector_names = {s.name for s in self.translation.selectors}
+        out = []
+        for k, rel in enumerate(self.relations):
+            if rel.is_time_event:
+                continue
+            if rel.symbol.name in selector_names:
+                out.append(k)
+                continue
+            flipped = list(relations)
+            flipped[k] = not flipped[k]
+            if self.evaluate_discrete(discrete, discrete, flipped, False) != discrete:
+                out.append(k)
+        return tuple(out)
+
     # -- event iteration ------------------------------------------------------------
 
     def iterate(self, t: float, values: Mapping[str, float], pre: Mapping, relations_before,

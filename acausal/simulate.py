@@ -31,6 +31,7 @@ from .errors import ChatteringError, SimulationError, SolverError
 from .events import DiscreteEvaluator, mode_values
 from .flatten import der_name
 from .initialization import initialize
+from .integrators import RK4, Euler
 from .language import Component, time as time_symbol
 from .result import Event, SimulationResult
 from .translate import ModeSystem, Translation, translate
@@ -43,6 +44,8 @@ METHODS = {
     "Radau": integrate.Radau,
     "BDF": integrate.BDF,
     "LSODA": integrate.LSODA,
+    "Euler": Euler,
+    "RK4": RK4,
 }
 
 
@@ -60,7 +63,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         reuse compiled systems.
     start_time, stop_time, interval : float, optional
         Default to the model's experiment annotation (interval: 500 points).
-    method : {'RK45', 'DOP853', 'Radau', 'BDF', 'LSODA'}
+    method : {'RK45', 'DOP853', 'Radau', 'BDF', 'LSODA', 'Euler', 'RK4'}
+        The last two have a fixed step, ``max_step``.
     rtol, atol : float, optional
         ``rtol`` defaults to the experiment's tolerance or 1e-6; ``atol`` to
         ``rtol`` times each state's nominal value.
@@ -249,7 +253,7 @@ class _Run:
 
         solver = METHODS[self.method](fun, t, x, t_bound, rtol=self.rtol, atol=atol,
                                       max_step=self.max_step)
-        watched = [k for k, r in enumerate(self.relations) if not r.is_time_event]
+        watched = self.evaluator.relevant_relations(discrete, relations)
         evaluator = self.evaluator
 
         def flipped(tt, xx):

@@ -1,0 +1,630 @@
+"""The teaching view: what each stage of the engine did to one model.
+
+:func:`explain` runs the translation of a model and writes, stage after
+stage, what came out of it, in words a student learning how an
+equation-based tool works can follow:
+
+1. the flat model and its equations, each with the component and the line it
+   came from;
+2. alias elimination (which trivial equations ``a = b`` vanished);
+3. structural analysis: index reduction, the states chosen, dummy derivatives;
+4. the matching (which unknown each equation is solved for);
+5. the block lower triangular (BLT) order and how each block is solved;
+6. the generated Python code;
+7. for a hybrid model, the relations watched for events, the discrete
+   equations and every discrete state compiled.
+
+It also draws the incidence matrix of each compiled system in BLT order
+(``incidence_<Model>.png``): a square per (equation, unknown) occurrence,
+the matched pairs on the diagonal, the blocks outlined.
+
+Examples
+--------
+>>> from examples.first import First                      # doctest: +SKIP
+>>> print(explain(First(), out_dir="/tmp"))                # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import re
+import textwrap
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .algebraic import Assign, LinearSolve, NewtonSolve
+from .flatten import INITIAL
+from .language import Component
+from .translate import ModeSystem, Translation, translate
+
+__all__ = ["Explanation", "explain", "MAX_PICTURES"]
+
+#: At most this many incidence pictures are drawn (one per compiled discrete state).
+MAX_PICTURES = 12
+
+_RULE = "-"
+_WIDTH = 96
+
+
+@dataclass(frozen=True)
+class Explanation:
+    """What :func:`explain` produced.
+
+    Attributes
+    ----------
+    model : str
+        Name of the model explained.
+    text : str
+        The explanation, section after section.
+    pictures : tuple of Path
+        The incidence pictures written, one per compiled discrete state
+        (at most :data:`MAX_PICTURES`).
+    """
+
+    model: str
+    text: str
+    pictures: tuple[Path, ...] = ()
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def explain(model_or_translation: Component | Translation, out_dir: str | Path | None = None,
+            key: tuple | None = None) -> Explanation:
+    """Explain, stage by stage, how a model is translated.
+
+    Parameters
+    ----------
+    model_or_translation : Model instance or Translation
+        The model, or the result of :func:`acausal.translate.translate`
+        (its already compiled systems are reused).
+    out_dir : str or Path, optional
+        Folder for the incidence pictures (created if missing); default: the
+        current directory.
+    key : tuple, optional
+        The discrete state (values of ``translation.selectors``) whose system
+        is explained in detail.  By default a continuous model's only system;
+        for a hybrid model the first discrete state the simulation visits
+        (the model is simulated first if nothing has been compiled yet).
+
+    Returns
+    -------
+    Explanation
+        ``str(explanation)`` is the text.
+
+    Raises
+    ------
+    acausal.errors.AcausalError
+        If a stage fails (e.g. a structurally singular model), as the
+        translation itself would.
+    """
+    translation = (model_or_translation if isinstance(model_or_translation, Translation)
+                   else translate(model_or_translation))
+    partitioned = translation.partitioned
+    notes: list[str] = []
+    visited: tuple[str, ...] | None = None
+
+    if key is not None:
+        main = translation.system(tuple(key))
+    elif not partitioned.is_hybrid:
+        from .events import DiscreteEvaluator
+
+        main = translation.system(DiscreteEvaluator(translation).key({}, {}, (), False))
+    else:
+        if not translation.systems:
+            from .simulate import simulate
+
+            result = simulate(translation)
+            visited = tuple(result.modes)
+            if not result.success:
+                notes.append(f"The simulation stopped early: {result.message}")
+        main = _first_visited(translation, visited)
+
+    out = Path.cwd() if out_dir is None else Path(out_dir)
+    systems = list(translation.systems.values())
+    pictured = systems[:MAX_PICTURES]
+    stem = _safe(translation.flat.name)
+    names = {}
+    for n, system in enumerate(pictured, start=1):
+        names[system.key] = (f"incidence_{stem}.png" if len(systems) == 1
+                             else f"incidence_{stem}_{n}.png")
+
+    writer = _Writer()
+    _write_flat(writer, translation)
+    writer.paragraph(_main_intro(translation, main, names.get(main.key)))
+    flat_number = _flat_numbers(translation)
+    _write_aliases(writer, main, flat_number)
+    _write_structure(writer, main)
+    _write_matching(writer, main)
+    _write_blt(writer, main)
+    _write_code(writer, translation, main)
+    if partitioned.is_hybrid:
+        _write_hybrid(writer, translation, main, visited, names)
+    for note in notes:
+        writer.note(note)
+    if len(systems) > MAX_PICTURES:
+        writer.note(f"{len(systems)} discrete states were compiled; incidence pictures were drawn "
+                    f"for the first {MAX_PICTURES} only.")
+
+    pictures = []
+    if pictured:
+        out.mkdir(parents=True, exist_ok=True)
+    for n, system in enumerate(pictured, start=1):
+        title = translation.flat.name
+        if partitioned.is_hybrid:
+            title += f"\n[{_key_text(translation, system.key)}]"
+        pictures.append(_draw_incidence(system, out / names[system.key], title))
+    return Explanation(translation.flat.name, writer.text(), tuple(pictures))
+
+
+# ---------------------------------------------------------------------------
+# Choosing the system to explain
+# ---------------------------------------------------------------------------
+
+
+def _first_visited(translation: Translation, visited) -> ModeSystem:
+    systems = list(translation.systems.values())
+    if visited:
+        for system in systems:
+            if system.description == visited[0]:
+                return system
+    if not systems:  # nothing compiled, nothing visited: start from the default state
+        from .events import DiscreteEvaluator
+
+        evaluator = DiscreteEvaluator(translation)
+        variables = translation.flat.variable_map
+        start = {n: variables[n].start for n in translation.partitioned.discrete_variables}
+        relations = tuple(False for _ in translation.partitioned.relations)
+        return translation.system(evaluator.key(start, start, relations, False))
+    return systems[0]
+
+
+# ---------------------------------------------------------------------------
+# Text
+# ---------------------------------------------------------------------------
+
+
+class _Writer:
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        self.section_number = 0
+
+    def title(self, text: str) -> None:
+        self.lines += [text, "=" * len(text), ""]
+
+    def section(self, text: str) -> None:
+        self.section_number += 1
+        heading = f"{self.section_number}. {text}"
+        if self.lines and self.lines[-1] != "":
+            self.lines.append("")
+        self.lines += [heading, _RULE * len(heading)]
+
+    def paragraph(self, text: str) -> None:
+        self.lines += textwrap.wrap(text, 88) + [""]
+
+    def line(self, text: str = "") -> None:
+        self.lines.append(text)
+
+    def items(self, prefix: str, items, indent: int | None = None, empty: str = "none") -> None:
+        """``prefix`` then the items, comma separated, wrapped with a hanging indent."""
+        items = [str(i) for i in items]
+        if not items:
+            self.lines.append(prefix + empty)
+            return
+        if indent is None:
+            indent = len(prefix) if len(prefix) <= 32 else len(prefix) - len(prefix.lstrip()) + 4
+        self.lines += textwrap.wrap(prefix + ", ".join(items), _WIDTH, subsequent_indent=" " * indent,
+                                    break_long_words=False, break_on_hyphens=False)
+
+    def note(self, text: str) -> None:
+        wrapped = textwrap.wrap(text, 82)
+        if self.lines and self.lines[-1] != "":
+            self.lines.append("")
+        self.lines += ["Note: " + wrapped[0]] + ["      " + w for w in wrapped[1:]]
+
+    def text(self) -> str:
+        while self.lines and self.lines[-1] == "":
+            self.lines.pop()
+        return "\n".join(self.lines) + "\n"
+
+
+def _flat_numbers(translation: Translation) -> dict:
+    numbers = {}
+    for k, eq in enumerate(translation.flat.equations, start=1):
+        numbers.setdefault(eq.origin, k)
+    return numbers
+
+
+def _format_value(value: Any) -> str:
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def _write_flat(w: _Writer, translation: Translation) -> None:
+    flat = translation.flat
+    heading = f"Explanation of {flat.name}"
+    if flat.modelica_class:
+        heading += f" ({flat.modelica_class})"
+    w.title(heading)
+    w.section("Flat model")
+    w.paragraph("Flattening walks the component tree: every variable gets its dotted name, "
+                "every connect() becomes equations (potentials equal, flows summing to zero) "
+                "and parameters get their numeric values.  Each equation remembers the "
+                "component and the equation it comes from.")
+    w.line(flat.summary())
+    w.line()
+    if flat.parameters:
+        w.line(f"Parameters ({len(flat.parameters)}):")
+        for p in flat.parameters:
+            unit = f" [{p.unit}]" if p.unit else ""
+            w.line(f"  {p.name} = {_format_value(p.value)}{unit}")
+        w.line()
+    fixed = [v for v in flat.variables if v.fixed]
+    if fixed:
+        w.line("Start values with fixed=True (initial conditions):")
+        for v in fixed:
+            w.line(f"  {v.name} = {_format_value(v.start)}")
+        w.line()
+    width = len(str(len(flat.equations)))
+    w.line(f"Flat equations ({len(flat.equations)}):")
+    for k, eq in enumerate(flat.equations, start=1):
+        w.line(f"  [{k:>{width}}] {eq.origin}")
+    if flat.initial_equations:
+        w.line()
+        w.line(f"Initial equations ({len(flat.initial_equations)}), used only to find the "
+               f"initial values:")
+        for k, eq in enumerate(flat.initial_equations, start=1):
+            w.line(f"  [I{k}] {eq.origin}")
+    if flat.discrete_equations:
+        w.line()
+        w.line(f"Discrete equations ({len(flat.discrete_equations)}), for Boolean and Integer "
+               f"variables:")
+        for k, eq in enumerate(flat.discrete_equations, start=1):
+            w.line(f"  [D{k}] {eq.origin}")
+    w.line()
+
+
+def _main_intro(translation: Translation, main: ModeSystem, picture: str | None) -> str:
+    text = ("The next stages turn the flat equations into a system the ODE solver can "
+            "integrate: x' = f(t, x), with every other variable computed from the states x.")
+    if translation.partitioned.is_hybrid:
+        text += (f"  This model is hybrid (section 7): its continuous equations depend on "
+                 f"discrete values, so there is one such system per discrete state.  Sections "
+                 f"2-6 show the system of the discrete state "
+                 f"[{_key_text(translation, main.key)}].")
+    if picture:
+        text += f"  The incidence matrix of this system is drawn in {picture}."
+    return text
+
+
+def _write_aliases(w: _Writer, main: ModeSystem, flat_number: dict) -> None:
+    aliases = main.aliases
+    w.section("Alias elimination")
+    w.paragraph("Connections produce many trivial equations a = b, a = -b and a = constant.  "
+                "Each group of variables joined by them keeps one representative; the others "
+                "become aliases, vanish from the system and are recovered for the results.")
+    n_in, n_removed = len(main.equations), len(aliases.eliminated)
+    w.line(f"{n_removed} of {n_in} equations removed as alias equations; "
+           f"{len(aliases.equations)} remain, for {len(aliases.variables)} variables.")
+    removed = [flat_number.get(eq.origin) for eq in aliases.eliminated]
+    if removed and all(r is not None for r in removed):
+        w.items("Removed: ", [f"[{r}]" for r in removed])
+    w.line()
+    if aliases.aliases:
+        width = min(max(len(n) for n in aliases.aliases), 40)
+        w.line(f"Alias table ({len(aliases.aliases)} variables):")
+        for name, expr in aliases.aliases.items():
+            w.line(f"  {name:<{width}} = {expr}")
+    else:
+        w.line("No aliases.")
+    w.line()
+
+
+def _write_structure(w: _Writer, main: ModeSystem) -> None:
+    st = main.structure
+    w.section("Structural analysis")
+    w.paragraph("Each equation is treated as a set of the unknowns it contains (its incidence).  "
+                "A variable that appears differentiated, der(x), is a candidate state: the "
+                "solver integrates it, so it counts as known.  When some equations constrain "
+                "states only, Pantelides' algorithm differentiates them (index reduction) and "
+                "the dummy derivative method turns as many derivatives back into ordinary "
+                "algebraic unknowns, so that the remaining states are independent.")
+    n_original = len(st.equations) - len(st.differentiated)
+    width = len(str(len(st.equations)))
+    w.line(f"System equations (E1-E{n_original} after alias elimination"
+           + (f", E{n_original + 1}-E{len(st.equations)} added by index reduction):"
+              if st.differentiated else "):"))
+    for i, eq in enumerate(st.equations):
+        w.line(f"  E{i + 1:<{width}} {eq.origin}")
+        w.line(f"   {'':<{width}}   0 = {eq.residual}")
+    w.line()
+    if st.differentiated:
+        w.line(f"Index reduction: {len(st.differentiated)} equations added by differentiation:")
+        for i, k in st.differentiated:
+            w.line(f"  E{i + 1} = d/dt E{k + 1}")
+    else:
+        w.line("Index reduction: not needed (index 1 or lower); no equation differentiated.")
+    w.line()
+    w.items(f"States chosen ({len(st.states)}): ", st.states,
+            empty="none (a purely algebraic system)")
+    w.items("Their derivatives, computed by the system: ", st.derivatives, empty="-")
+    w.items(f"Dummy derivatives ({len(st.dummy_derivatives)}, solved as algebraic unknowns): ",
+            st.dummy_derivatives)
+    w.items(f"Unknowns computed at each evaluation ({len(st.unknowns)}): ", st.unknowns)
+    w.line()
+
+
+def _write_matching(w: _Writer, main: ModeSystem) -> None:
+    st = main.structure
+    w.section("Matching")
+    w.paragraph("Every equation is assigned the unknown it will be solved for, each unknown "
+                "exactly once (a perfect matching of the bipartite equation-unknown graph).  "
+                "This is where the equations get their causality.")
+    width = len(str(len(st.equations))) + 1
+    for i, j in enumerate(st.matching):
+        w.line(f"  {'E' + str(i + 1):<{width}} -> {st.unknowns[j]}")
+    w.line()
+
+
+def _step_kind(step) -> str:
+    if isinstance(step, Assign):
+        return "explicit"
+    if isinstance(step, LinearSolve):
+        return "torn linear"
+    if isinstance(step, NewtonSolve):
+        return "Newton" if len(step.tears) + len(step.inner) == 1 else "torn nonlinear (Newton)"
+    return type(step).__name__
+
+
+def _write_blt(w: _Writer, main: ModeSystem) -> None:
+    st, blt, alg = main.structure, main.blt, main.algebraic
+    w.section("BLT: block lower triangular order")
+    w.paragraph("With each equation matched, equation A must come after equation B when it "
+                "uses the unknown B solves.  The strongly connected parts of that dependency "
+                "graph are the blocks (algebraic loops where larger than one equation); in "
+                "this order each block only needs unknowns computed before it.  A block of "
+                "one equation is solved explicitly; a larger one is torn: the tearing "
+                "unknowns are guessed, the other equations solved in turn, and what is left "
+                "is a small linear solve or Newton's method.")
+    sizes = [b.size for b in blt.blocks]
+    w.line(f"{len(blt.blocks)} blocks; largest {blt.largest_block}; "
+           f"{sum(s == 1 for s in sizes)} of size one; {alg.linear_blocks} torn linear, "
+           f"{alg.nonlinear_blocks} nonlinear (Newton).")
+    w.line()
+    width = len(str(len(blt.blocks)))
+    steps = alg.steps if len(alg.steps) == len(blt.blocks) else [None] * len(blt.blocks)
+    for n, (block, step) in enumerate(zip(blt.blocks, steps), start=1):
+        eqs = ", ".join(f"E{i + 1}" for i in block.equations)
+        unknowns = [st.unknowns[j] for j in block.unknowns]
+        kind = _step_kind(step) if step is not None else "?"
+        label = f"  B{n:<{width}} "
+        if isinstance(step, Assign):
+            w.line(f"{label}{kind:<12} {eqs}: {step.variable} := {step.expression}")
+            continue
+        w.line(f"{label}{kind:<12} size {block.size}: {eqs}")
+        pad = " " * (len(label) + 13)
+        w.items(pad + "unknowns: ", unknowns)
+        if isinstance(step, (LinearSolve, NewtonSolve)) and block.size > 1:
+            w.items(pad + "tearing unknowns: ", step.tears)
+            if step.inner:
+                w.items(pad + "then solved in turn: ", [a.variable for a in step.inner])
+    w.line()
+
+
+def _write_code(w: _Writer, translation: Translation, main: ModeSystem) -> None:
+    st = main.structure
+    w.section("Generated code")
+    w.paragraph("The solution steps become straight-line Python: derivatives(t, x) is what "
+                "the ODE solver calls, crossings(t, x) gives the sides of the relations "
+                "watched for events, outputs(t, x) every unknown for the results.  Names: "
+                "xK is states[K], vK is unknowns[K], pK is parameter K:")
+    for k, name in enumerate(st.states):
+        w.line(f"  x{k} = {name}")
+    for k, name in enumerate(st.unknowns):
+        w.line(f"  v{k} = {name}")
+    for k, name in enumerate(translation.parameter_names):
+        w.line(f"  p{k} = {name}")
+    w.line()
+    w.lines += ["    " + line if line else "" for line in main.code.source.rstrip("\n").split("\n")]
+    w.line()
+
+
+def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visited,
+                  pictures: dict) -> None:
+    partitioned = translation.partitioned
+    w.section("Hybrid part: relations, discrete equations, discrete states")
+    w.paragraph("Relations on continuous quantities become Booleans that keep their value "
+                "between events; the solver watches each one's two sides for a crossing "
+                "(state event), or computes in advance when it flips (time event).  At an "
+                "event the discrete equations are evaluated (event iteration) and a new "
+                "discrete state may select other continuous equations.")
+    if partitioned.relations:
+        w.line(f"Relations watched ({len(partitioned.relations)}):")
+        for rel in partitioned.relations:
+            kind = "time event" if rel.is_time_event else "state event"
+            w.line(f"  {rel.symbol.name}: {rel.text}   ({kind})")
+    else:
+        w.line("Relations watched: none")
+    w.line()
+    if partitioned.discrete_equations:
+        w.line(f"Discrete equations ({len(partitioned.discrete_equations)}), in evaluation order "
+               f"($relK is relation K):")
+        for eq in partitioned.discrete_equations:
+            w.line(f"  {eq.variable} := {eq.rhs}")
+            w.line(f"      from {eq.origin}")
+    else:
+        w.line("Discrete equations: none")
+    w.line()
+    w.items("A discrete state is the values of: ",
+            [_selector_text(translation, s) for s in translation.selectors], empty="(nothing)")
+    if visited is not None:
+        w.note("explain simulated the model first (simulate(translation) with the experiment "
+               "settings), because the system of a discrete state is only built when the state "
+               "is reached.  The compiled states below are those the simulation reached or "
+               "tried during event iteration.")
+        w.line()
+        w.line(f"Discrete states visited by the simulation ({len(visited)}, as result.modes "
+               f"names them):")
+        for d in visited:
+            w.line(f"  {d}")
+    w.line()
+    systems = list(translation.systems.values())
+    w.line(f"Discrete states compiled ({len(systems)}):")
+    for n, system in enumerate(systems, start=1):
+        w.line()
+        marks = []
+        if visited is not None:
+            marks.append("visited" if system.description in visited
+                         else "tried during event iteration only")
+        if system is main:
+            marks.append("explained in sections 2-6")
+        w.items(f"  State {n}: ", [_key_text(translation, system.key)], indent=6)
+        if marks:
+            w.line(f"    ({'; '.join(marks)})")
+        st = system.structure
+        w.line(f"    {len(system.aliases.equations)} equations after alias elimination, "
+               f"{len(st.differentiated)} added by index reduction")
+        w.items("    states: ", st.states)
+        if st.dummy_derivatives:
+            w.items("    dummy derivatives: ", st.dummy_derivatives)
+        if system.key in pictures:
+            w.line(f"    picture: {pictures[system.key]}")
+        blocks = system.blt.blocks
+        w.line(f"    BLT: {len(blocks)} blocks, largest {system.blt.largest_block}"
+               + ("; see section 5" if system is main else ":"))
+        if system is main:
+            continue
+        steps = system.algebraic.steps
+        if len(steps) != len(blocks):
+            steps = [None] * len(blocks)
+        run: list[tuple[int, str]] = []
+
+        def flush() -> None:
+            if run:
+                first, last = run[0][0], run[-1][0]
+                label = f"B{first}" if first == last else f"B{first}-B{last}"
+                w.items(f"      {label} explicit: ", [name for _, name in run], indent=8)
+                run.clear()
+
+        for b, (block, step) in enumerate(zip(blocks, steps), start=1):
+            unknowns = [st.unknowns[j] for j in block.unknowns]
+            if isinstance(step, Assign):
+                run.append((b, unknowns[0]))
+                continue
+            flush()
+            kind = _step_kind(step) if step is not None else "?"
+            w.items(f"      B{b} {kind}, size {block.size}: ", unknowns, indent=8)
+            if isinstance(step, (LinearSolve, NewtonSolve)) and block.size > 1:
+                w.items("        tearing: ", step.tears)
+        flush()
+
+
+def _selector_text(translation: Translation, sym) -> str:
+    name = sym.name
+    if name.startswith("$rel"):
+        return f"({translation.partitioned.relations[int(name[4:])].text})"
+    return name
+
+
+def _key_text(translation: Translation, key: tuple) -> str:
+    """Every selector with its value, relations spelled out."""
+    variables = translation.flat.variable_map
+    parts = []
+    for sym, value in zip(translation.selectors, key):
+        name = sym.name
+        base = name[4:-1] if name.startswith("pre(") else name
+        var = variables.get(base)
+        if name.startswith("$rel") or sym is INITIAL or (var is not None and var.kind == "boolean"):
+            value = bool(value)
+        elif var is not None and var.kind == "integer":
+            value = int(value)
+        parts.append(f"{_selector_text(translation, sym)}={value}")
+    return ", ".join(parts) or "(continuous)"
+
+
+def _safe(name: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name) or "model"
+
+
+# ---------------------------------------------------------------------------
+# The picture
+# ---------------------------------------------------------------------------
+
+_KIND_COLOURS = {"explicit": "tab:blue", "torn linear": "tab:orange", "Newton": "tab:red",
+                 "torn nonlinear (Newton)": "tab:red"}
+
+
+def _draw_incidence(system: ModeSystem, path: Path, title: str) -> Path:
+    """Draw the incidence matrix of ``system`` in BLT order into a PNG file.
+
+    Rows are the equations in BLT order, columns the unknowns they are
+    matched to (so the matched pairs lie on the diagonal); each block is
+    outlined in the colour of how it is solved.
+    """
+    # The Agg canvas draws straight to a file: no display and no change to
+    # pyplot's global backend (which matplotlib.use("Agg") would make).
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Rectangle
+
+    st, blt = system.structure, system.blt
+    rows = blt.equation_order
+    cols = blt.unknown_order
+    n = len(rows)
+    position = {j: k for k, j in enumerate(cols)}
+    side = min(max(5.0, 0.2 * n + 3.0), 40.0)
+    font = max(3.0, min(8.0, 420.0 / max(n, 1)))
+    figure = Figure(figsize=(side, side))
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    if n == 0:
+        axes.text(0.5, 0.5, "no unknowns to solve", ha="center", va="center")
+        axes.set_axis_off()
+    else:
+        xs, ys, mx, my = [], [], [], []
+        for r, i in enumerate(rows):
+            for j in st.incidence[i]:
+                c = position[j]
+                if j == st.matching[i]:
+                    mx.append(c)
+                    my.append(r)
+                else:
+                    xs.append(c)
+                    ys.append(r)
+        marker = max(1.0, min(7.0, 250.0 / n)) ** 2
+        axes.scatter(xs, ys, s=marker, marker="s", color="0.55", linewidths=0)
+        axes.scatter(mx, my, s=marker, marker="s", color="black", linewidths=0)
+        steps = system.algebraic.steps
+        if len(steps) != len(blt.blocks):
+            steps = [None] * len(blt.blocks)
+        start = 0
+        kinds_used = {}
+        for block, step in zip(blt.blocks, steps):
+            kind = _step_kind(step) if step is not None else "explicit"
+            colour = _KIND_COLOURS.get(kind, "tab:purple")
+            kinds_used.setdefault(kind, colour)
+            axes.add_patch(Rectangle((start - 0.5, start - 0.5), block.size, block.size,
+                                     fill=False, edgecolor=colour,
+                                     linewidth=0.6 if block.size == 1 else 1.6, clip_on=False))
+            start += block.size
+        axes.set_xlim(-0.5, n - 0.5)
+        axes.set_ylim(n - 0.5, -0.5)
+        axes.set_aspect("equal")
+        axes.set_xticks(range(n))
+        axes.set_xticklabels([st.unknowns[j] for j in cols], rotation=90, fontsize=font)
+        axes.set_yticks(range(n))
+        axes.set_yticklabels([f"E{i + 1}" for i in rows], fontsize=font)
+        axes.xaxis.tick_top()
+        axes.tick_params(length=2)
+        axes.set_xlabel("unknowns, in the order they are solved", fontsize=9)
+        axes.set_ylabel("equations, in BLT order", fontsize=9)
+        handles = [Line2D([], [], marker="s", color="black", linestyle="", label="matched (solved for)"),
+                   Line2D([], [], marker="s", color="0.55", linestyle="", label="occurs")]
+        handles += [Line2D([], [], color=c, label=f"block: {k}") for k, c in kinds_used.items()]
+        axes.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
+    axes.set_title(title, fontsize=10)
+    path = Path(path)
+    figure.savefig(path, dpi=110, bbox_inches="tight")
+    return path

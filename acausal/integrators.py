@@ -1,0 +1,87 @@
+"""Fixed-step integrators in scipy's ``OdeSolver`` interface.
+
+scipy offers only adaptive methods.  Explicit Euler and the classical
+Runge-Kutta method with a fixed step are what real-time and embedded targets
+run, and what shows why friction elements need ``K_locked``: without error
+control, a stuck velocity held only at the acceleration level drifts.
+
+Both take the step size from ``max_step`` (default: 1/1000 of the span) and
+land exactly on ``t_bound``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import DenseOutput, OdeSolver
+
+__all__ = ["Euler", "RK4"]
+
+
+class _FixedStep(OdeSolver):
+    order = 1
+
+    def __init__(self, fun, t0, y0, t_bound, max_step=np.inf, rtol=None, atol=None,
+                 vectorized=False, **extraneous):
+        super().__init__(fun, t0, y0, t_bound, vectorized)
+        span = abs(t_bound - t0)
+        self.h = float(max_step) if np.isfinite(max_step) else span / 1000.0
+        self.f = self.fun(self.t, self.y)
+        self.y_old = None
+        self.f_old = None
+
+    def _step_impl(self):
+        h = min(self.h, abs(self.t_bound - self.t)) * self.direction
+        if h == 0:
+            return False, "step size is zero"
+        y_new = self._advance(self.t, self.y, self.f, h)
+        if not np.all(np.isfinite(y_new)):
+            return False, f"the solution became non-finite at t = {self.t + h:.6g}"
+        self.y_old, self.f_old = self.y, self.f
+        self.t = self.t + h if abs(self.t_bound - (self.t + h)) > 1e-12 * abs(h) else self.t_bound
+        self.y = y_new
+        self.f = self.fun(self.t, self.y)
+        return True, None
+
+    def _dense_output_impl(self):
+        return _Hermite(self.t_old, self.t, self.y_old, self.y, self.f_old, self.f)
+
+
+class Euler(_FixedStep):
+    """Explicit Euler with a fixed step."""
+
+    order = 1
+
+    def _advance(self, t, y, f, h):
+        return y + h * f
+
+
+class RK4(_FixedStep):
+    """The classical fourth-order Runge-Kutta method with a fixed step."""
+
+    order = 4
+
+    def _advance(self, t, y, f, h):
+        k2 = self.fun(t + h / 2, y + h / 2 * f)
+        k3 = self.fun(t + h / 2, y + h / 2 * k2)
+        k4 = self.fun(t + h, y + h * k3)
+        return y + h / 6 * (f + 2 * k2 + 2 * k3 + k4)
+
+
+class _Hermite(DenseOutput):
+    """Cubic Hermite interpolation between two step ends."""
+
+    def __init__(self, t_old, t, y_old, y, f_old, f):
+        super().__init__(t_old, t)
+        self.y_old, self.y, self.f_old, self.f = y_old, y, f_old, f
+        self.h = t - t_old
+
+    def _call_impl(self, t):
+        s = (np.asarray(t) - self.t_old) / self.h
+        h00 = 2 * s**3 - 3 * s**2 + 1
+        h10 = s**3 - 2 * s**2 + s
+        h01 = -2 * s**3 + 3 * s**2
+        h11 = s**3 - s**2
+        if np.ndim(t) == 0:
+            return h00 * self.y_old + h10 * self.h * self.f_old + h01 * self.y + h11 * self.h * self.f
+        return (np.outer(self.y_old, h00) + np.outer(self.h * self.f_old, h10)
+                + np.outer(self.y, h01) + np.outer(self.h * self.f, h11))
