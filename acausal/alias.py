@@ -9,7 +9,7 @@ available in results through :attr:`AliasResult.aliases`.
 The representative is the member most likely to be wanted as a state:
 highest ``state_select``, then one that appears differentiated, then one with
 a fixed start value, then a component variable before a connector variable,
-then the shortest name.  Start attributes are merged into it (with the sign
+then the one declared first.  Start attributes are merged into it (with the sign
 of the alias); two different fixed start values are an error.
 """
 
@@ -176,10 +176,12 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     for root in list(constant_of):
         groups.setdefault(root, [root])
 
+    declared = {name: k for k, name in enumerate(variables)}
+
     def score(name: str):
         v = variables[name]
         return (-int(v.state_select), -(name in differentiated), -int(v.fixed),
-                v.role != "", name.count("."), len(name), name)
+                v.role != "", name.count("."), declared[name])
 
     aliases: dict[str, sp.Expr] = {}
     merged: dict[str, FlatVariable] = {}
@@ -204,6 +206,8 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     for name, var in variables.items():
         if name not in aliases and name not in merged and not var.is_discrete:
             merged[name] = var
+    # declaration order, so later stages break ties the way the model reads
+    merged = {name: merged[name] for name in variables if name in merged}
 
     substitution = {real_symbol(n): e for n, e in aliases.items()}
     # derivatives of aliases: der(a) -> s*der(rep), or 0 for constants

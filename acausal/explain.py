@@ -122,12 +122,17 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
 
     out = Path.cwd() if out_dir is None else Path(out_dir)
     systems = list(translation.systems.values())
-    pictured = systems[:MAX_PICTURES]
+    number = {system.key: n for n, system in enumerate(systems, start=1)}
+    # the system explained first, then the states visited, then the others
+    ranked = sorted(systems, key=lambda s: (s is not main,
+                                            visited is not None and s.description not in visited,
+                                            number[s.key]))
+    pictured = ranked[:MAX_PICTURES]
     stem = _safe(translation.flat.name)
     names = {}
-    for n, system in enumerate(pictured, start=1):
+    for system in pictured:
         names[system.key] = (f"incidence_{stem}.png" if len(systems) == 1
-                             else f"incidence_{stem}_{n}.png")
+                             else f"incidence_{stem}_{number[system.key]}.png")
 
     writer = _Writer()
     _write_flat(writer, translation)
@@ -144,12 +149,12 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
         writer.note(note)
     if len(systems) > MAX_PICTURES:
         writer.note(f"{len(systems)} discrete states were compiled; incidence pictures were drawn "
-                    f"for the first {MAX_PICTURES} only.")
+                    f"for {MAX_PICTURES} of them only (the one explained, then those visited).")
 
     pictures = []
     if pictured:
         out.mkdir(parents=True, exist_ok=True)
-    for n, system in enumerate(pictured, start=1):
+    for system in pictured:
         title = translation.flat.name
         if partitioned.is_hybrid:
             title += f"\n[{_key_text(translation, system.key)}]"
@@ -467,7 +472,7 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
         w.line(f"Discrete states visited by the simulation ({len(visited)}, as result.modes "
                f"names them):")
         for d in visited:
-            w.line(f"  {d}")
+            w.lines += textwrap.wrap(d, _WIDTH, initial_indent="  ", subsequent_indent="      ")
     w.line()
     systems = list(translation.systems.values())
     w.line(f"Discrete states compiled ({len(systems)}):")
@@ -624,7 +629,10 @@ def _draw_incidence(system: ModeSystem, path: Path, title: str) -> Path:
                    Line2D([], [], marker="s", color="0.55", linestyle="", label="occurs")]
         handles += [Line2D([], [], color=c, label=f"block: {k}") for k, c in kinds_used.items()]
         axes.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
-    axes.set_title(title, fontsize=10)
+    wrap = max(40, int(side * 13))
+    lines = [part for line in title.split("\n")
+             for part in (textwrap.wrap(line, wrap, break_on_hyphens=False) or [""])]
+    axes.set_title("\n".join(lines), fontsize=9)
     path = Path(path)
     figure.savefig(path, dpi=110, bbox_inches="tight")
     return path

@@ -156,6 +156,18 @@ class Translation:
             out.append(FlatEquation(residual, eq.origin))
         return tuple(out)
 
+    def start_system(self) -> "ModeSystem":
+        """The system in force at the start time, after initialization.
+
+        Convenient for inspecting a model: it runs the initialization (and
+        its event iteration) to find the discrete state.
+        """
+        from .events import DiscreteEvaluator
+        from .initialization import initialize
+
+        state = initialize(self, DiscreteEvaluator(self), self.flat.experiment.start_time)
+        return state.outcome.system
+
     # -- building systems -----------------------------------------------------
 
     def system(self, key: tuple) -> ModeSystem:
@@ -173,7 +185,17 @@ class Translation:
         aliases = eliminate_aliases(equations, self.continuous, set(self.parameter_values))
         timings["alias"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
-        structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context)
+        try:
+            structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context)
+        except StructuralError:
+            # Alias elimination may have absorbed the culprit (an extra `w = 0`):
+            # check the equations as written, so the message names them all.
+            from .structure import _incidence
+
+            values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
+            check_balance(equations, [_incidence(e.residual, values) for e in equations],
+                          list(self.continuous), context)
+            raise
         timings["structure"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         blt = sort_blt(structure.incidence, structure.matching)
