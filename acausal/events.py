@@ -37,7 +37,10 @@ def mode_values(translation: Translation, system: ModeSystem, t: float, x) -> di
     values = system.values(t, x)
     plan = _alias_plan(translation, system)
     for name, coeff, source in plan:
-        values[name] = coeff if source is None else coeff * values[source]
+        if source is None:
+            values[name] = coeff
+        elif source in values:  # with an output demand, some are not computed
+            values[name] = coeff * values[source]
     return values
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time as _time
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
@@ -21,7 +21,8 @@ from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .codegen import GeneratedCode, generate
-from .errors import InitializationError, OverDeterminedError, StructuralError, UnderDeterminedError
+from .errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError,
+                     UnderDeterminedError)
 from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
 from .language import Component, real_symbol
 from .partition import PartitionedModel, partition
@@ -74,19 +75,16 @@ class ModeSystem:
     derivatives: Any = field(repr=False, compare=False)
     crossings: Any = field(repr=False, compare=False)
     outputs: Any = field(repr=False, compare=False)
-
-    @property
-    def states(self) -> tuple[str, ...]:
-        return self.structure.states
-
-    @property
-    def unknowns(self) -> tuple[str, ...]:
-        return self.structure.unknowns
+    #: States integrated and unknowns computed: all of them, or with an output
+    #: demand only those the demanded outputs, their states and the watched
+    #: relations need.
+    states: tuple[str, ...] = ()
+    unknowns: tuple[str, ...] = ()
 
     def values(self, t: float, x) -> dict[str, float]:
-        """Every continuous variable and derivative at ``(t, x)``, aliases included."""
-        out = dict(zip(self.structure.states, map(float, x)))
-        out.update(zip(self.structure.unknowns, self.outputs(t, x)))
+        """Continuous variables and derivatives at ``(t, x)`` (aliases: see events.mode_values)."""
+        out = dict(zip(self.states, map(float, x)))
+        out.update(zip(self.unknowns, self.outputs(t, x)))
         return out
 
 
@@ -116,8 +114,10 @@ class Translation:
     initial_systems : dict
     """
 
-    def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float) -> None:
+    def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float,
+                 demand: frozenset[str] | None = None) -> None:
         self.flat = flat
+        self.demand = demand
         self.partitioned = partitioned
         self.parameter_names = tuple(p.name for p in flat.parameters)
         self.parameter_values = dict(flat.parameter_values)
@@ -205,15 +205,50 @@ class Translation:
         timings["algebraic"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         crossings = self._crossing_expressions(aliases)
+        steps, states, derivs, unknowns = self._demanded(algebraic.steps, structure, aliases, crossings)
         guesses = {n: v.start for n, v in aliases.variables.items()}
-        code = generate(algebraic.steps, structure.states, structure.derivatives, structure.unknowns,
-                        self.parameter_names, crossings, name=context, guesses=guesses)
+        code = generate(steps, states, derivs, unknowns, self.parameter_names, crossings,
+                        name=context, guesses=guesses)
         derivatives, crossing_fn, outputs = code.make(self.parameter_vector)
         timings["codegen"] = _time.perf_counter() - t0
         system = ModeSystem(key, description, equations, aliases, structure, blt, algebraic, code,
-                            timings, derivatives, crossing_fn, outputs)
+                            timings, derivatives, crossing_fn, outputs, tuple(states), tuple(unknowns))
         self.systems[key] = system
         return system
+
+    def _demanded(self, steps, structure: StructuralResult, aliases: AliasResult, crossings):
+        """The steps, states and unknowns the output demand needs (all without one).
+
+        Closure: the demanded names, then every state a needed step reads,
+        then the steps that state's derivative needs, until nothing is added.
+        Relations are always computable (events must still be found).
+        """
+        all_states = list(structure.states)
+        if self.demand is None:
+            return list(steps), all_states, list(structure.derivatives), list(structure.unknowns)
+        targets = set()
+        for name in self.demand:
+            expr = aliases.aliases.get(name)
+            targets |= {s.name for s in expr.free_symbols} if expr is not None else {name}
+        for g in crossings:
+            targets |= {s.name for s in g.free_symbols}
+        derivative_of = dict(zip(structure.states, structure.derivatives))
+        needed_states: set[str] = set()
+        while True:
+            wanted = targets | {derivative_of[s] for s in needed_states}
+            chosen = _needed_steps(steps, wanted)
+            reads = set(wanted)
+            for k in chosen:
+                reads |= steps[k].reads()
+            new_states = {s for s in all_states if s in reads} - needed_states
+            if not new_states:
+                break
+            needed_states |= new_states
+        kept_states = [s for s in all_states if s in needed_states]
+        kept_steps = [steps[k] for k in chosen]
+        defined = {n for step in kept_steps for n in step.defines}
+        kept_unknowns = [u for u in structure.unknowns if u in defined]
+        return kept_steps, kept_states, [derivative_of[s] for s in kept_states], kept_unknowns
 
     def _crossing_expressions(self, aliases: AliasResult) -> list[sp.Expr]:
         substitution = {real_symbol(n): e for n, e in aliases.aliases.items()}
@@ -311,9 +346,40 @@ class Translation:
         return self.flatten_seconds + sum(sum(s.timings.values()) for s in self.systems.values())
 
 
-def translate(model: Component) -> Translation:
-    """Flatten and partition ``model``; its systems are compiled on demand."""
+def translate(model: Component, outputs: Iterable[str] | None = None) -> Translation:
+    """Flatten and partition ``model``; its systems are compiled on demand.
+
+    Parameters
+    ----------
+    outputs : iterable of str, optional
+        Compute only these variables (and what they and the events need):
+        states and equations that cannot influence them are left out.
+    """
     t0 = _time.perf_counter()
     flat = flatten(model)
     partitioned = partition(flat)
-    return Translation(flat, partitioned, _time.perf_counter() - t0)
+    demand = None
+    if outputs is not None:
+        known = {v.name for v in flat.variables} | {p.name for p in flat.parameters}
+        demand = frozenset(outputs)
+        unknown = sorted(n for n in demand if n not in known and not n.startswith("der("))
+        if unknown:
+            import difflib
+
+            close = difflib.get_close_matches(unknown[0], sorted(known), n=3)
+            raise ModelDefinitionError(f"{flat.name} has no variable {unknown[0]!r}",
+                                       hint=f"did you mean {', '.join(close)}?" if close else
+                                       "outputs are dotted variable names, e.g. inertia1.w")
+        demand = frozenset(n for n in demand if n in known and n not in flat.parameter_values
+                           or n.startswith("der("))
+    return Translation(flat, partitioned, _time.perf_counter() - t0, demand)
+
+
+def _needed_steps(steps, targets: set[str]) -> list[int]:
+    needed = set(targets)
+    chosen = []
+    for k in range(len(steps) - 1, -1, -1):
+        if needed & set(steps[k].defines):
+            chosen.append(k)
+            needed |= steps[k].reads()
+    return sorted(chosen)
