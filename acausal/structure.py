@@ -224,13 +224,14 @@ def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str
     n_eq, n_var = len(equations), len(families)
     lines = []
     if over:
-        lines.append(f"equations in the over-determined part ({len(unmatched_eqs)} too many):")
+        lines.append(f"equations in the over-determined part ({len(over)} equations, "
+                     f"{len(unmatched_eqs)} more than their variables need):")
         lines += [f"    {equations[i].origin}" for i in over[:12]]
         if len(over) > 12:
             lines.append(f"    ... and {len(over) - 12} more")
     if under:
-        lines.append(f"{unknown_label} in the under-determined part ({len(unmatched_vars)} "
-                     f"without an equation):")
+        lines.append(f"{unknown_label} in the under-determined part ({len(under)} {unknown_label}, "
+                     f"{len(unmatched_vars)} more than their equations determine):")
         lines.append("    " + ", ".join(under[:20]) + (" ..." if len(under) > 20 else ""))
     detail = "\n  ".join(lines)
     if n_eq > n_var:

@@ -137,6 +137,10 @@ class Translation:
 
     def key_of(self, assignment: Mapping[str, Any]) -> tuple:
         """The discrete state for values of discrete symbols (by name)."""
+        missing = [s.name for s in self.selectors if s.name not in assignment]
+        if missing:
+            raise KeyError(f"the discrete state of {self.flat.name} needs values for "
+                           f"{', '.join(missing)}; use start_system() for the state at the start")
         return tuple(assignment[s.name] for s in self.selectors)
 
     def specialise(self, key: tuple, equations=None) -> tuple[FlatEquation, ...]:
