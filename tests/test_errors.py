@@ -89,7 +89,7 @@ def test_extra_equation_is_over_determined_and_named():
     with pytest.raises(OverDeterminedError) as info:
         compile_model(Over())
     message = str(info.value)
-    assert "1 too many" in message
+    assert "1 more than their variables need" in message
     assert "body (DrivenInertia eq. 1): body.a = sin(time)" in message
     assert "body (Inertia eq. 5)" in message  # the other equation that determines body.a
     assert_hint(info.value)
@@ -133,7 +133,7 @@ def test_contradicting_constant_equations_are_both_named():
         compile_model(Over())
     message = str(info.value)
     assert "part (Twice eq. 1): part.x = 1" in message and "part (Twice eq. 2): part.x = 2" in message
-    assert "1 too many" in message
+    assert "1 more than their variables need" in message
     assert_hint(info.value)
 
 
