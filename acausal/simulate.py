@@ -27,7 +27,7 @@ import numpy as np
 import scipy.integrate as integrate
 import sympy as sp
 
-from .errors import ChatteringError, SimulationError, SolverError
+from .errors import ChatteringError, SimulationError, SolverError, StructuralError
 from .events import DiscreteEvaluator, mode_values
 from .flatten import der_name
 from .initialization import initialize
@@ -165,7 +165,15 @@ class _Run:
             # Like Dymola, only the values after the post-initialization event
             # iteration are written at the start time (one row, not two).
             self.events.append(Event(t0, "initial", (), outcome.changes, outcome.iterations))
-            self._integrate(t0, t1, outcome)
+            try:
+                self._integrate(t0, t1, outcome)
+            except StructuralError as exc:
+                # a discrete state reached during the run cannot be solved (e.g.
+                # two friction elements locking the same motion): stop with the
+                # reason, keeping what was computed
+                t_fail = self.rows[-1][0] if self.rows else t0
+                raise SolverError(f"at t = {t_fail:.12g} the model entered a discrete state it "
+                                  f"cannot solve: {exc}", hint=exc.hint) from exc
         except SimulationError as exc:
             error = exc
             message = str(exc)

@@ -190,15 +190,25 @@ class Translation:
         timings["alias"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         try:
-            structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context)
-        except StructuralError:
-            # Alias elimination may have absorbed the culprit (an extra `w = 0`):
-            # check the equations as written, so the message names them all.
-            from .structure import _incidence
+            try:
+                structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context)
+            except StructuralError:
+                # Alias elimination may have absorbed the culprit (an extra `w = 0`):
+                # check the equations as written, so the message names them all.
+                from .structure import _incidence
 
-            values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
-            check_balance(equations, [_incidence(e.residual, values) for e in equations],
-                          list(self.continuous), context)
+                values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
+                check_balance(equations, [_incidence(e.residual, values) for e in equations],
+                              list(self.continuous), context)
+                raise
+        except StructuralError as exc:
+            if self.partitioned.is_hybrid and self.systems:
+                raise type(exc)(
+                    str(exc).split("\n  hint:")[0],
+                    hint="this discrete state only: elements that can lock the same relative motion "
+                         "(two friction elements, or a bearing and a brake, on one rigid shaft) leave "
+                         "the split of the holding torque undetermined when both are stuck; put an "
+                         "inertia or a compliance (SpringDamper) between them") from exc
             raise
         timings["structure"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
