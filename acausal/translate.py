@@ -37,13 +37,20 @@ def _value_of(value) -> Any:
     return sp.Integer(int(value))
 
 
-def describe_key(selectors, key) -> str:
-    """Readable form of a discrete state: ``clutch.mode=0, clutch.locked=True``."""
+def describe_key(selectors, key, relation_texts=None) -> str:
+    """Readable form of a discrete state: ``clutch.mode=0, clutch.locked=True``.
+
+    Relations that select equations appear as ``(time < step.startTime)=False``.
+    """
     parts = []
+    relation_texts = relation_texts or {}
     for sym, value in zip(selectors, key):
-        if sym.name.startswith("$rel") or sym is INITIAL:
-            continue
-        parts.append(f"{sym.name}={value}")
+        if sym is INITIAL:
+            parts.append(f"initial()={value}")
+        elif sym.name.startswith("$rel"):
+            parts.append(f"({relation_texts.get(sym.name, sym.name)})={value}")
+        else:
+            parts.append(f"{sym.name}={value}")
     return ", ".join(parts) or "(continuous)"
 
 
@@ -179,7 +186,8 @@ class Translation:
         cached = self.systems.get(key)
         if cached is not None:
             return cached
-        description = describe_key(self.selectors, key)
+        description = describe_key(self.selectors, key,
+                                   {r.symbol.name: r.text for r in self.partitioned.relations})
         context = f"{self.flat.name} [{description}]" if self.partitioned.is_hybrid else self.flat.name
         timings = {}
         t0 = _time.perf_counter()
