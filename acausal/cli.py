@@ -210,7 +210,8 @@ def _parser() -> argparse.ArgumentParser:
                                description="Simulate a model with its experiment settings and "
                                            "tube-test every signal of the reference's "
                                            "comparisonSignals.txt (csv-compare's test).")
-    cmp_.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName (with modelica_class)")
+    cmp_.add_argument("models", metavar="MODEL", nargs="+",
+                      help="FILE.py or FILE.py:ClassName (with modelica_class); several may be given")
     cmp_.add_argument("--reference-dir", metavar="DIR",
                       help="folder of reference results (default: ACAUSAL_REFERENCE_DIR or "
                            "shared/reference/msl-4.1.0 beside the checkout)")
@@ -228,6 +229,7 @@ def _parser() -> argparse.ArgumentParser:
     exp.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName")
     exp.add_argument("--out", metavar="DIR", help="folder for the pictures (default: current directory)")
     exp.set_defaults(run=_cmd_explain)
+    commands.add_parser("bench", help="work-precision benchmark (acausal bench --help)", add_help=False)
     return parser
 
 
@@ -257,18 +259,24 @@ def _cmd_simulate(args) -> int:
         signals = [s.strip() for s in args.signals.split(",") if s.strip()]
         if not signals:
             raise CommandError("--signals names no variable")
-    result = _simulate(model, start_time=args.start_time, stop_time=args.stop_time,
-                       interval=args.interval, method=args.method, rtol=args.rtol, atol=args.atol)
     if signals is not None:
-        missing = [s for s in signals if s not in result]
+        from .flatten import flatten
+
+        known = {v.name for v in flatten(model).variables}
+        missing = [s for s in signals if s not in known]
         if missing:
+            result = None
             import difflib
 
             hints = []
             for m in missing:
-                close = difflib.get_close_matches(m, list(result.names), n=3)
+                close = difflib.get_close_matches(m, sorted(known), n=3)
                 hints.append(f"{m}" + (f" (did you mean {', '.join(close)}?)" if close else ""))
             raise CommandError(f"not a variable of {cls.__name__}: {'; '.join(hints)}")
+    # with --signals only what those signals need is computed (effects on demand)
+    result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
+                       interval=args.interval, method=args.method, rtol=args.rtol, atol=args.atol,
+                       outputs=signals)
     out = Path(args.out) if args.out else Path(f"{cls.__name__}.csv")
     if out.parent != Path(""):
         out.parent.mkdir(parents=True, exist_ok=True)
@@ -283,9 +291,21 @@ def _cmd_simulate(args) -> int:
 
 
 def _cmd_compare(args) -> int:
+    statuses = []
+    for model in args.models:
+        if len(args.models) > 1:
+            print(f"== {model}")
+        statuses.append(_compare_one(args, model, len(args.models) > 1))
+    if len(args.models) > 1:
+        passed = sum(s == 0 for s in statuses)
+        print(f"== {passed} of {len(statuses)} models match their reference results")
+    return max(statuses)
+
+
+def _compare_one(args, model_spec: str, several: bool) -> int:
     from .compare import compare_signals, load_reference, plot_signal
 
-    cls = load_model_class(args.model)
+    cls = load_model_class(model_spec)
     modelica_class = getattr(cls, "modelica_class", None)
     if not modelica_class:
         raise CommandError(f"{cls.__name__} has no modelica_class: nothing to compare with "
@@ -302,7 +322,7 @@ def _cmd_compare(args) -> int:
     comparison = compare_signals(reference, result.time, result.columns)
     print(comparison.table())
     if args.plot:
-        folder = Path(args.plot)
+        folder = Path(args.plot) / cls.__name__ if several else Path(args.plot)
         folder.mkdir(parents=True, exist_ok=True)
         for name in reference.compared:
             if name not in result:
@@ -357,6 +377,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         0 success; 1 failed simulation or comparison; 2 usage or model error.
     """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "bench":
+        from .bench import main as bench_main
+
+        return bench_main(argv[1:])
     parser = _parser()
     try:
         args = parser.parse_args(argv)
