@@ -110,8 +110,16 @@ class DiscreteEvaluator:
 
     # -- relations --------------------------------------------------------------
 
-    def relation_values(self, system: ModeSystem, t: float, x, previous, exact: bool = False):
-        """Relation values at ``(t, x)``; with hysteresis against ``previous``."""
+    def relation_values(self, system: ModeSystem, t: float, x, previous, exact: bool = False,
+                        fired: frozenset = frozenset()):
+        """Relation values at ``(t, x)``; with hysteresis against ``previous``.
+
+        Relations in ``fired`` (those whose crossing caused the event) are
+        evaluated exactly: their margin has done its job, and in another
+        discrete state their arguments may have other units (``sa`` is a
+        torque while locked and an acceleration while sliding), so a margin
+        in the units of one would wrongly undo the crossing in the other.
+        """
         if not self.relations:
             return ()
         raw = system.crossings(t, x)
@@ -119,7 +127,7 @@ class DiscreteEvaluator:
         for k, rel in enumerate(self.relations):
             lhs, rhs = raw[2 * k], raw[2 * k + 1]
             g = lhs - rhs
-            if exact:
+            if exact or k in fired:
                 out.append(rel.holds(g))
             else:
                 eps = self.epsilon * max(1.0, abs(lhs), abs(rhs))
@@ -168,7 +176,7 @@ class DiscreteEvaluator:
     # -- event iteration ------------------------------------------------------------
 
     def iterate(self, t: float, values: Mapping[str, float], pre: Mapping, relations_before,
-                initial: bool = False) -> EventOutcome:
+                initial: bool = False, fired: frozenset = frozenset()) -> EventOutcome:
         """Modelica event iteration at time ``t``.
 
         Parameters
@@ -179,11 +187,14 @@ class DiscreteEvaluator:
             Discrete values before the event.
         relations_before : sequence of bool
             Relation values before the event (the hysteresis reference).
+        fired : frozenset of int
+            Indices of the relations whose crossing caused the event.
         """
         pre = dict(pre)
         first_pre = dict(pre)
         discrete = dict(pre)
         relations = tuple(relations_before)
+        self._fired = fired
         history = []
         passes = 0
         for _outer in range(self.max_iterations):
@@ -222,7 +233,8 @@ class DiscreteEvaluator:
         """Solve the continuous part for a guess, then re-evaluate the discrete part."""
         system = self.translation.system(self.key(discrete, pre, relations, initial))
         x = [values[s] for s in system.states]
-        new_relations = self.relation_values(system, t, x, relations_before)
+        new_relations = self.relation_values(system, t, x, relations_before,
+                                             fired=getattr(self, "_fired", frozenset()))
         return self.evaluate_discrete(discrete, pre, new_relations, initial), new_relations
 
     def _search(self, t, values, pre, relations, relations_before, initial, cycle, current):
@@ -238,6 +250,8 @@ class DiscreteEvaluator:
         selectors = [s.name for s in self.translation.selectors
                      if s.name in self.kinds and s.name.rpartition(".")[0] in owners]
         booleans = [n for n in selectors if self.kinds[n] == "boolean"]
+        if not booleans:  # nothing continuous to choose: a purely discrete loop
+            return None
         base = {**current, **{n: pre[n] for n in booleans}}
         for flips in range(len(booleans) + 1):
             for chosen in itertools.combinations(booleans, flips):

@@ -216,11 +216,15 @@ class _Run:
             if event_at is not None:
                 t_e, x_e, fired = event_at
                 kind = "state"
-                recent.append((t_e, fired))
-                if len(recent) == recent.maxlen and recent[-1][0] - recent[0][0] <= \
-                        1e-9 * max(1.0, abs(t1)):
+                recent.append((t_e, fired, tuple(sorted(discrete.items()))))
+                # Chattering: many state events in a row, ping-ponging between at
+                # most two discrete states, within a vanishing window (a millionth
+                # of the span, or a microsecond) — far below any physical period.
+                window = max(1e-6 * (t1 - self.grid[0]), 1e-6)
+                if len(recent) == recent.maxlen and recent[-1][0] - recent[0][0] <= window \
+                        and len({d for _, _, d in recent}) <= 2:
                     counts: dict = {}
-                    for _, names in recent:
+                    for _, names, _ in recent:
                         for n in names:
                             counts[n] = counts.get(n, 0) + 1
                     worst = max(counts, key=counts.get)
@@ -240,7 +244,8 @@ class _Run:
             # left limit, event iteration, right limit
             self.rows.append((t_e, system, np.array(x_e, dtype=float), dict(discrete)))
             values = mode_values(self.translation, system, t_e, x_e)
-            outcome = self.evaluator.iterate(t_e, values, discrete, relations)
+            fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
+            outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices)
             self.events.append(Event(t_e, kind, tuple(fired), outcome.changes, outcome.iterations))
             system, discrete, relations = outcome.system, outcome.discrete, outcome.relations
             self._record_mode(system)

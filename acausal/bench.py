@@ -1,0 +1,1236 @@
+"""Work-precision benchmark: accuracy against cost for every adaptive method.
+
+``python -m acausal.bench [--quick] [--out DIR] [--methods M,...] [--rtols R,...]``
+
+Four sections, each written into ``--out`` (default ``bench-out``) as
+Markdown and CSV, and printed at the end:
+
+1. **Work-precision** (``bench.md``, ``bench.csv``, ``work_precision.png``,
+   ``work_precision_events.png``).  Cases:
+
+   * ``First``, ``TwoMasses``, ``Friction``, ``CoupledClutches`` against
+     the MSL reference results.  *error* is the largest ``max |y - y_ref| /
+     dy`` over the compared continuous signals at the reference's time
+     points (``dy`` the tube half-height of csv-compare), a continuous
+     measure; the tube test's worst violation (0 when the result passes)
+     is reported beside it.  The reference has its own error (Dymola's, at
+     its tolerance), so *error* levels off where the reference's accuracy
+     is reached.  *Event-time error*: every time at which a ``.mode``
+     column of the reference changes is matched with the nearest event of
+     the result that changed a ``mode``; the largest distance.
+   * ``CoastDown`` and ``StickSlip``: a ``BearingFriction`` with exact
+     solutions (see :func:`coast_down_exact` and :func:`stick_slip_exact`);
+     *error* is ``max |w - w_exact|`` in rad/s on the output grid,
+     *event-time error* the distance of the breakaway and stop events to
+     the exact instants.
+
+   A case is translated once (a fresh ``translate`` and a first simulation,
+   which compiles the discrete states visited); each method × tolerance is
+   then simulated with that translation, once to warm up (compiling any
+   state not yet visited) and ``repeats`` times more, the smallest wall
+   time counting.  A failed run (status -1 or an exception) is recorded
+   with its message.
+
+2. **Effects on demand** (``effects.md``, ``effects.csv``): full simulation
+   against ``outputs=[one speed]`` on ``BearingHeating`` and a generated
+   drive train of 20 units with heat ports.
+
+3. **Scaling** (``scaling.md``, ``scaling.csv``, ``scaling.png``): the
+   generated drive train without heat ports for growing ``N``; translation
+   stage times and a short simulation; the growth exponent ``b`` of
+   ``time = a N^b``.
+
+The timings measure whole ``simulate`` calls (setup of the discrete
+evaluator, integration, event handling and building the result on the
+output grid) by ``time.perf_counter``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Callable, Sequence
+
+import numpy as np
+
+from .language import Experiment, Model
+
+__all__ = [
+    "ADAPTIVE_METHODS", "QUICK_RTOLS", "FULL_RTOLS", "Case", "RunRecord", "CaseTranslation", "CaseRun",
+    "BenchResult", "cases", "get_case", "run_case", "run_effects", "scaling_point", "run_scaling",
+    "run_bench", "main", "CoastDown", "StickSlip", "drive_train_model", "coast_down_exact",
+    "stick_slip_times", "stick_slip_exact", "fit_power_law",
+]
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+#: The adaptive methods compared (Euler and RK4 have a fixed step and are not).
+ADAPTIVE_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
+QUICK_RTOLS = (1e-3, 1e-6, 1e-9)
+FULL_RTOLS = tuple(10.0 ** -k for k in range(3, 11))
+QUICK_CASES = ("CoastDown", "StickSlip", "First", "Friction")
+QUICK_SCALING = (10, 40)
+FULL_SCALING = (10, 30, 100, 300, 1000)
+#: Wall-time budget of one scaling point in full mode (translation + two short runs).
+SCALING_BUDGET_SECONDS = 180.0
+#: Runs whose warm-up takes longer than this are not repeated.
+SLOW_RUN_SECONDS = 5.0
+#: Smallest error shown in the work-precision plots (exact results are clipped to it).
+ERROR_FLOOR = 1e-16
+
+
+def _ensure_path() -> None:
+    """Make ``library``, ``components`` and the examples importable."""
+    for folder in (str(EXAMPLES), str(ROOT)):
+        if folder not in sys.path:
+            sys.path.insert(0, folder)
+
+
+# ---------------------------------------------------------------------------
+# Exact-solution models
+# ---------------------------------------------------------------------------
+
+#: Coast-down: inertia J spinning at w0, bearing with constant friction tau0.
+CD_J, CD_W0, CD_TAU0, CD_STOP = 2.0, 3.0, 1.5, 6.0
+
+
+class CoastDown(Model):
+    """Inertia (J=2, w=3) coasting to a stop against BearingFriction(tau_pos=[[0, 1.5]]).
+
+    ``w(t) = max(w0 - tau0 t/J, 0)``, stopping at ``t* = J w0/tau0 = 4``.
+    """
+
+    experiment = Experiment(start_time=0.0, stop_time=CD_STOP, interval=0.005)
+
+    def build(self):
+        _ensure_path()
+        from library.rotational import BearingFriction, Inertia
+
+        self.inertia = Inertia(J=CD_J, phi=dict(start=0, fixed=True), w=dict(start=CD_W0, fixed=True))
+        self.bearing = BearingFriction(tau_pos=[[0.0, CD_TAU0]])
+        self.connect(self.inertia.flange_b, self.bearing.flange_a)
+
+
+def coast_down_exact(t) -> np.ndarray:
+    """Exact speed of :class:`CoastDown`."""
+    return np.maximum(CD_W0 - CD_TAU0 * np.asarray(t, dtype=float) / CD_J, 0.0)
+
+
+CD_T_STOP = CD_J * CD_W0 / CD_TAU0
+
+#: Stick-slip: Torque(A sin(2 pi f t)) on an inertia at rest, bearing tau0, peak p.
+SS_A, SS_F, SS_J, SS_TAU0, SS_PEAK = 10.0, 1.0, 1.0, 1.0, 1.0
+
+
+class StickSlip(Model):
+    """Sine torque (A=10, f=1) on an inertia at rest against BearingFriction(tau_pos=[[0, 1]], peak=1).
+
+    Breakaway at ``t_b = asin(p tau0/A)/(2 pi f)``; until the first stop ``t_s``
+    the speed is the integral of the net torque (:func:`stick_slip_exact`).
+    """
+
+    experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.001)
+
+    def build(self):
+        _ensure_path()
+        from library.blocks import Sine
+        from library.rotational import BearingFriction, Inertia, Torque
+
+        self.sine = Sine(amplitude=SS_A, f=SS_F)
+        self.torque = Torque()
+        self.inertia = Inertia(J=SS_J, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
+        self.bearing = BearingFriction(tau_pos=[[0.0, SS_TAU0]], peak=SS_PEAK)
+        self.connect(self.sine.y, self.torque.tau)
+        self.connect(self.torque.flange, self.inertia.flange_a)
+        self.connect(self.inertia.flange_b, self.bearing.flange_a)
+
+
+def _stick_slip_w(t):
+    t_b = math.asin(SS_PEAK * SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
+    om = 2 * math.pi * SS_F
+    t = np.asarray(t, dtype=float)
+    return (SS_A / om) * (math.cos(om * t_b) - np.cos(om * t)) / SS_J - SS_TAU0 * (t - t_b) / SS_J
+
+
+@lru_cache(maxsize=None)
+def stick_slip_times() -> tuple[float, float]:
+    """``(t_b, t_s)``: exact breakaway and first stop of :class:`StickSlip`."""
+    from scipy.optimize import brentq
+
+    t_b = math.asin(SS_PEAK * SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
+    # w grows while the drive exceeds the friction, i.e. until sin returns to tau0/A
+    t_peak = 0.5 / SS_F - math.asin(SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
+    hi = t_peak
+    while _stick_slip_w(hi) > 0:
+        hi += 0.05 / SS_F
+    t_s = brentq(lambda t: float(_stick_slip_w(t)), t_peak, hi, xtol=1e-15, rtol=1e-15)
+    return t_b, t_s
+
+
+def stick_slip_exact(t) -> np.ndarray:
+    """Exact speed of :class:`StickSlip` on ``[0, t_s]`` (0 before the breakaway)."""
+    t_b, _ = stick_slip_times()
+    t = np.asarray(t, dtype=float)
+    return np.where(t <= t_b, 0.0, _stick_slip_w(t))
+
+
+def stick_slip_stop_time() -> float:
+    """0.6 s if the first stop comes before it, else 1.1 t_s."""
+    _, t_s = stick_slip_times()
+    return 0.6 if t_s < 0.6 else 1.1 * t_s
+
+
+def _changed(event, name: str, old=None, new=None) -> bool:
+    for n, a, b in event.changes:
+        if n == name and (old is None or a == old) and (new is None or b == new):
+            return True
+    return False
+
+
+def _evaluate_coast_down(result, translation) -> dict:
+    t = result.time
+    w = result["inertia.w"]
+    error = float(np.max(np.abs(w - coast_down_exact(t))))
+    stops = [e.time for e in result.events if _changed(e, "bearing.mode", 1, 0)]
+    event_error = abs(stops[0] - CD_T_STOP) if stops else math.inf
+    return {"error": error, "event_error": event_error}
+
+
+def _evaluate_stick_slip(result, translation) -> dict:
+    t_b, t_s = stick_slip_times()
+    t = result.time
+    w = result["inertia.w"]
+    window = t <= t_s
+    error = float(np.max(np.abs(w[window] - stick_slip_exact(t[window]))))
+    breaks = [e.time for e in result.events if e.kind != "initial" and
+              (_changed(e, "bearing.startForward", False, True) or _changed(e, "bearing.locked", True, False))]
+    stops = [e.time for e in result.events if any(n == "bearing.mode" and a == 1 and b != 1
+                                                  for n, a, b in e.changes)]
+    if breaks and stops:
+        event_error = max(abs(breaks[0] - t_b), abs(stops[0] - t_s))
+    else:
+        event_error = math.inf
+    return {"error": error, "event_error": event_error}
+
+
+# ---------------------------------------------------------------------------
+# The generated drive train
+# ---------------------------------------------------------------------------
+
+
+def drive_train_model(n: int, heat_ports: bool = False, stop_time: float = 1.0, interval=None) -> Model:
+    """A drive train of ``n`` units Inertia–BearingFriction–SpringDamper in series.
+
+    A sine torque (20 N.m, 2 Hz) drives the first inertia; every inertia
+    (J = 1) starts at 10 rad/s and has a bearing (friction 0.5 N.m) whose
+    flanges carry the train on to the next spring-damper (c = 1e3, d = 5).
+    All bearings slide forward for the first seconds, so one discrete state
+    is in force and the run measures the continuous part.  With
+    ``heat_ports`` every bearing heats its own HeatCapacitor (C = 10).
+    """
+    _ensure_path()
+
+    class DriveTrain(Model):
+        experiment = Experiment(start_time=0.0, stop_time=stop_time,
+                                interval=interval if interval is not None else stop_time / 500)
+
+        def build(self):
+            from library.blocks import Sine
+            from library.rotational import BearingFriction, Inertia, SpringDamper, Torque
+            from library.thermal import HeatCapacitor
+
+            self.sine = Sine(amplitude=20.0, f=2.0)
+            self.torque = Torque()
+            self.connect(self.sine.y, self.torque.tau)
+            previous = self.torque.flange
+            for i in range(1, n + 1):
+                inertia = Inertia(J=1.0, phi=dict(start=0, fixed=True), w=dict(start=10.0, fixed=True))
+                bearing = BearingFriction(tau_pos=[[0.0, 0.5]], peak=1.1, useHeatPort=heat_ports)
+                setattr(self, f"inertia{i}", inertia)
+                setattr(self, f"bearing{i}", bearing)
+                self.connect(previous, inertia.flange_a)
+                self.connect(inertia.flange_b, bearing.flange_a)
+                if heat_ports:
+                    housing = HeatCapacitor(C=10.0, T=dict(start=293.15, fixed=True))
+                    setattr(self, f"housing{i}", housing)
+                    self.connect(bearing.heatPort, housing.port)
+                if i < n:
+                    spring = SpringDamper(c=1e3, d=5.0)
+                    setattr(self, f"spring{i}", spring)
+                    self.connect(bearing.flange_b, spring.flange_a)
+                    previous = spring.flange_b
+
+    DriveTrain.__name__ = DriveTrain.__qualname__ = f"DriveTrain{n}{'Heat' if heat_ports else ''}"
+    return DriveTrain()
+
+
+# ---------------------------------------------------------------------------
+# Cases
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Case:
+    """One work-precision case.
+
+    ``make`` builds the model; ``evaluate(result, translation)`` returns
+    ``{"error", "event_error"[, "tube"]}``; ``error_unit`` says what the
+    error is measured in.
+    """
+
+    name: str
+    make: Callable[[], Model]
+    evaluate: Callable
+    error_unit: str
+    description: str
+    stop_time: float | None = None
+
+
+def _example(module: str, cls: str) -> Callable[[], Model]:
+    def make():
+        _ensure_path()
+        import importlib
+
+        return getattr(importlib.import_module(module), cls)()
+    return make
+
+
+def _reference_evaluator(modelica_class: str):
+    state: dict = {}
+
+    def evaluate(result, translation) -> dict:
+        from .compare import compare_signals, load_reference
+
+        if "reference" not in state:
+            ref = load_reference(modelica_class)
+            state["reference"] = ref
+            state["mode_times"] = _reference_mode_times(ref)
+        ref = state["reference"]
+        comparison = compare_signals(ref, result.time, result.columns)
+        tube = max((s.worst_violation for s in comparison.signals), default=0.0)
+        discrete = set(translation.partitioned.discrete_variables)
+        continuous = [s for s in comparison.signals if s.name not in discrete]
+        ratios = [s.max_abs_error / s.dy for s in continuous]
+        error = max(ratios) if ratios and not any(math.isnan(r) for r in ratios) else math.nan
+        ref_times = state["mode_times"]
+        if ref_times:
+            ours = np.array(sorted(e.time for e in result.events
+                                   if any(n.endswith(".mode") and a != b for n, a, b in e.changes)))
+            if ours.size:
+                event_error = max(float(np.min(np.abs(ours - t))) for t in ref_times)
+            else:
+                event_error = math.inf
+        else:
+            event_error = math.nan
+        return {"error": error, "event_error": event_error, "tube": tube}
+
+    return evaluate
+
+
+def _reference_mode_times(reference) -> list[float]:
+    """Times where any ``.mode`` column of the reference changes."""
+    times: set[float] = set()
+    for name, y in reference.signals.items():
+        if name.endswith(".mode"):
+            changed = np.nonzero(np.diff(y) != 0)[0] + 1
+            times.update(float(reference.time[i]) for i in changed)
+    return sorted(times)
+
+
+def cases() -> dict[str, Case]:
+    """Every work-precision case by name, in table order."""
+    unit_ref = "max |y-y_ref|/dy"
+    out = [
+        Case("CoastDown", CoastDown, _evaluate_coast_down, "rad/s",
+             "BearingFriction coast-down, exact w(t) and stop at t*=4", CD_STOP),
+        Case("StickSlip", StickSlip, _evaluate_stick_slip, "rad/s",
+             "sine-driven stick-slip, exact w(t) until the first stop", stick_slip_stop_time()),
+        Case("First", _example("first", "First"),
+             _reference_evaluator("Modelica.Mechanics.Rotational.Examples.First"), unit_ref,
+             "MSL Rotational.Examples.First"),
+        Case("TwoMasses", _example("two_masses", "TwoMasses"),
+             _reference_evaluator("Modelica.Thermal.HeatTransfer.Examples.TwoMasses"), unit_ref,
+             "MSL HeatTransfer.Examples.TwoMasses"),
+        Case("Friction", _example("friction", "Friction"),
+             _reference_evaluator("Modelica.Mechanics.Rotational.Examples.Friction"), unit_ref,
+             "MSL Rotational.Examples.Friction"),
+        Case("CoupledClutches", _example("coupled_clutches", "CoupledClutches"),
+             _reference_evaluator("Modelica.Mechanics.Rotational.Examples.CoupledClutches"), unit_ref,
+             "MSL Rotational.Examples.CoupledClutches"),
+    ]
+    return {c.name: c for c in out}
+
+
+def get_case(name: str) -> Case:
+    table = cases()
+    if name not in table:
+        raise KeyError(f"no bench case {name!r}; cases: {', '.join(table)}")
+    return table[name]
+
+
+# ---------------------------------------------------------------------------
+# Running a case
+# ---------------------------------------------------------------------------
+
+
+@dataclass
+class RunRecord:
+    """One case × method × rtol."""
+
+    case: str
+    method: str
+    rtol: float
+    error: float = math.nan
+    event_error: float = math.nan
+    tube: float = math.nan
+    sim_seconds: float = math.nan
+    rhs_evaluations: int = 0
+    steps: int = 0
+    events: int = 0
+    status: int = -1
+    message: str = ""
+    repeats: int = 0
+    error_unit: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.status == 0 and math.isfinite(self.error)
+
+
+@dataclass
+class CaseTranslation:
+    """Translation cost of one case: a fresh translate and a first simulation."""
+
+    case: str
+    flatten_seconds: float = math.nan
+    translate_seconds: float = math.nan  #: flatten + compiled modes (ModeSystem.timings)
+    first_simulate_seconds: float = math.nan  #: wall time of the first simulate (compiles)
+    modes: int = 0
+    initial_systems: int = 0
+    stage_seconds: dict = field(default_factory=dict)  #: summed over compiled modes
+    per_mode_seconds: float = math.nan
+    modes_after_bench: int = 0
+    status: int = -1
+    message: str = ""
+
+
+@dataclass
+class CaseRun:
+    case: Case
+    translation: CaseTranslation
+    records: list[RunRecord]
+
+
+def _stage_sums(translation) -> dict:
+    sums: dict = {}
+    for system in translation.systems.values():
+        for stage, seconds in system.timings.items():
+            sums[stage] = sums.get(stage, 0.0) + seconds
+    return sums
+
+
+def _timed_simulate(translation, **options):
+    from .simulate import simulate
+
+    t0 = time.perf_counter()
+    result = simulate(translation, **options)
+    return result, time.perf_counter() - t0
+
+
+def run_case(case: Case, methods: Sequence[str], rtols: Sequence[float], repeats: int = 2,
+             log: Callable[[str], None] | None = None) -> CaseRun:
+    """Translate ``case`` once, then simulate it for every method × rtol."""
+    from .translate import translate
+
+    log = log or (lambda _s: None)
+    info = CaseTranslation(case.name)
+    records: list[RunRecord] = []
+    options = {} if case.stop_time is None else {"stop_time": case.stop_time}
+    try:
+        translation = translate(case.make())
+        first, info.first_simulate_seconds = _timed_simulate(translation, **options)
+        info.flatten_seconds = translation.flatten_seconds
+        info.translate_seconds = translation.translation_seconds
+        info.modes = len(translation.systems)
+        info.initial_systems = len(translation.initial_systems)
+        info.stage_seconds = _stage_sums(translation)
+        info.per_mode_seconds = (translation.translation_seconds - translation.flatten_seconds) / max(1, info.modes)
+        info.status, info.message = first.status, first.message
+    except Exception as exc:  # noqa: BLE001 - a bench never crashes on a model
+        info.message = f"{type(exc).__name__}: {exc}"
+        for method in methods:
+            for rtol in rtols:
+                records.append(RunRecord(case.name, method, rtol, message=f"translation failed: {info.message}",
+                                         error_unit=case.error_unit))
+        return CaseRun(case, info, records)
+
+    for method in methods:
+        for rtol in rtols:
+            record = RunRecord(case.name, method, float(rtol), error_unit=case.error_unit)
+            try:
+                before = len(translation.systems) + len(translation.initial_systems)
+                result, warm = _timed_simulate(translation, method=method, rtol=rtol, **options)
+                n_systems = len(translation.systems) + len(translation.initial_systems)
+                if warm < SLOW_RUN_SECONDS:
+                    n_repeats = repeats
+                else:  # too slow to repeat: the warm-up counts unless it compiled a mode
+                    n_repeats = 1 if n_systems != before else 0
+                times = [_timed_simulate(translation, method=method, rtol=rtol, **options)[1]
+                         for _ in range(n_repeats)] or [warm]
+                if len(translation.systems) + len(translation.initial_systems) != n_systems:
+                    raise RuntimeError("a repeated run compiled a new discrete state")
+                record.sim_seconds = min(times)
+                record.repeats = len(times)
+                record.rhs_evaluations = int(result.stats.get("rhs_evaluations", 0))
+                record.steps = int(result.stats.get("steps", 0))
+                record.events = len(result.events)
+                record.status = result.status
+                record.message = result.message
+                if result.status == 0:
+                    values = case.evaluate(result, translation)
+                    record.error = float(values["error"])
+                    record.event_error = float(values.get("event_error", math.nan))
+                    record.tube = float(values.get("tube", math.nan))
+            except Exception as exc:  # noqa: BLE001
+                record.status = -1
+                record.message = f"{type(exc).__name__}: {exc}"
+            records.append(record)
+            log(f"  {case.name:16s} {method:7s} rtol={rtol:<7.0e} error={record.error:<10.3g} "
+                f"event={record.event_error:<10.3g} t={record.sim_seconds:.4f}s "
+                f"{'ok' if record.status == 0 else 'FAILED: ' + record.message[:60]}")
+    info.modes_after_bench = len(translation.systems)
+    return CaseRun(case, info, records)
+
+
+# ---------------------------------------------------------------------------
+# Effects on demand
+# ---------------------------------------------------------------------------
+
+
+@dataclass
+class EffectsRecord:
+    case: str
+    output: str
+    rtol: float
+    states_kept: int = 0
+    states_total: int = 0
+    derivative_steps_kept: int = 0
+    derivative_steps_full: int = 0
+    steps_kept: int = 0
+    steps_full: int = 0
+    sim_seconds_full: float = math.nan
+    sim_seconds_pruned: float = math.nan
+    translate_seconds_full: float = math.nan
+    translate_seconds_pruned: float = math.nan
+    max_abs_difference: float = math.nan
+    max_rel_difference: float = math.nan
+    status: str = ""
+
+
+def _first_system(translation):
+    return next(iter(translation.systems.values()))
+
+
+def _max_difference(t_full, y_full, t_pruned, y_pruned) -> float:
+    if len(t_full) == len(t_pruned) and np.allclose(t_full, t_pruned, rtol=0, atol=1e-9 * max(1.0, t_full[-1])):
+        return float(np.max(np.abs(y_full - y_pruned)))
+    return float(np.max(np.abs(y_full - np.interp(t_full, t_pruned, y_pruned))))
+
+
+def run_effects_case(name: str, make: Callable[[], Model], output: str, rtol: float = 1e-6,
+                     method: str = "RK45", repeats: int = 2) -> EffectsRecord:
+    """Full against ``outputs=[output]`` for one model."""
+    from .translate import translate
+
+    record = EffectsRecord(name, output, rtol)
+    try:
+        runs = {}
+        for label, outputs in (("full", None), ("pruned", [output])):
+            translation = translate(make(), outputs)
+            result, _ = _timed_simulate(translation, method=method, rtol=rtol)
+            if result.status != 0:
+                raise RuntimeError(f"{label} run failed: {result.message}")
+            seconds = min(_timed_simulate(translation, method=method, rtol=rtol)[1] for _ in range(repeats))
+            runs[label] = (translation, result, seconds)
+        full_tr, full_res, full_s = runs["full"]
+        pr_tr, pr_res, pr_s = runs["pruned"]
+        pruned = _first_system(pr_tr)
+        full = full_tr.systems.get(pruned.key) or _first_system(full_tr)
+        record.states_kept = len(pruned.states)
+        record.states_total = len(pruned.structure.states)
+        record.derivative_steps_kept = pruned.code.n_derivative_steps
+        record.derivative_steps_full = full.code.n_derivative_steps
+        record.steps_kept = pruned.code.n_steps
+        record.steps_full = full.code.n_steps
+        record.sim_seconds_full, record.sim_seconds_pruned = full_s, pr_s
+        record.translate_seconds_full = full_tr.translation_seconds
+        record.translate_seconds_pruned = pr_tr.translation_seconds
+        y_full, y_pr = full_res[output], pr_res[output]
+        record.max_abs_difference = _max_difference(full_res.time, y_full, pr_res.time, y_pr)
+        record.max_rel_difference = record.max_abs_difference / max(float(np.max(np.abs(y_full))), 1e-300)
+        record.status = "ok"
+    except Exception as exc:  # noqa: BLE001
+        record.status = f"failed: {type(exc).__name__}: {exc}"
+    return record
+
+
+def run_effects(rtol: float = 1e-6, repeats: int = 2, n_units: int = 20,
+                log: Callable[[str], None] | None = None) -> list[EffectsRecord]:
+    log = log or (lambda _s: None)
+    records = []
+    specs = [
+        ("BearingHeating", _example("bearing_heating", "BearingHeating"), "shaft.w"),
+        (f"DriveTrain{n_units} (heat ports)", lambda: drive_train_model(n_units, heat_ports=True),
+         f"inertia{n_units}.w"),
+    ]
+    for name, make, output in specs:
+        record = run_effects_case(name, make, output, rtol=rtol, repeats=repeats)
+        log(f"  effects {name}: states {record.states_kept}/{record.states_total}, derivative steps "
+            f"{record.derivative_steps_kept}/{record.derivative_steps_full}, time "
+            f"{record.sim_seconds_full:.3f}s -> {record.sim_seconds_pruned:.3f}s, "
+            f"max diff {record.max_abs_difference:.2g} ({record.status})")
+        records.append(record)
+    return records
+
+
+# ---------------------------------------------------------------------------
+# Scaling
+# ---------------------------------------------------------------------------
+
+STAGES = ("specialise", "alias", "structure", "blt", "algebraic", "codegen")
+
+
+def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: str = "RK45",
+                  repeats: int = 1) -> dict:
+    """Translate and simulate the drive train of ``n`` units (no heat ports)."""
+    from .events import DiscreteEvaluator
+    from .translate import translate
+
+    point: dict = {"n": n, "status": "ok"}
+    wall0 = time.perf_counter()
+    model = drive_train_model(n, heat_ports=False, stop_time=stop_time)
+    t0 = time.perf_counter()
+    translation = translate(model)
+    point["flatten"] = time.perf_counter() - t0
+    first, first_wall = _timed_simulate(translation, method=method, rtol=rtol)
+    point["first_simulate"] = first_wall
+    system = _first_system(translation)
+    for stage in STAGES:
+        point[stage] = system.timings.get(stage, math.nan)
+    point["translation"] = point["flatten"] + sum(system.timings.values())
+    point["translation_all_modes"] = translation.translation_seconds
+    point["modes"] = len(translation.systems)
+    point["states"] = len(system.structure.states)
+    point["equations"] = len(system.equations)
+    point["derivative_steps"] = system.code.n_derivative_steps
+    t0 = time.perf_counter()
+    DiscreteEvaluator(translation)
+    point["evaluator_setup"] = time.perf_counter() - t0
+    if first.status != 0:
+        point["status"] = f"failed: {first.message}"
+        point["simulate"] = math.nan
+    else:
+        runs = [_timed_simulate(translation, method=method, rtol=rtol) for _ in range(repeats)]
+        point["simulate"] = min(s for _, s in runs)
+        point["steps"] = runs[0][0].stats.get("steps", 0)
+        point["rhs_evaluations"] = runs[0][0].stats.get("rhs_evaluations", 0)
+    point["wall"] = time.perf_counter() - wall0
+    try:
+        import resource
+
+        point["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    except (ImportError, AttributeError):  # pragma: no cover - not on Linux
+        point["max_rss_mb"] = math.nan
+    return point
+
+
+def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
+    code = ("import json, sys; sys.path.insert(0, {root!r}); from acausal.bench import scaling_point; "
+            "print('@@' + json.dumps(scaling_point({n}, {stop})))").format(root=str(ROOT), n=n, stop=stop_time)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
+                              cwd=str(ROOT), env=env)
+    except subprocess.TimeoutExpired:
+        return {"n": n, "status": f"stopped: more than {timeout:.0f} s", "wall": time.perf_counter() - t0}
+    for line in reversed(proc.stdout.splitlines()):
+        if line.startswith("@@"):
+            return json.loads(line[2:])
+    tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
+    return {"n": n, "status": f"failed (exit {proc.returncode}): {tail}", "wall": time.perf_counter() - t0}
+
+
+def fit_power_law(ns: Sequence[float], seconds: Sequence[float]) -> tuple[float, float]:
+    """``(a, b)`` of ``seconds ≈ a n^b`` by least squares in log–log (NaN if < 2 points)."""
+    pts = [(n, s) for n, s in zip(ns, seconds) if s is not None and s > 0 and math.isfinite(s)]
+    if len(pts) < 2:
+        return math.nan, math.nan
+    x = np.log([p[0] for p in pts])
+    y = np.log([p[1] for p in pts])
+    b, log_a = np.polyfit(x, y, 1)
+    return float(math.exp(log_a)), float(b)
+
+
+def run_scaling(sizes: Sequence[int], stop_time: float = 0.2, isolate: bool = False,
+                budget: float = SCALING_BUDGET_SECONDS, log: Callable[[str], None] | None = None) -> list[dict]:
+    """Scaling points for ``sizes``; with ``isolate`` each in its own process under ``budget``.
+
+    A size whose wall time the power law of the previous points predicts
+    beyond twice the budget is skipped, and so is every larger one.
+    """
+    log = log or (lambda _s: None)
+    points: list[dict] = []
+    stopped = None
+    for n in sizes:
+        if stopped is not None:
+            points.append({"n": n, "status": f"skipped ({stopped})"})
+            continue
+        done = [p for p in points if p.get("status") == "ok"]
+        if isolate and len(done) >= 2:
+            a, b = fit_power_law([p["n"] for p in done[-2:]], [p["wall"] for p in done[-2:]])
+            predicted = a * n ** b
+            if predicted > 2 * budget:
+                stopped = f"predicted {predicted:.0f} s > budget {budget:.0f} s"
+                points.append({"n": n, "status": f"skipped: {stopped}", "predicted_wall": predicted})
+                log(f"  scaling N={n}: {points[-1]['status']}")
+                continue
+        if isolate:
+            point = _scaling_point_subprocess(n, stop_time, budget)
+        else:
+            try:
+                point = scaling_point(n, stop_time)
+            except Exception as exc:  # noqa: BLE001
+                point = {"n": n, "status": f"failed: {type(exc).__name__}: {exc}"}
+        points.append(point)
+        log(f"  scaling N={n}: translation {point.get('translation', math.nan):.2f}s, structure "
+            f"{point.get('structure', math.nan):.2f}s, simulate {point.get('simulate', math.nan):.2f}s, "
+            f"wall {point.get('wall', math.nan):.1f}s ({point['status']})")
+        if point["status"] != "ok":
+            stopped = f"N={n} {point['status']}"
+    return points
+
+
+# ---------------------------------------------------------------------------
+# Tables and plots
+# ---------------------------------------------------------------------------
+
+
+def _fmt(value, digits: int = 3) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, str):
+        return value
+    if math.isnan(value):
+        return "-"
+    if math.isinf(value):
+        return "inf"
+    if value == 0:
+        return "0"
+    return f"{value:.{digits}g}"
+
+
+def _md_table(header: Sequence[str], rows: Sequence[Sequence]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    lines += ["| " + " | ".join(_fmt(c) if not isinstance(c, str) else c for c in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def _status_text(record: RunRecord) -> str:
+    if record.status == 0:
+        return "ok"
+    return "FAILED: " + record.message.replace("|", "/").replace("\n", " ")[:90]
+
+
+def _work_precision_summary(runs: Sequence[CaseRun]) -> tuple[str, str]:
+    """(fastest method per accuracy target, cost per decade) as Markdown."""
+    fastest_rows = []
+    decade_rows = []
+    for run in runs:
+        ok = [r for r in run.records if r.ok]
+        if not ok:
+            continue
+        errors = [max(r.error, ERROR_FLOOR) for r in ok]
+        hi = math.floor(math.log10(max(errors)))
+        lo = math.ceil(math.log10(min(errors)))
+        for k in range(hi, lo - 1, -1):
+            target = 10.0 ** k
+            best = min((r for r in ok if r.error <= target), key=lambda r: r.sim_seconds, default=None)
+            if best is not None:
+                fastest_rows.append((run.case.name, f"{target:.0e}", best.method, f"{best.rtol:.0e}",
+                                     best.error, best.sim_seconds, best.rhs_evaluations))
+        floor = min(errors)
+        for method in dict.fromkeys(r.method for r in run.records):
+            mine = sorted((r for r in ok if r.method == method), key=lambda r: -r.rtol)
+            if len(mine) < 2:
+                continue
+            # time per decade of error, on the points above the case's floor (3x)
+            usable = [r for r in mine if r.error >= 3 * floor and r.error > ERROR_FLOOR]
+            if len(usable) >= 3 and max(r.error for r in usable) / min(r.error for r in usable) > 10:
+                s_err = np.polyfit(-np.log10([r.error for r in usable]), np.log10([r.sim_seconds for r in usable]), 1)[0]
+                per_err = 10 ** s_err
+            else:
+                per_err = math.nan
+            s_rtol_t = np.polyfit(-np.log10([r.rtol for r in mine]), np.log10([r.sim_seconds for r in mine]), 1)[0]
+            s_rtol_f = np.polyfit(-np.log10([r.rtol for r in mine]),
+                                  np.log10([max(r.rhs_evaluations, 1) for r in mine]), 1)[0]
+            decade_rows.append((run.case.name, method, per_err, 10 ** s_rtol_t, 10 ** s_rtol_f,
+                                min(r.sim_seconds for r in mine), max(r.sim_seconds for r in mine)))
+    fastest = _md_table(("case", "error ≤", "fastest method", "rtol", "error", "sim time [s]", "rhs evals"),
+                        fastest_rows)
+    decades = _md_table(("case", "method", "time × per decade of error", "time × per decade of rtol",
+                         "rhs evals × per decade of rtol", "min time [s]", "max time [s]"), decade_rows)
+    return fastest, decades
+
+
+def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
+    parts = [f"# Work-precision benchmark ({'quick' if quick else 'full'})", "",
+             f"Python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} CPUs; "
+             f"bench wall time {wall:.1f} s.", "",
+             "*error*: CoastDown and StickSlip: max |w - w_exact| in rad/s on the output grid; "
+             "MSL cases: max over compared continuous signals of max |y - y_ref| / dy at the reference "
+             "times (dy = csv-compare tube half-height, rel. tol. 2e-3), limited below by the reference's "
+             "own accuracy. *tube*: worst violation of the tube test in dy (0 = pass). "
+             "*event-time error* in s. Sim time: the smallest wall time of the repeated "
+             "`simulate(translation, ...)` calls after a warm-up.", "",
+             "## Translation (once per case: fresh translate + first simulate)", ""]
+    trows = []
+    for run in runs:
+        info = run.translation
+        stages = info.stage_seconds
+        trows.append((run.case.name, info.flatten_seconds, info.modes, info.initial_systems,
+                      stages.get("alias", math.nan), stages.get("structure", math.nan),
+                      stages.get("blt", math.nan), stages.get("algebraic", math.nan),
+                      stages.get("codegen", math.nan), info.per_mode_seconds, info.translate_seconds,
+                      info.first_simulate_seconds, info.modes_after_bench,
+                      "ok" if info.status == 0 else "FAILED: " + info.message[:80]))
+    parts.append(_md_table(("case", "flatten+partition [s]", "modes", "init systems", "alias [s]", "structure [s]",
+                            "blt [s]", "algebraic [s]", "codegen [s]", "per mode [s]", "translate_seconds",
+                            "first simulate [s]", "modes after bench", "status"), trows))
+    parts += ["", "Stage columns are summed over the modes compiled by the first simulation; "
+              "`first simulate` is its wall time (compiling modes and initialization systems included); "
+              "`modes after bench` counts the discrete states compiled once every method and tolerance ran.",
+              "", "## Runs", ""]
+    rows = []
+    for run in runs:
+        for r in run.records:
+            rows.append((r.case, r.method, f"{r.rtol:.0e}", r.error, r.tube, r.event_error, r.sim_seconds,
+                         r.rhs_evaluations, r.steps, r.events, _status_text(r)))
+    parts.append(_md_table(("case", "method", "rtol", "error", "tube [dy]", "event-time error [s]", "sim time [s]",
+                            "rhs evals", "steps", "events", "status"), rows))
+    fastest, decades = _work_precision_summary(runs)
+    parts += ["", "## Fastest method per accuracy", "",
+              "For each error level the quickest run (any method and rtol) reaching it.", "", fastest,
+              "", "## Cost per decade", "",
+              "Growth factor of the simulation time (and of the rhs evaluations) per decade, from a "
+              "least-squares line in log-log; per decade of error only on the points above three "
+              "times the case's smallest error (where the reference's accuracy is not yet reached).",
+              "", decades, ""]
+    return "\n".join(parts)
+
+
+def _write_bench_csv(path: Path, runs: Sequence[CaseRun]) -> None:
+    fields = ("case", "method", "rtol", "error", "error_unit", "tube", "event_error", "sim_seconds",
+              "rhs_evaluations", "steps", "events", "status", "message", "repeats", "translate_seconds",
+              "first_simulate_seconds")
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(fields)
+        for run in runs:
+            for r in run.records:
+                writer.writerow([r.case, r.method, repr(r.rtol), repr(r.error), r.error_unit, repr(r.tube),
+                                 repr(r.event_error), repr(r.sim_seconds), r.rhs_evaluations, r.steps, r.events,
+                                 r.status, r.message, r.repeats, repr(run.translation.translate_seconds),
+                                 repr(run.translation.first_simulate_seconds)])
+
+
+_METHOD_STYLE = {"RK45": ("tab:blue", "o"), "DOP853": ("tab:orange", "s"), "Radau": ("tab:green", "^"),
+                 "BDF": ("tab:purple", "D"), "LSODA": ("tab:brown", "v"), "Euler": ("tab:gray", "<"),
+                 "RK4": ("tab:olive", ">")}
+
+
+def _log_limits(values: Sequence[float], min_decades: float) -> tuple[float, float]:
+    """Axis limits around ``values`` spanning at least ``min_decades`` decades."""
+    lo, hi = math.log10(min(values)), math.log10(max(values))
+    pad = max(0.15 * (hi - lo), 0.5 * max(0.0, min_decades - (hi - lo)), 0.1)
+    return 10 ** (lo - pad), 10 ** (hi + pad)
+
+
+def _plot_work_precision(runs: Sequence[CaseRun], path: Path, quantity: str,
+                         cost: str = "sim_seconds") -> Path | None:
+    """One subplot per case: ``quantity`` (x, log) against ``cost`` (y, log), a line per method."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import LogLocator, NullFormatter
+    from matplotlib.transforms import blended_transform_factory
+
+    def label_of(q: str) -> str:
+        return "error" if q == "error" else "event-time error"
+
+    shown = [run for run in runs if quantity == "error" or
+             any(r.ok and math.isfinite(r.event_error) for r in run.records)]
+    if not shown:
+        return None
+    ncols = min(3, len(shown))
+    nrows = math.ceil(len(shown) / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(5.4 * ncols, 4.3 * nrows + 0.8), squeeze=False)
+    for ax in axes.flat[len(shown):]:
+        ax.set_visible(False)
+    all_methods: list[str] = []
+    any_failed = False
+    for ax, run in zip(axes.flat, shown):
+        methods = list(dict.fromkeys(r.method for r in run.records))
+        all_methods += [m for m in methods if m not in all_methods]
+        clipped = False
+        xs_all, ys_all = [], []
+        for i, method in enumerate(methods):
+            color, marker = _METHOD_STYLE.get(method, ("black", "o"))
+            mine = sorted((r for r in run.records if r.method == method and r.ok
+                           and math.isfinite(getattr(r, quantity))), key=lambda r: -r.rtol)
+            if not mine:
+                continue
+            x = [max(getattr(r, quantity), ERROR_FLOOR) for r in mine]
+            clipped |= any(getattr(r, quantity) < ERROR_FLOOR for r in mine)
+            y = [max(float(getattr(r, cost)), 1e-9) for r in mine]
+            xs_all += x
+            ys_all += y
+            ax.plot(x, y, "-", color=color, marker=marker, ms=5, lw=1.3, alpha=0.9)
+            if i == 0:  # label the tolerances along the first method's line
+                for r, xx, yy in zip(mine, x, y):
+                    k = round(-math.log10(r.rtol))
+                    if k % 3 == 0 or r is mine[-1]:
+                        ax.annotate(f"rtol {r.rtol:.0e}", (xx, yy), textcoords="offset points",
+                                    xytext=(4, 6), fontsize=7, color=color)
+        failed = [r for r in run.records if r.status != 0 or not math.isfinite(getattr(r, quantity))]
+        if xs_all:
+            ax.set_xlim(*_log_limits(xs_all, 2.0))
+            if max(xs_all) <= 1.5 * min(xs_all):
+                ax.text(0.03, 0.97, f"every run: {label_of(quantity)} ≈ {np.median(xs_all):.2g}",
+                        transform=ax.transAxes, va="top", fontsize=8)
+        if failed:
+            any_failed = True
+            ok_y = [float(getattr(r, cost)) for r in run.records if r.ok]
+            fallback = float(np.nanmax(ok_y)) if ok_y else 1.0
+            ys = []
+            for r in failed:
+                y = float(getattr(r, cost))
+                ys.append(y if math.isfinite(y) and y > 0 else fallback)
+            ys_all += ys
+            trans = blended_transform_factory(ax.transAxes, ax.transData)
+            ax.plot([0.97] * len(ys), ys, "x", color="red", ms=9, mew=2, transform=trans, clip_on=False)
+            ax.text(0.97, 0.02, f"{len(failed)} failed", transform=ax.transAxes, ha="right", va="bottom",
+                    fontsize=8, color="red")
+        if ys_all:
+            ax.set_ylim(*_log_limits(ys_all, 1.0))
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_locator(LogLocator(base=10, numticks=8))
+            axis.set_minor_formatter(NullFormatter())
+        unit = run.case.error_unit if quantity == "error" else "s"
+        label = label_of(quantity)
+        ax.set_xlabel(f"{label} [{unit}]" + (f" (0 shown at {ERROR_FLOOR:.0e})" if clipped else ""))
+        ax.set_ylabel("simulation time [s]" if cost == "sim_seconds" else "right-hand side evaluations")
+        ax.set_title(run.case.name, fontsize=11)
+        ax.grid(True, which="major", alpha=0.4)
+        ax.grid(True, which="minor", alpha=0.12)
+    handles = [Line2D([], [], color=_METHOD_STYLE.get(m, ("black", "o"))[0],
+                      marker=_METHOD_STYLE.get(m, ("black", "o"))[1], label=m) for m in all_methods]
+    if any_failed:
+        handles.append(Line2D([], [], color="red", marker="x", ls="", mew=2, ms=8, label="failed run"))
+    what = "simulation time" if cost == "sim_seconds" else "right-hand side evaluations"
+    title = (f"Work-precision: error against {what} (one marker per rtol)"
+             if quantity == "error" else f"Work-precision: event-time error against {what}")
+    fig.suptitle(title, fontsize=12)
+    height = 4.3 * nrows + 0.8
+    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=9, frameon=False,
+               bbox_to_anchor=(0.5, 1 - 0.32 / height))
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.62 / height))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _effects_markdown(records: Sequence[EffectsRecord]) -> str:
+    rows = [(r.case, r.output, f"{r.rtol:.0e}", f"{r.states_kept} / {r.states_total}",
+             f"{r.derivative_steps_kept} / {r.derivative_steps_full}", f"{r.steps_kept} / {r.steps_full}",
+             r.sim_seconds_full, r.sim_seconds_pruned,
+             (r.sim_seconds_full / r.sim_seconds_pruned) if r.sim_seconds_pruned else math.nan,
+             r.max_abs_difference, r.max_rel_difference, r.status) for r in records]
+    table = _md_table(("model", "requested output", "rtol", "states kept / total",
+                       "derivative steps kept / full", "all steps kept / full", "sim full [s]",
+                       "sim pruned [s]", "speed-up", "max |Δ output|", "max |Δ| / max |y|", "status"), rows)
+    return "\n".join([
+        "# Effects on demand", "",
+        "`simulate(..., outputs=[one speed])` against the full model: states and equations that cannot "
+        "influence the requested output or the watched relations are left out. States and steps of the "
+        "first compiled system; simulation time: the smallest of the repeated runs with a reused "
+        "translation (RK45).", "", table, ""])
+
+
+def _scaling_markdown(points: Sequence[dict], fits: dict) -> str:
+    rows = []
+    for p in points:
+        rows.append((p["n"], p.get("states", math.nan), p.get("equations", math.nan), p.get("modes", math.nan),
+                     p.get("flatten", math.nan), p.get("alias", math.nan), p.get("structure", math.nan),
+                     p.get("blt", math.nan), p.get("algebraic", math.nan), p.get("codegen", math.nan),
+                     p.get("translation", math.nan), p.get("translation_all_modes", math.nan),
+                     p.get("evaluator_setup", math.nan), p.get("simulate", math.nan), p.get("wall", math.nan),
+                     p.get("max_rss_mb", math.nan), p.get("status", "")))
+    table = _md_table(("N", "states", "equations", "modes", "flatten+partition [s]", "alias [s]",
+                       "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "translation (1 mode) [s]",
+                       "translation (all modes) [s]", "event setup [s]", "simulate 0.2 s [s]", "wall [s]",
+                       "max RSS [MB]", "status"), rows)
+    fit_rows = [(name, _fmt(a), _fmt(b)) for name, (a, b) in fits.items()]
+    fit_table = _md_table(("quantity", "a", "b (time ≈ a·N^b)"), fit_rows)
+    return "\n".join([
+        "# Scaling", "",
+        "Drive train of N units Inertia–BearingFriction–SpringDamper (no heat ports), sine-driven, all "
+        "bearings sliding. Translation (1 mode) = flatten+partition + the stages of the first compiled "
+        "system; all modes adds the other discrete states the initialization visits. Event setup: "
+        "constructing the DiscreteEvaluator (done by every simulate call). Simulate: a second 0.2 s run "
+        "with the translation reused (RK45, rtol 1e-6, 500 output points).", "", table, "",
+        fit_table, ""])
+
+
+def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    done = [p for p in points if p.get("status") == "ok"]
+    if not done:
+        return None
+    ns = np.array([p["n"] for p in done], dtype=float)
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    series = [("flatten", "flatten+partition", "tab:gray", "o"), ("alias", "alias", "tab:cyan", "v"),
+              ("structure", "structure", "tab:red", "s"), ("blt", "blt", "tab:pink", "<"),
+              ("algebraic", "algebraic", "tab:olive", ">"), ("codegen", "codegen", "tab:purple", "D"),
+              ("translation", "translation (1 mode)", "black", "o"),
+              ("evaluator_setup", "event setup", "tab:brown", "^"),
+              ("simulate", "simulate 0.2 s", "tab:blue", "*")]
+    for key, label, color, marker in series:
+        ys = np.array([p.get(key, math.nan) for p in done], dtype=float)
+        if not np.any(np.isfinite(ys)):
+            continue
+        if key in fits and math.isfinite(fits[key][1]):
+            label += f" (b={fits[key][1]:.2f})"
+        lw = 2.2 if key in ("translation", "simulate") else 1.2
+        ax.plot(ns, ys, "-", marker=marker, color=color, label=label, lw=lw)
+    for key in ("translation", "structure"):
+        a, b = fits.get(key, (math.nan, math.nan))
+        if math.isfinite(b):
+            grid = np.geomspace(ns.min(), ns.max(), 50)
+            ax.plot(grid, a * grid ** b, ":", color="black" if key == "translation" else "tab:red", lw=1)
+    skipped = [p for p in points if p.get("status") != "ok"]
+    if skipped:
+        ax.text(0.02, 0.98, "\n".join(f"N={p['n']}: {p['status']}" for p in skipped), transform=ax.transAxes,
+                va="top", fontsize=8, color="red")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("N (units Inertia–BearingFriction–SpringDamper)")
+    ax.set_ylabel("seconds")
+    ax.set_title("Scaling of translation and simulation with model size (dotted: power-law fits)")
+    ax.grid(True, which="major", alpha=0.4)
+    ax.grid(True, which="minor", alpha=0.12)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _write_dict_csv(path: Path, rows: Sequence[dict]) -> None:
+    keys: list[str] = []
+    for row in rows:
+        for k in row:
+            if k not in keys:
+                keys.append(k)
+    with path.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=keys)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in row.items()})
+
+
+# ---------------------------------------------------------------------------
+# The whole bench
+# ---------------------------------------------------------------------------
+
+
+@dataclass
+class BenchResult:
+    """Everything the bench measured and the files it wrote."""
+
+    quick: bool
+    runs: list[CaseRun]
+    effects: list[EffectsRecord]
+    scaling: list[dict]
+    scaling_fits: dict
+    files: dict
+    tables: dict
+    wall_seconds: float
+
+    @property
+    def records(self) -> list[RunRecord]:
+        return [r for run in self.runs for r in run.records]
+
+    @property
+    def failures(self) -> list[RunRecord]:
+        return [r for r in self.records if r.status != 0]
+
+
+def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
+              rtols: Sequence[float] | None = None, *, case_names: Sequence[str] | None = None,
+              effects: bool = True, scaling_sizes: Sequence[int] | None = None,
+              repeats: int | None = None, verbose: bool = False) -> BenchResult:
+    """Run the benchmark and write its tables and plots into ``out_dir``.
+
+    Parameters
+    ----------
+    quick : bool
+        Quick: CoastDown, StickSlip, First, Friction; rtol 1e-3, 1e-6, 1e-9;
+        2 repeats; scaling N = 10, 40.  Full: every case, rtol 1e-3 ... 1e-10;
+        3 repeats; scaling N = 10 ... 1000, each in its own process within
+        a time budget.
+    methods, rtols : optional
+        Override the adaptive methods and tolerances.
+    case_names, effects, scaling_sizes, repeats :
+        Reduce the bench (tests): the cases to run, whether to run the
+        effects section, the scaling sizes (``()`` for none).
+    """
+    from .simulate import METHODS
+
+    wall0 = time.perf_counter()
+    _ensure_path()
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    methods = tuple(methods) if methods else ADAPTIVE_METHODS
+    for m in methods:
+        if m not in METHODS:
+            raise ValueError(f"unknown method {m!r}; choose from {', '.join(METHODS)}")
+    rtols = tuple(float(r) for r in rtols) if rtols else (QUICK_RTOLS if quick else FULL_RTOLS)
+    repeats = repeats if repeats is not None else (2 if quick else 3)
+    all_cases = cases()
+    names = tuple(case_names) if case_names is not None else (QUICK_CASES if quick else tuple(all_cases))
+    sizes = tuple(scaling_sizes) if scaling_sizes is not None else (QUICK_SCALING if quick else FULL_SCALING)
+    log = (lambda s: print(s, flush=True)) if verbose else (lambda _s: None)
+
+    sections: dict = {}
+
+    def section(label: str, start: tuple[float, float]) -> None:
+        sections[label] = (time.perf_counter() - start[0], time.process_time() - start[1])
+        log(f"[{label}: {sections[label][0]:.1f} s wall, {sections[label][1]:.1f} s CPU]")
+
+    runs = []
+    for name in names:
+        log(f"case {name}")
+        start = (time.perf_counter(), time.process_time())
+        runs.append(run_case(all_cases[name], methods, rtols, repeats, log))
+        section(name, start)
+
+    start = (time.perf_counter(), time.process_time())
+    effect_records = run_effects(repeats=1 if quick else repeats, log=log) if effects else []
+    if effects:
+        section("effects", start)
+    if sizes:
+        log("scaling")
+    start = (time.perf_counter(), time.process_time())
+    points = run_scaling(sizes, isolate=not quick, log=log) if sizes else []
+    if sizes:
+        section("scaling", start)
+    done = [p for p in points if p.get("status") == "ok"]
+    fits = {}
+    if done:
+        ns = [p["n"] for p in done]
+        for key in ("translation", "structure", "flatten", "algebraic", "codegen", "evaluator_setup", "simulate"):
+            fits[key] = fit_power_law(ns, [p.get(key, math.nan) for p in done])
+
+    wall = time.perf_counter() - wall0
+    files: dict = {}
+    tables: dict = {}
+    bench_md = _bench_markdown(runs, quick, wall)
+    tables["bench"] = bench_md
+    files["bench.md"] = out_dir / "bench.md"
+    files["bench.md"].write_text(bench_md)
+    files["bench.csv"] = out_dir / "bench.csv"
+    _write_bench_csv(files["bench.csv"], runs)
+    for quantity, cost, fname in (("error", "sim_seconds", "work_precision.png"),
+                                  ("event_error", "sim_seconds", "work_precision_events.png"),
+                                  ("error", "rhs_evaluations", "work_precision_rhs.png")):
+        path = _plot_work_precision(runs, out_dir / fname, quantity, cost)
+        if path is not None:
+            files[fname] = path
+    if effect_records:
+        tables["effects"] = _effects_markdown(effect_records)
+        files["effects.md"] = out_dir / "effects.md"
+        files["effects.md"].write_text(tables["effects"])
+        files["effects.csv"] = out_dir / "effects.csv"
+        _write_dict_csv(files["effects.csv"], [vars(r) for r in effect_records])
+    if points:
+        tables["scaling"] = _scaling_markdown(points, fits)
+        files["scaling.md"] = out_dir / "scaling.md"
+        files["scaling.md"].write_text(tables["scaling"])
+        files["scaling.csv"] = out_dir / "scaling.csv"
+        _write_dict_csv(files["scaling.csv"], points)
+        path = _plot_scaling(points, fits, out_dir / "scaling.png")
+        if path is not None:
+            files["scaling.png"] = path
+    wall = time.perf_counter() - wall0
+    return BenchResult(quick, runs, effect_records, points, fits, files, tables, wall)
+
+
+def _split(text: str) -> list[str]:
+    return [s.strip() for s in text.split(",") if s.strip()]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``acausal bench``: run the benchmark, write the files, print the tables; exit status 0."""
+    parser = argparse.ArgumentParser(prog="acausal bench",
+                                     description="Work-precision benchmark of the adaptive methods, "
+                                                 "effects of output demand, and scaling with model size.")
+    parser.add_argument("--quick", action="store_true",
+                        help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40); under a minute")
+    parser.add_argument("--out", default="bench-out", metavar="DIR", help="output folder (default bench-out)")
+    parser.add_argument("--methods", metavar="M,...",
+                        help=f"comma-separated methods (default {','.join(ADAPTIVE_METHODS)})")
+    parser.add_argument("--rtols", metavar="R,...", help="comma-separated relative tolerances")
+    args = parser.parse_args(argv)
+    methods = _split(args.methods) if args.methods else None
+    try:
+        rtols = [float(r) for r in _split(args.rtols)] if args.rtols else None
+    except ValueError:
+        parser.error(f"--rtols: not a list of numbers: {args.rtols!r}")
+    result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True)
+    print()
+    for key in ("bench", "effects", "scaling"):
+        if key in result.tables:
+            print(result.tables[key])
+            print()
+    for name, path in result.files.items():
+        print(f"wrote {path}")
+    failed = len(result.failures)
+    print(f"bench finished in {result.wall_seconds:.1f} s ({len(result.records)} runs, {failed} failed)")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
