@@ -206,11 +206,27 @@ def _dense_solve(A, b, what):
 
 
 def _cse_lines(exprs: list[sp.Expr], printer, prefix: str) -> tuple[list[str], list[str]]:
-    """Common subexpressions (as lines) and the reduced expressions (printed)."""
+    """Common subexpressions (as lines) and the reduced expressions (printed).
+
+    A lone small expression has nothing to share: it is printed as it is
+    (sympy's cse costs far more than it saves there).
+    """
+    if len(exprs) == 1 and _small(exprs[0]):
+        return [], [printer.doprint(exprs[0])]
     symbols = sp.numbered_symbols(prefix)
     replacements, reduced = sp.cse(exprs, symbols=symbols, optimizations=None, order="canonical")
     lines = [f"{sym} = {printer.doprint(e)}" for sym, e in replacements]
     return lines, [printer.doprint(e) for e in reduced]
+
+
+def _small(expr: sp.Expr, limit: int = 12) -> bool:
+    """Whether ``expr`` has fewer than ``limit`` nodes (no subexpression worth sharing)."""
+    count = 0
+    for _ in sp.preorder_traversal(expr):
+        count += 1
+        if count >= limit:
+            return False
+    return True
 
 
 def _step_code(step, index: int, loc, printer, local) -> list[str]:

@@ -99,7 +99,7 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
         translation itself would.
     """
     translation = (model_or_translation if isinstance(model_or_translation, Translation)
-                   else translate(model_or_translation))
+                   else translate(model_or_translation, cache=False))
     partitioned = translation.partitioned
     notes: list[str] = []
     visited: tuple[str, ...] | None = None

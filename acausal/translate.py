@@ -11,6 +11,7 @@ way.  Each stage's output stays on the :class:`ModeSystem` for inspection.
 from __future__ import annotations
 
 import time as _time
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping
 
@@ -368,7 +369,47 @@ class Translation:
         return self.flatten_seconds + sum(sum(s.timings.values()) for s in self.systems.values())
 
 
-def translate(model: Component, outputs: Iterable[str] | None = None) -> Translation:
+#: Translations of recently seen models, by model signature (see model_signature).
+_CACHE: "OrderedDict[tuple, Translation]" = OrderedDict()
+CACHE_SIZE = 16
+
+
+def model_signature(model: Component) -> tuple:
+    """What makes two model instances translate identically.
+
+    The class of every component, its place in the tree, its modifiers
+    (parameter values included), its connections, and the experiment.  Two
+    instances with the same signature get the same equations, so the
+    compiled systems of one serve the other.
+    """
+    parts = []
+    for component in model.walk():
+        modifiers = tuple(sorted((k, _freeze(v)) for k, v in component._modifiers.items()))
+        attributes = tuple(sorted((k, _freeze(v)) for k, v in component._attribute_modifiers.items()))
+        connections = tuple((_end(a), _end(b)) for a, b in component._connections)
+        klass = type(component)
+        parts.append((component.path, f"{klass.__module__}.{klass.__qualname__}", id(klass),
+                      modifiers, attributes, connections))
+    return (tuple(parts), getattr(model, "experiment", None))
+
+
+def _freeze(value):
+    if isinstance(value, dict):
+        return tuple(sorted((k, _freeze(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return tuple(_freeze(v) for v in value)
+    if isinstance(value, np.ndarray):
+        return ("array", value.shape, tuple(value.ravel().tolist()))
+    if isinstance(value, sp.Basic):
+        return ("sympy", sp.srepr(value))
+    return (type(value).__name__, repr(value))
+
+
+def _end(end):
+    return getattr(end, "path", None) or getattr(end, "name", repr(end))
+
+
+def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True) -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
     Parameters
@@ -376,7 +417,21 @@ def translate(model: Component, outputs: Iterable[str] | None = None) -> Transla
     outputs : iterable of str, optional
         Compute only these variables (and what they and the events need):
         states and equations that cannot influence them are left out.
+    cache : bool
+        Reuse the translation (and every system compiled so far) of an
+        identical model translated before in this process.
     """
+    if cache:
+        key = (model_signature(model), None if outputs is None else frozenset(outputs))
+        found = _CACHE.get(key)
+        if found is not None:
+            _CACHE.move_to_end(key)
+            return found
+        translation = translate(model, outputs, cache=False)
+        _CACHE[key] = translation
+        while len(_CACHE) > CACHE_SIZE:
+            _CACHE.popitem(last=False)
+        return translation
     t0 = _time.perf_counter()
     flat = flatten(model)
     partitioned = partition(flat)
