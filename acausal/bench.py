@@ -617,9 +617,12 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     from .events import DiscreteEvaluator
     from .translate import translate
 
+    import gc
+
     point: dict = {"n": n, "status": "ok"}
     wall0 = time.perf_counter()
     model = drive_train_model(n, heat_ports=False, stop_time=stop_time)
+    gc.collect()
     t0 = time.perf_counter()
     translation = translate(model)
     point["flatten"] = time.perf_counter() - t0
@@ -634,6 +637,7 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     point["states"] = len(system.structure.states)
     point["equations"] = len(system.equations)
     point["derivative_steps"] = system.code.n_derivative_steps
+    gc.collect()
     t0 = time.perf_counter()
     DiscreteEvaluator(translation)
     point["evaluator_setup"] = time.perf_counter() - t0
@@ -1046,6 +1050,12 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
                 va="top", fontsize=8, color="red")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator
+
+    ax.xaxis.set_major_locator(FixedLocator([p["n"] for p in points]))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FixedFormatter([str(p["n"]) for p in points]))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("N (units Inertia–BearingFriction–SpringDamper)")
     ax.set_ylabel("seconds")
     ax.set_title("Scaling of translation and simulation with model size (dotted: power-law fits)")

@@ -93,6 +93,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         translation = model
     else:
         translation = translate(model, outputs)
+    flatten_seconds = _time.perf_counter() - t_setup
     experiment = translation.flat.experiment
     t0 = experiment.start_time if start_time is None else float(start_time)
     t1 = experiment.stop_time if stop_time is None else float(stop_time)
@@ -104,9 +105,9 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         rtol = experiment.tolerance or 1e-6
     run = _Run(translation, method, rtol, atol, max_step, relation_epsilon, max_event_iterations,
                chattering_events)
-    # compile time spent during this run (a reused Translation may be compiled already)
-    run.compile_seconds_before = (translation.translation_seconds if translation is model
-                                  else translation.translation_seconds - translation.flatten_seconds)
+    # translation time of this call: flattening (unless cached) plus the systems
+    # compiled during the run (a reused translation may have them all already)
+    run.compile_seconds_before = translation.translation_seconds - flatten_seconds
     return run.execute(t0, t1, interval, t_setup)
 
 
@@ -381,7 +382,7 @@ class _Run:
             "steps": self.steps,
             "rhs_evaluations": self.nfev,
             "events": len(self.events),
-            "translate_seconds": translation.translation_seconds,
+            "translate_seconds": translation.translation_seconds - self.compile_seconds_before,
             "simulate_seconds": _time.perf_counter() - t_setup
             - (translation.translation_seconds - self.compile_seconds_before),
             "method": self.method,
