@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import gc
 import json
 import math
 import os
@@ -617,8 +618,6 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     from .events import DiscreteEvaluator
     from .translate import translate
 
-    import gc
-
     point: dict = {"n": n, "status": "ok"}
     wall0 = time.perf_counter()
     model = drive_train_model(n, heat_ports=False, stop_time=stop_time)
@@ -1111,7 +1110,8 @@ class BenchResult:
 def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               rtols: Sequence[float] | None = None, *, case_names: Sequence[str] | None = None,
               effects: bool = True, scaling_sizes: Sequence[int] | None = None,
-              repeats: int | None = None, verbose: bool = False) -> BenchResult:
+              repeats: int | None = None, isolate_scaling: bool = True,
+              verbose: bool = False) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -1119,13 +1119,17 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     quick : bool
         Quick: CoastDown, StickSlip, First, Friction; rtol 1e-3, 1e-6, 1e-9;
         2 repeats; scaling N = 10, 40.  Full: every case, rtol 1e-3 ... 1e-10;
-        3 repeats; scaling N = 10 ... 1000, each in its own process within
-        a time budget.
+        3 repeats; scaling N = 10 ... 1000 within a time budget per point.
     methods, rtols : optional
         Override the adaptive methods and tolerances.
     case_names, effects, scaling_sizes, repeats :
         Reduce the bench (tests): the cases to run, whether to run the
         effects section, the scaling sizes (``()`` for none).
+    isolate_scaling : bool
+        Run each scaling point in a fresh process (default), so that every
+        translation starts with sympy's caches cold, as a user's first
+        translation does, and memory is returned; in-process points after
+        other translations come out faster.
     """
     from .simulate import METHODS
 
@@ -1164,7 +1168,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     if sizes:
         log("scaling")
     start = (time.perf_counter(), time.process_time())
-    points = run_scaling(sizes, isolate=not quick, log=log) if sizes else []
+    points = run_scaling(sizes, isolate=isolate_scaling, log=log) if sizes else []
     if sizes:
         section("scaling", start)
     done = [p for p in points if p.get("status") == "ok"]
@@ -1225,6 +1229,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--rtols", metavar="R,...", help="comma-separated relative tolerances")
     args = parser.parse_args(argv)
     methods = _split(args.methods) if args.methods else None
+    if methods:
+        from .simulate import METHODS
+
+        known = {m.lower(): m for m in METHODS}
+        unknown = [m for m in methods if m.lower() not in known]
+        if unknown:
+            parser.error(f"--methods: unknown method {unknown[0]!r}; choose from {', '.join(METHODS)}")
+        methods = [known[m.lower()] for m in methods]
     try:
         rtols = [float(r) for r in _split(args.rtols)] if args.rtols else None
     except ValueError:

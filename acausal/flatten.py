@@ -215,9 +215,8 @@ class _Flattener:
             self._collect_equations(component)
         self._connect()
         for name in self.unknown_parameters:
-            sym = real_symbol(name)
             origin = Origin(name.rpartition(".")[0], "", "binding", 0, f"der({name}) = 0")
-            self.equations.append(FlatEquation(real_symbol(der_name(name)) - 0 * sym, origin))
+            self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
         model = self.model
         return FlatModel(
             name=type(model).__name__,
@@ -267,6 +266,9 @@ class _Flattener:
             return value
 
         for name in self.parameters:
+            if name in self.unknown_parameters and self.parameters[name][0] is None:
+                values[name] = 0.0  # found by the initialization problem
+                continue
             resolve(name)
         # min/max checks
         for component in self.components:
@@ -329,14 +331,16 @@ class _Flattener:
                 if not decl.enabled(component):
                     continue
                 self._add_variable(component._path_of(key), decl, component, key)
+        # A parameter with fixed=False is an unknown of the initialization
+        # problem, constant afterwards: a variable with der(p) = 0 whose start
+        # (its binding, if numeric) is the first guess.
         for name in self.unknown_parameters:
             binding, unit, owner = self.parameters[name]
             if owner is component:
+                guess = 0.0 if binding is None or isinstance(binding, sp.Basic) else float(binding)
                 self.variables[name] = FlatVariable(
-                    name=name, kind="continuous", start=values.get(name, 0.0) if False else
-                    self._number(binding, name) if not isinstance(binding, sp.Basic) else 0.0,
-                    fixed=False, nominal=1.0, state_select=StateSelect.default, unit=unit,
-                    component=component.path)
+                    name=name, kind="continuous", start=guess, fixed=False, nominal=1.0,
+                    state_select=StateSelect.default, unit=unit, component=component.path)
 
     def _add_variable(self, path: str, decl: Variable, component: Component, key: str | None) -> None:
         def attr(name):
