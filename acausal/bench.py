@@ -215,7 +215,8 @@ def _evaluate_stick_slip(result, translation) -> dict:
     window = t <= t_s
     error = float(np.max(np.abs(w[window] - stick_slip_exact(t[window]))))
     breaks = [e.time for e in result.events if e.kind != "initial" and
-              (_changed(e, "bearing.startForward", False, True) or _changed(e, "bearing.locked", True, False))]
+              (_changed(e, "bearing.startForward", False, True)
+               or _changed(e, "bearing.locked", True, False))]
     stops = [e.time for e in result.events if any(n == "bearing.mode" and a == 1 and b != 1
                                                   for n, a, b in e.changes)]
     if breaks and stops:
@@ -466,14 +467,15 @@ def run_case(case: Case, methods: Sequence[str], rtols: Sequence[float], repeats
         info.modes = len(translation.systems)
         info.initial_systems = len(translation.initial_systems)
         info.stage_seconds = _stage_sums(translation)
-        info.per_mode_seconds = (translation.translation_seconds - translation.flatten_seconds) / max(1, info.modes)
+        compiled = translation.translation_seconds - translation.flatten_seconds
+        info.per_mode_seconds = compiled / max(1, info.modes)
         info.status, info.message = first.status, first.message
     except Exception as exc:  # noqa: BLE001 - a bench never crashes on a model
         info.message = f"{type(exc).__name__}: {exc}"
         for method in methods:
             for rtol in rtols:
-                records.append(RunRecord(case.name, method, rtol, message=f"translation failed: {info.message}",
-                                         error_unit=case.error_unit))
+                records.append(RunRecord(case.name, method, rtol, error_unit=case.error_unit,
+                                         message=f"translation failed: {info.message}"))
         return CaseRun(case, info, records)
 
     for method in methods:
@@ -544,7 +546,9 @@ def _first_system(translation):
 
 
 def _max_difference(t_full, y_full, t_pruned, y_pruned) -> float:
-    if len(t_full) == len(t_pruned) and np.allclose(t_full, t_pruned, rtol=0, atol=1e-9 * max(1.0, t_full[-1])):
+    same_grid = len(t_full) == len(t_pruned) and np.allclose(t_full, t_pruned, rtol=0,
+                                                             atol=1e-9 * max(1.0, t_full[-1]))
+    if same_grid:
         return float(np.max(np.abs(y_full - y_pruned)))
     return float(np.max(np.abs(y_full - np.interp(t_full, t_pruned, y_pruned))))
 
@@ -613,8 +617,13 @@ STAGES = ("specialise", "alias", "structure", "blt", "algebraic", "codegen")
 
 
 def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: str = "RK45",
-                  repeats: int = 1) -> dict:
-    """Translate and simulate the drive train of ``n`` units (no heat ports)."""
+                  repeats: int = 1, progress: Callable[[dict], None] | None = None) -> dict:
+    """Translate and simulate the drive train of ``n`` units (no heat ports).
+
+    ``progress`` receives the point measured so far after each phase (a
+    point stopped by a time budget keeps what it finished).
+    """
+    progress = progress or (lambda _p: None)
     from .events import DiscreteEvaluator
     from .translate import translate
 
@@ -625,6 +634,8 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     t0 = time.perf_counter()
     translation = translate(model)
     point["flatten"] = time.perf_counter() - t0
+    point["phase"] = "flattened; translating the modes and initializing"
+    progress(dict(point))
     first, first_wall = _timed_simulate(translation, method=method, rtol=rtol)
     point["first_simulate"] = first_wall
     system = _first_system(translation)
@@ -636,10 +647,14 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     point["states"] = len(system.structure.states)
     point["equations"] = len(system.equations)
     point["derivative_steps"] = system.code.n_derivative_steps
+    point["phase"] = "translated and simulated once; timing the event setup"
+    progress(dict(point))
     gc.collect()
     t0 = time.perf_counter()
     DiscreteEvaluator(translation)
     point["evaluator_setup"] = time.perf_counter() - t0
+    point["phase"] = "simulating again (warm)"
+    progress(dict(point))
     if first.status != 0:
         point["status"] = f"failed: {first.message}"
         point["simulate"] = math.nan
@@ -655,25 +670,40 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
         point["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     except (ImportError, AttributeError):  # pragma: no cover - not on Linux
         point["max_rss_mb"] = math.nan
+    point.pop("phase", None)
     return point
 
 
 def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
     code = ("import json, sys; sys.path.insert(0, {root!r}); from acausal.bench import scaling_point; "
-            "print('@@' + json.dumps(scaling_point({n}, {stop})))").format(root=str(ROOT), n=n, stop=stop_time)
+            "report = lambda p: print('@@' + json.dumps(p), flush=True); "
+            "report(scaling_point({n}, {stop}, progress=report))").format(root=str(ROOT), n=n, stop=stop_time)
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
     t0 = time.perf_counter()
     try:
         proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
                               cwd=str(ROOT), env=env)
-    except subprocess.TimeoutExpired:
-        return {"n": n, "status": f"stopped: more than {timeout:.0f} s", "wall": time.perf_counter() - t0}
-    for line in reversed(proc.stdout.splitlines()):
-        if line.startswith("@@"):
-            return json.loads(line[2:])
+    except subprocess.TimeoutExpired as exc:
+        partial = _last_report(exc.stdout) or {"n": n}
+        phase = partial.pop("phase", "")
+        partial.update(status=f"stopped after {timeout:.0f} s" + (f" ({phase})" if phase else ""),
+                       wall=time.perf_counter() - t0)
+        return partial
+    last = _last_report(proc.stdout)
+    if last is not None and proc.returncode == 0:
+        return last
     tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
     return {"n": n, "status": f"failed (exit {proc.returncode}): {tail}", "wall": time.perf_counter() - t0}
+
+
+def _last_report(output) -> dict | None:
+    if isinstance(output, bytes):
+        output = output.decode(errors="replace")
+    for line in reversed((output or "").splitlines()):
+        if line.startswith("@@"):
+            return json.loads(line[2:])
+    return None
 
 
 def fit_power_law(ns: Sequence[float], seconds: Sequence[float]) -> tuple[float, float]:
@@ -688,7 +718,8 @@ def fit_power_law(ns: Sequence[float], seconds: Sequence[float]) -> tuple[float,
 
 
 def run_scaling(sizes: Sequence[int], stop_time: float = 0.2, isolate: bool = False,
-                budget: float = SCALING_BUDGET_SECONDS, log: Callable[[str], None] | None = None) -> list[dict]:
+                budget: float = SCALING_BUDGET_SECONDS,
+                log: Callable[[str], None] | None = None) -> list[dict]:
     """Scaling points for ``sizes``; with ``isolate`` each in its own process under ``budget``.
 
     A size whose wall time the power law of the previous points predicts
@@ -759,8 +790,8 @@ def _status_text(record: RunRecord) -> str:
     return "FAILED: " + record.message.replace("|", "/").replace("\n", " ")[:90]
 
 
-def _work_precision_summary(runs: Sequence[CaseRun]) -> tuple[str, str]:
-    """(fastest method per accuracy target, cost per decade) as Markdown."""
+def _work_precision_summary(runs: Sequence[CaseRun]) -> tuple[str, str, str]:
+    """(fastest method per accuracy target, cost per decade, fixed cost) as Markdown."""
     fastest_rows = []
     decade_rows = []
     for run in runs:
@@ -784,20 +815,34 @@ def _work_precision_summary(runs: Sequence[CaseRun]) -> tuple[str, str]:
             # time per decade of error, on the points above the case's floor (3x)
             usable = [r for r in mine if r.error >= 3 * floor and r.error > ERROR_FLOOR]
             if len(usable) >= 3 and max(r.error for r in usable) / min(r.error for r in usable) > 10:
-                s_err = np.polyfit(-np.log10([r.error for r in usable]), np.log10([r.sim_seconds for r in usable]), 1)[0]
+                s_err = np.polyfit(-np.log10([r.error for r in usable]),
+                                   np.log10([r.sim_seconds for r in usable]), 1)[0]
                 per_err = 10 ** s_err
             else:
                 per_err = math.nan
-            s_rtol_t = np.polyfit(-np.log10([r.rtol for r in mine]), np.log10([r.sim_seconds for r in mine]), 1)[0]
+            s_rtol_t = np.polyfit(-np.log10([r.rtol for r in mine]),
+                                  np.log10([r.sim_seconds for r in mine]), 1)[0]
             s_rtol_f = np.polyfit(-np.log10([r.rtol for r in mine]),
                                   np.log10([max(r.rhs_evaluations, 1) for r in mine]), 1)[0]
             decade_rows.append((run.case.name, method, per_err, 10 ** s_rtol_t, 10 ** s_rtol_f,
                                 min(r.sim_seconds for r in mine), max(r.sim_seconds for r in mine)))
+    overhead_rows = []
+    for run in runs:
+        ok = [r for r in run.records if r.status == 0 and math.isfinite(r.sim_seconds)]
+        if len(ok) < 3 or len({r.rhs_evaluations for r in ok}) < 2:
+            continue
+        nfev = np.array([r.rhs_evaluations for r in ok], dtype=float)
+        secs = np.array([r.sim_seconds for r in ok])
+        slope, intercept = np.polyfit(nfev, secs, 1)
+        share = intercept / np.median(secs) if np.median(secs) > 0 else math.nan
+        overhead_rows.append((run.case.name, intercept, slope * 1e6, share, int(nfev.min()), int(nfev.max())))
     fastest = _md_table(("case", "error ≤", "fastest method", "rtol", "error", "sim time [s]", "rhs evals"),
                         fastest_rows)
+    overhead = _md_table(("case", "fixed cost per simulate call [s]", "µs per rhs evaluation",
+                          "fixed cost / median run", "rhs evals min", "rhs evals max"), overhead_rows)
     decades = _md_table(("case", "method", "time × per decade of error", "time × per decade of rtol",
                          "rhs evals × per decade of rtol", "min time [s]", "max time [s]"), decade_rows)
-    return fastest, decades
+    return fastest, decades, overhead
 
 
 def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
@@ -821,9 +866,9 @@ def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
                       stages.get("codegen", math.nan), info.per_mode_seconds, info.translate_seconds,
                       info.first_simulate_seconds, info.modes_after_bench,
                       "ok" if info.status == 0 else "FAILED: " + info.message[:80]))
-    parts.append(_md_table(("case", "flatten+partition [s]", "modes", "init systems", "alias [s]", "structure [s]",
-                            "blt [s]", "algebraic [s]", "codegen [s]", "per mode [s]", "translate_seconds",
-                            "first simulate [s]", "modes after bench", "status"), trows))
+    parts.append(_md_table(("case", "flatten+partition [s]", "modes", "init systems", "alias [s]",
+                            "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "per mode [s]",
+                            "translate_seconds", "first simulate [s]", "modes after bench", "status"), trows))
     parts += ["", "Stage columns are summed over the modes compiled by the first simulation; "
               "`first simulate` is its wall time (compiling modes and initialization systems included); "
               "`modes after bench` counts the discrete states compiled once every method and tolerance ran.",
@@ -833,16 +878,22 @@ def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
         for r in run.records:
             rows.append((r.case, r.method, f"{r.rtol:.0e}", r.error, r.tube, r.event_error, r.sim_seconds,
                          r.rhs_evaluations, r.steps, r.events, _status_text(r)))
-    parts.append(_md_table(("case", "method", "rtol", "error", "tube [dy]", "event-time error [s]", "sim time [s]",
-                            "rhs evals", "steps", "events", "status"), rows))
-    fastest, decades = _work_precision_summary(runs)
+    parts.append(_md_table(("case", "method", "rtol", "error", "tube [dy]", "event-time error [s]",
+                            "sim time [s]", "rhs evals", "steps", "events", "status"), rows))
+    fastest, decades, overhead = _work_precision_summary(runs)
     parts += ["", "## Fastest method per accuracy", "",
               "For each error level the quickest run (any method and rtol) reaching it.", "", fastest,
               "", "## Cost per decade", "",
               "Growth factor of the simulation time (and of the rhs evaluations) per decade, from a "
               "least-squares line in log-log; per decade of error only on the points above three "
               "times the case's smallest error (where the reference's accuracy is not yet reached).",
-              "", decades, ""]
+              "", decades, "",
+              "## Fixed cost of a simulate call", "",
+              "Least-squares line sim time ≈ c0 + c1 · rhs evaluations over all successful runs of a case "
+              "(every method and rtol): c0 is what a call costs whatever the tolerance (event "
+              "evaluator setup, initialization, event iterations, building the result on the output "
+              "grid), c1 the cost of one right-hand side evaluation with its share of the step.", "",
+              overhead, ""]
     return "\n".join(parts)
 
 
@@ -856,8 +907,9 @@ def _write_bench_csv(path: Path, runs: Sequence[CaseRun]) -> None:
         for run in runs:
             for r in run.records:
                 writer.writerow([r.case, r.method, repr(r.rtol), repr(r.error), r.error_unit, repr(r.tube),
-                                 repr(r.event_error), repr(r.sim_seconds), r.rhs_evaluations, r.steps, r.events,
-                                 r.status, r.message, r.repeats, repr(run.translation.translate_seconds),
+                                 repr(r.event_error), repr(r.sim_seconds), r.rhs_evaluations, r.steps,
+                                 r.events, r.status, r.message, r.repeats,
+                                 repr(run.translation.translate_seconds),
                                  repr(run.translation.first_simulate_seconds)])
 
 
@@ -991,7 +1043,8 @@ def _effects_markdown(records: Sequence[EffectsRecord]) -> str:
 def _scaling_markdown(points: Sequence[dict], fits: dict) -> str:
     rows = []
     for p in points:
-        rows.append((p["n"], p.get("states", math.nan), p.get("equations", math.nan), p.get("modes", math.nan),
+        rows.append((p["n"], p.get("states", math.nan), p.get("equations", math.nan),
+                     p.get("modes", math.nan),
                      p.get("flatten", math.nan), p.get("alias", math.nan), p.get("structure", math.nan),
                      p.get("blt", math.nan), p.get("algebraic", math.nan), p.get("codegen", math.nan),
                      p.get("translation", math.nan), p.get("translation_all_modes", math.nan),
@@ -1001,15 +1054,28 @@ def _scaling_markdown(points: Sequence[dict], fits: dict) -> str:
                        "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "translation (1 mode) [s]",
                        "translation (all modes) [s]", "event setup [s]", "simulate 0.2 s [s]", "wall [s]",
                        "max RSS [MB]", "status"), rows)
-    fit_rows = [(name, _fmt(a), _fmt(b)) for name, (a, b) in fits.items()]
-    fit_table = _md_table(("quantity", "a", "b (time ≈ a·N^b)"), fit_rows)
+    fit_rows = []
+    for name, (a, b) in fits.items():
+        ns = [p["n"] for p in points if isinstance(p.get(name), (int, float)) and math.isfinite(p[name])]
+        fit_rows.append((name, _fmt(a), _fmt(b), ", ".join(map(str, ns))))
+    fit_table = _md_table(("quantity", "a", "b (time ≈ a·N^b)", "fitted on N ="), fit_rows)
+    ok = [p["n"] for p in points if p.get("status") == "ok"]
+    not_ok = [p for p in points if p.get("status") != "ok"]
+    if not_ok:
+        first = not_ok[0]
+        limit = (f"**The bench stopped at N = {max(ok)}**" if ok else "**No size finished**") + \
+            (f": N = {first['n']} {first['status']}" + ("; larger sizes were not tried." if len(not_ok) > 1
+                                                      else ".") + " Phases a stopped point finished are "
+             "in the table and in the fits.")
+    else:
+        limit = f"Every size finished (largest N = {max(ok)})." if ok else ""
     return "\n".join([
         "# Scaling", "",
         "Drive train of N units Inertia–BearingFriction–SpringDamper (no heat ports), sine-driven, all "
         "bearings sliding. Translation (1 mode) = flatten+partition + the stages of the first compiled "
         "system; all modes adds the other discrete states the initialization visits. Event setup: "
         "constructing the DiscreteEvaluator (done by every simulate call). Simulate: a second 0.2 s run "
-        "with the translation reused (RK45, rtol 1e-6, 500 output points).", "", table, "",
+        "with the translation reused (RK45, rtol 1e-6, 500 output points).", "", limit, "", table, "",
         fit_table, ""])
 
 
@@ -1019,7 +1085,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    done = [p for p in points if p.get("status") == "ok"]
+    done = [p for p in points if isinstance(p.get("flatten"), (int, float))]
     if not done:
         return None
     ns = np.array([p["n"] for p in done], dtype=float)
@@ -1032,7 +1098,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
               ("simulate", "simulate 0.2 s", "tab:blue", "*")]
     for key, label, color, marker in series:
         ys = np.array([p.get(key, math.nan) for p in done], dtype=float)
-        if not np.any(np.isfinite(ys)):
+        if np.count_nonzero(np.isfinite(ys)) == 0:
             continue
         if key in fits and math.isfinite(fits[key][1]):
             label += f" (b={fits[key][1]:.2f})"
@@ -1171,12 +1237,12 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     points = run_scaling(sizes, isolate=isolate_scaling, log=log) if sizes else []
     if sizes:
         section("scaling", start)
-    done = [p for p in points if p.get("status") == "ok"]
     fits = {}
-    if done:
-        ns = [p["n"] for p in done]
-        for key in ("translation", "structure", "flatten", "algebraic", "codegen", "evaluator_setup", "simulate"):
-            fits[key] = fit_power_law(ns, [p.get(key, math.nan) for p in done])
+    for key in ("translation", "structure", "flatten", "algebraic", "codegen", "evaluator_setup", "simulate"):
+        # a point stopped by the budget still counts for the phases it finished
+        measured = [p for p in points if isinstance(p.get(key), (int, float)) and math.isfinite(p[key])]
+        if len(measured) >= 2:
+            fits[key] = fit_power_law([p["n"] for p in measured], [p[key] for p in measured])
 
     wall = time.perf_counter() - wall0
     files: dict = {}

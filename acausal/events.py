@@ -91,6 +91,25 @@ class DiscreteEvaluator:
             args = sorted(eq.rhs.free_symbols, key=lambda s: s.name)
             fn = sp.lambdify(args, eq.rhs, modules="math") if args else (lambda v=eq.rhs: v)
             self.equations.append((eq.variable, [a.name for a in args], fn, eq.origin))
+        self._downstream = self._downstream_equations()
+
+    def _downstream_equations(self) -> dict[int, list[int]]:
+        """For each relation, the discrete equations (in order) its value can reach."""
+        readers: dict[str, list[int]] = {}
+        for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
+            for a in args:
+                readers.setdefault(a, []).append(i)
+        out = {}
+        for k, rel in enumerate(self.relations):
+            reached, frontier = set(), [rel.symbol.name]
+            while frontier:
+                name = frontier.pop()
+                for i in readers.get(name, ()):
+                    if i not in reached:
+                        reached.add(i)
+                        frontier.append(self.equations[i][0])
+            out[k] = sorted(reached)
+        return out
 
     # -- keys -----------------------------------------------------------------
 
@@ -167,11 +186,26 @@ class DiscreteEvaluator:
             if rel.symbol.name in selector_names:
                 out.append(k)
                 continue
-            flipped = list(relations)
-            flipped[k] = not flipped[k]
-            if self.evaluate_discrete(discrete, discrete, flipped, False) != discrete:
+            if self._flip_changes(k, discrete, relations):
                 out.append(k)
         return tuple(out)
+
+    def _flip_changes(self, k: int, discrete: Mapping, relations) -> bool:
+        """Whether flipping relation k alone changes a discrete variable (pre = current)."""
+        env = {f"$rel{j}": value for j, value in enumerate(relations)}
+        env[f"$rel{k}"] = not relations[k]
+        env[INITIAL.name] = False
+        for name, value in discrete.items():
+            env[f"pre({name})"] = value
+        env.update(discrete)
+        for i in self._downstream[k]:
+            variable, args, fn, _origin = self.equations[i]
+            value = fn(*[env[a] for a in args])
+            value = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            if value != discrete[variable]:
+                return True
+            env[variable] = value
+        return False
 
     # -- event iteration ------------------------------------------------------------
 

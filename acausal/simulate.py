@@ -115,7 +115,7 @@ class _Run:
     def __init__(self, translation: Translation, method, rtol, atol, max_step, relation_epsilon,
                  max_event_iterations, chattering_events) -> None:
         self.translation = translation
-        self.evaluator = DiscreteEvaluator(translation, relation_epsilon, max_event_iterations)
+        self.evaluator = translation.evaluator(relation_epsilon, max_event_iterations)
         self.relations = translation.partitioned.relations
         self.method = method
         self.rtol = rtol

@@ -168,6 +168,16 @@ class Translation:
             out.append(FlatEquation(residual, eq.origin))
         return tuple(out)
 
+    def evaluator(self, relation_epsilon: float = 1e-10, max_iterations: int = 20):
+        """The discrete-part evaluator of this model (built once per setting)."""
+        from .events import DiscreteEvaluator
+
+        key = (relation_epsilon, max_iterations)
+        cache = self.__dict__.setdefault("_evaluators", {})
+        if key not in cache:
+            cache[key] = DiscreteEvaluator(self, relation_epsilon, max_iterations)
+        return cache[key]
+
     def start_system(self) -> "ModeSystem":
         """The system in force at the start time, after initialization.
 
