@@ -38,7 +38,7 @@ class Assign:
 
     variable: str
     expression: sp.Expr
-    origin: str
+    origin: object  #: the Origin of the equation it comes from (printed on demand)
 
     @property
     def defines(self) -> tuple[str, ...]:
@@ -135,7 +135,7 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
             var = real_symbol(names[0])
             expr = _solve_for(eqs[0].residual, var, values)
             if expr is not None:
-                steps.append(Assign(names[0], expr, str(eqs[0].origin)))
+                steps.append(Assign(names[0], expr, eqs[0].origin))
                 continue
             nonlinear += 1
             steps.append(NewtonSolve((names[0],), (), (eqs[0].residual,), (str(eqs[0].origin),)))
@@ -168,7 +168,7 @@ def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
             expr = _solve_for(eqs[i].residual, symbols[name], values)
             if expr is None:
                 continue
-            inner.append(Assign(name, expr, str(eqs[i].origin)))
+            inner.append(Assign(name, expr, eqs[i].origin))
             unknown.discard(name)
             remaining.remove(i)
             progress = True

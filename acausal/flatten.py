@@ -70,7 +70,16 @@ class Origin:
     component_class: str  #: class of the instance
     declared_in: str  #: class whose ``equations`` wrote it (or 'connect')
     index: int  #: position in that list
-    text: str  #: the equation as written
+    source: object  #: the equation as written (text, or the object printed on demand)
+
+    @property
+    def text(self) -> str:
+        """The equation as written (printed only when asked: printing is slow)."""
+        if isinstance(self.source, str):
+            return self.source
+        if callable(self.source):
+            return self.source()
+        return _text(self.source)
 
     def __str__(self) -> str:
         where = self.component or "(model)"
@@ -383,7 +392,7 @@ class _Flattener:
                     items = [items]
                 for index, item in enumerate(items):
                     origin = Origin(component.path, type(component).__name__, klass.__name__, index,
-                                    _text(item))
+                                    item)
                     self._add_equation(item, origin, target)
 
     def _add_equation(self, item: Any, origin: Origin, target: list) -> None:
@@ -425,7 +434,7 @@ class _Flattener:
 
     def _expand(self, expr: sp.Basic) -> sp.Basic:
         """Replace der(), pre() and initial() by plain symbols (chain rule for der)."""
-        if not isinstance(expr, sp.Basic):
+        if not isinstance(expr, sp.Basic) or not expr.has(der, pre, initial):
             return expr
 
         def rewrite(node: sp.Basic) -> sp.Basic:
@@ -558,7 +567,7 @@ class _Flattener:
                     total = sum(((-1 if e[2] else 1) * s for e, s in zip(elements, symbols)), sp.Integer(0))
                     self.equations.append(FlatEquation(
                         total, Origin(origin.component, origin.component_class, "connect", 0,
-                                      f"0 = {total}  [{text}]")))
+                                      lambda total=total, text=text: f"0 = {total}  [{text}]")))
 
         # signals: equality per connection; every input must be connected
         connected_inputs = set()

@@ -75,7 +75,15 @@ pre = sp.Function("pre")
 #: ``initial()``: true only while the initialization problem is solved.
 initial = sp.Function("initial")
 
-Eq = sp.Eq
+def Eq(lhs, rhs) -> sp.Equality:  # noqa: N802 - the sympy name users know
+    """The equation ``lhs = rhs``.
+
+    Unlike ``sympy.Eq`` it is not evaluated: sympy would try to decide
+    whether the two sides are equal, which costs a query of its assumption
+    system per equation (most of the flattening time of a large model).
+    """
+    return sp.Equality(lhs, rhs, evaluate=False)
+
 
 
 def If(condition, then, otherwise) -> sp.Piecewise:  # noqa: N802 - Modelica keyword
