@@ -453,14 +453,12 @@ def _timed_simulate(translation, **options):
 def run_case(case: Case, methods: Sequence[str], rtols: Sequence[float], repeats: int = 2,
              log: Callable[[str], None] | None = None) -> CaseRun:
     """Translate ``case`` once, then simulate it for every method × rtol."""
-    from .translate import translate
-
     log = log or (lambda _s: None)
     info = CaseTranslation(case.name)
     records: list[RunRecord] = []
     options = {} if case.stop_time is None else {"stop_time": case.stop_time}
     try:
-        translation = translate(case.make())
+        translation = _fresh_translate(case.make())
         first, info.first_simulate_seconds = _timed_simulate(translation, **options)
         info.flatten_seconds = translation.flatten_seconds
         info.translate_seconds = translation.translation_seconds
@@ -556,13 +554,11 @@ def _max_difference(t_full, y_full, t_pruned, y_pruned) -> float:
 def run_effects_case(name: str, make: Callable[[], Model], output: str, rtol: float = 1e-6,
                      method: str = "RK45", repeats: int = 2) -> EffectsRecord:
     """Full against ``outputs=[output]`` for one model."""
-    from .translate import translate
-
     record = EffectsRecord(name, output, rtol)
     try:
         runs = {}
         for label, outputs in (("full", None), ("pruned", [output])):
-            translation = translate(make(), outputs)
+            translation = _fresh_translate(make(), outputs)
             result, _ = _timed_simulate(translation, method=method, rtol=rtol)
             if result.status != 0:
                 raise RuntimeError(f"{label} run failed: {result.message}")
@@ -616,60 +612,95 @@ def run_effects(rtol: float = 1e-6, repeats: int = 2, n_units: int = 20,
 STAGES = ("specialise", "alias", "structure", "blt", "algebraic", "codegen")
 
 
+def _fresh_translate(model: Model, outputs=None):
+    """``translate`` without the in-process cache of translations (when there is one)."""
+    from .translate import translate
+
+    try:
+        return translate(model, outputs, cache=False)
+    except TypeError:  # an engine without the cache
+        return translate(model, outputs)
+
+
+def _evaluator(translation):
+    """The discrete evaluator ``simulate`` uses (cached on the translation when it can be)."""
+    if hasattr(translation, "evaluator"):
+        return translation.evaluator(1e-10, 20)
+    from .events import DiscreteEvaluator
+
+    return DiscreteEvaluator(translation)
+
+
+def _rss_mb() -> float:
+    try:
+        import resource
+
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    except (ImportError, AttributeError):  # pragma: no cover - not on Linux
+        return math.nan
+
+
 def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: str = "RK45",
                   repeats: int = 1, progress: Callable[[dict], None] | None = None) -> dict:
     """Translate and simulate the drive train of ``n`` units (no heat ports).
 
-    ``progress`` receives the point measured so far after each phase (a
-    point stopped by a time budget keeps what it finished).
+    Phases, each timed: flatten+partition; building the discrete evaluator;
+    initialization (which compiles the first discrete states and the
+    initialization systems); the first simulation (compiling what is left);
+    a second, warm simulation.  ``progress`` receives the point measured so
+    far after each phase, so a point stopped by a time budget keeps what it
+    finished.
     """
-    progress = progress or (lambda _p: None)
-    from .events import DiscreteEvaluator
-    from .translate import translate
+    from .initialization import initialize
 
+    progress = progress or (lambda _p: None)
     point: dict = {"n": n, "status": "ok"}
     wall0 = time.perf_counter()
+
+    def report(phase: str) -> None:
+        point["phase"] = phase
+        point["max_rss_mb"] = _rss_mb()
+        point["wall"] = time.perf_counter() - wall0
+        progress(dict(point))
+
     model = drive_train_model(n, heat_ports=False, stop_time=stop_time)
     gc.collect()
     t0 = time.perf_counter()
-    translation = translate(model)
+    translation = _fresh_translate(model)
     point["flatten"] = time.perf_counter() - t0
-    point["phase"] = "flattened; translating the modes and initializing"
-    progress(dict(point))
-    first, first_wall = _timed_simulate(translation, method=method, rtol=rtol)
-    point["first_simulate"] = first_wall
+    report("flattened; building the event evaluator")
+    gc.collect()
+    t0 = time.perf_counter()
+    evaluator = _evaluator(translation)
+    point["evaluator_setup"] = time.perf_counter() - t0
+    report("initializing (compiling the first discrete states and the initialization systems)")
+    t0 = time.perf_counter()
+    initialize(translation, evaluator, translation.flat.experiment.start_time)
+    init_wall = time.perf_counter() - t0
     system = _first_system(translation)
     for stage in STAGES:
         point[stage] = system.timings.get(stage, math.nan)
     point["translation"] = point["flatten"] + sum(system.timings.values())
-    point["translation_all_modes"] = translation.translation_seconds
-    point["modes"] = len(translation.systems)
     point["states"] = len(system.structure.states)
     point["equations"] = len(system.equations)
     point["derivative_steps"] = system.code.n_derivative_steps
-    point["phase"] = "translated and simulated once; timing the event setup"
-    progress(dict(point))
-    gc.collect()
-    t0 = time.perf_counter()
-    DiscreteEvaluator(translation)
-    point["evaluator_setup"] = time.perf_counter() - t0
-    point["phase"] = "simulating again (warm)"
-    progress(dict(point))
+    compiled = translation.translation_seconds - translation.flatten_seconds
+    point["initialization"] = max(init_wall - compiled, 0.0)
+    report("simulating (first run)")
+    first, point["first_simulate"] = _timed_simulate(translation, method=method, rtol=rtol)
+    point["translation_all_modes"] = translation.translation_seconds
+    point["modes"] = len(translation.systems)
     if first.status != 0:
         point["status"] = f"failed: {first.message}"
         point["simulate"] = math.nan
     else:
+        report("simulating again (warm)")
         runs = [_timed_simulate(translation, method=method, rtol=rtol) for _ in range(repeats)]
         point["simulate"] = min(s for _, s in runs)
         point["steps"] = runs[0][0].stats.get("steps", 0)
         point["rhs_evaluations"] = runs[0][0].stats.get("rhs_evaluations", 0)
     point["wall"] = time.perf_counter() - wall0
-    try:
-        import resource
-
-        point["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    except (ImportError, AttributeError):  # pragma: no cover - not on Linux
-        point["max_rss_mb"] = math.nan
+    point["max_rss_mb"] = _rss_mb()
     point.pop("phase", None)
     return point
 
@@ -803,10 +834,13 @@ def _work_precision_summary(runs: Sequence[CaseRun]) -> tuple[str, str, str]:
         lo = math.ceil(math.log10(min(errors)))
         for k in range(hi, lo - 1, -1):
             target = 10.0 ** k
-            best = min((r for r in ok if r.error <= target), key=lambda r: r.sim_seconds, default=None)
-            if best is not None:
+            reaching = [r for r in ok if r.error <= target]
+            if reaching:
+                best = min(reaching, key=lambda r: r.sim_seconds)
+                cheapest = min(reaching, key=lambda r: r.rhs_evaluations)
                 fastest_rows.append((run.case.name, f"{target:.0e}", best.method, f"{best.rtol:.0e}",
-                                     best.error, best.sim_seconds, best.rhs_evaluations))
+                                     best.error, best.sim_seconds, best.rhs_evaluations,
+                                     f"{cheapest.method} ({cheapest.rtol:.0e})", cheapest.rhs_evaluations))
         floor = min(errors)
         for method in dict.fromkeys(r.method for r in run.records):
             mine = sorted((r for r in ok if r.method == method), key=lambda r: -r.rtol)
@@ -836,8 +870,8 @@ def _work_precision_summary(runs: Sequence[CaseRun]) -> tuple[str, str, str]:
         slope, intercept = np.polyfit(nfev, secs, 1)
         share = intercept / np.median(secs) if np.median(secs) > 0 else math.nan
         overhead_rows.append((run.case.name, intercept, slope * 1e6, share, int(nfev.min()), int(nfev.max())))
-    fastest = _md_table(("case", "error ≤", "fastest method", "rtol", "error", "sim time [s]", "rhs evals"),
-                        fastest_rows)
+    fastest = _md_table(("case", "error ≤", "fastest method", "rtol", "error", "sim time [s]", "rhs evals",
+                         "fewest rhs evals: method (rtol)", "its rhs evals"), fastest_rows)
     overhead = _md_table(("case", "fixed cost per simulate call [s]", "µs per rhs evaluation",
                           "fixed cost / median run", "rhs evals min", "rhs evals max"), overhead_rows)
     decades = _md_table(("case", "method", "time × per decade of error", "time × per decade of rtol",
@@ -882,7 +916,9 @@ def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
                             "sim time [s]", "rhs evals", "steps", "events", "status"), rows))
     fastest, decades, overhead = _work_precision_summary(runs)
     parts += ["", "## Fastest method per accuracy", "",
-              "For each error level the quickest run (any method and rtol) reaching it.", "", fastest,
+              "For each error level the quickest run (any method and rtol) reaching it, and the run "
+              "reaching it with the fewest right-hand side evaluations (the integrator's own work, free "
+              "of the fixed cost of a call, see below).", "", fastest,
               "", "## Cost per decade", "",
               "Growth factor of the simulation time (and of the rhs evaluations) per decade, from a "
               "least-squares line in log-log; per decade of error only on the points above three "
@@ -890,9 +926,10 @@ def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
               "", decades, "",
               "## Fixed cost of a simulate call", "",
               "Least-squares line sim time ≈ c0 + c1 · rhs evaluations over all successful runs of a case "
-              "(every method and rtol): c0 is what a call costs whatever the tolerance (event "
-              "evaluator setup, initialization, event iterations, building the result on the output "
-              "grid), c1 the cost of one right-hand side evaluation with its share of the step.", "",
+              "(every method and rtol): c0 is what a call costs whatever the tolerance (initialization, "
+              "event iterations, starting the solver in each discrete state, building the result on the "
+              "output grid), c1 the cost of one right-hand side evaluation with its share of the step "
+              "(for Radau and BDF including their finite-difference Jacobians and linear solves).", "",
               overhead, ""]
     return "\n".join(parts)
 
@@ -925,6 +962,23 @@ def _log_limits(values: Sequence[float], min_decades: float) -> tuple[float, flo
     return 10 ** (lo - pad), 10 ** (hi + pad)
 
 
+def _annotate_apart(ax, labels) -> None:
+    """Write ``rtol`` labels at their points, skipping any that would overlap one already written."""
+    if not labels:
+        return
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    span_x = math.log10(x1 / x0) or 1.0
+    span_y = math.log10(y1 / y0) or 1.0
+    written: list[tuple[float, float]] = []
+    for rtol, x, y, color in labels:
+        u, v = math.log10(x / x0) / span_x, math.log10(y / y0) / span_y
+        if any(abs(u - a) < 0.14 and abs(v - b) < 0.06 for a, b in written):
+            continue
+        written.append((u, v))
+        ax.annotate(f"rtol {rtol:.0e}", (x, y), textcoords="offset points", xytext=(4, 6), fontsize=7,
+                    color=color)
+
+
 def _plot_work_precision(runs: Sequence[CaseRun], path: Path, quantity: str,
                          cost: str = "sim_seconds") -> Path | None:
     """One subplot per case: ``quantity`` (x, log) against ``cost`` (y, log), a line per method."""
@@ -955,6 +1009,7 @@ def _plot_work_precision(runs: Sequence[CaseRun], path: Path, quantity: str,
         all_methods += [m for m in methods if m not in all_methods]
         clipped = False
         xs_all, ys_all = [], []
+        labels: list = []
         for i, method in enumerate(methods):
             color, marker = _METHOD_STYLE.get(method, ("black", "o"))
             mine = sorted((r for r in run.records if r.method == method and r.ok
@@ -967,12 +1022,9 @@ def _plot_work_precision(runs: Sequence[CaseRun], path: Path, quantity: str,
             xs_all += x
             ys_all += y
             ax.plot(x, y, "-", color=color, marker=marker, ms=5, lw=1.3, alpha=0.9)
-            if i == 0:  # label the tolerances along the first method's line
-                for r, xx, yy in zip(mine, x, y):
-                    k = round(-math.log10(r.rtol))
-                    if k % 3 == 0 or r is mine[-1]:
-                        ax.annotate(f"rtol {r.rtol:.0e}", (xx, yy), textcoords="offset points",
-                                    xytext=(4, 6), fontsize=7, color=color)
+            if i == 0:  # label (some of) the tolerances along the first method's line
+                labels = [(r.rtol, xx, yy, color) for r, xx, yy in zip(mine, x, y)
+                          if round(-math.log10(r.rtol)) % 3 == 0 or r is mine[-1]]
         failed = [r for r in run.records if r.status != 0 or not math.isfinite(getattr(r, quantity))]
         if xs_all:
             ax.set_xlim(*_log_limits(xs_all, 2.0))
@@ -996,6 +1048,7 @@ def _plot_work_precision(runs: Sequence[CaseRun], path: Path, quantity: str,
             ax.set_ylim(*_log_limits(ys_all, 1.0))
         ax.set_xscale("log")
         ax.set_yscale("log")
+        _annotate_apart(ax, labels)
         for axis in (ax.xaxis, ax.yaxis):
             axis.set_major_locator(LogLocator(base=10, numticks=8))
             axis.set_minor_formatter(NullFormatter())
@@ -1040,20 +1093,22 @@ def _effects_markdown(records: Sequence[EffectsRecord]) -> str:
         "translation (RK45).", "", table, ""])
 
 
-def _scaling_markdown(points: Sequence[dict], fits: dict) -> str:
+def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True) -> str:
     rows = []
     for p in points:
         rows.append((p["n"], p.get("states", math.nan), p.get("equations", math.nan),
-                     p.get("modes", math.nan),
-                     p.get("flatten", math.nan), p.get("alias", math.nan), p.get("structure", math.nan),
-                     p.get("blt", math.nan), p.get("algebraic", math.nan), p.get("codegen", math.nan),
-                     p.get("translation", math.nan), p.get("translation_all_modes", math.nan),
-                     p.get("evaluator_setup", math.nan), p.get("simulate", math.nan), p.get("wall", math.nan),
-                     p.get("max_rss_mb", math.nan), p.get("status", "")))
+                     p.get("modes", math.nan), p.get("flatten", math.nan), p.get("alias", math.nan),
+                     p.get("structure", math.nan), p.get("blt", math.nan), p.get("algebraic", math.nan),
+                     p.get("codegen", math.nan), p.get("translation", math.nan),
+                     p.get("translation_all_modes", math.nan), p.get("evaluator_setup", math.nan),
+                     p.get("initialization", math.nan), p.get("first_simulate", math.nan),
+                     p.get("simulate", math.nan), p.get("wall", math.nan), p.get("max_rss_mb", math.nan),
+                     p.get("status", "")))
     table = _md_table(("N", "states", "equations", "modes", "flatten+partition [s]", "alias [s]",
                        "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "translation (1 mode) [s]",
-                       "translation (all modes) [s]", "event setup [s]", "simulate 0.2 s [s]", "wall [s]",
-                       "max RSS [MB]", "status"), rows)
+                       "translation (all modes) [s]", "event setup [s]", "initialization [s]",
+                       "first simulate [s]", "simulate 0.2 s [s]", "wall [s]", "max RSS [MB]", "status"),
+                      rows)
     fit_rows = []
     for name, (a, b) in fits.items():
         ns = [p["n"] for p in points if isinstance(p.get(name), (int, float)) and math.isfinite(p[name])]
@@ -1072,9 +1127,17 @@ def _scaling_markdown(points: Sequence[dict], fits: dict) -> str:
     return "\n".join([
         "# Scaling", "",
         "Drive train of N units Inertia–BearingFriction–SpringDamper (no heat ports), sine-driven, all "
-        "bearings sliding. Translation (1 mode) = flatten+partition + the stages of the first compiled "
-        "system; all modes adds the other discrete states the initialization visits. Event setup: "
-        "constructing the DiscreteEvaluator (done by every simulate call). Simulate: a second 0.2 s run "
+        "bearings sliding; " + ("each size in a fresh process (sympy's caches cold, as for a user's "
+                                "first translation). " if isolated else
+                                "in the bench's own process (sympy's caches warm from earlier "
+                                "translations, so faster than a first translation). ") +
+        "Translation (1 mode) = flatten+partition + the stages (alias, structure, blt, "
+        "algebraic, codegen) of the first compiled system; all modes: flatten+partition + every discrete "
+        "state compiled by the first simulation. Event setup: building the discrete evaluator (once per "
+        "translation). Initialization: the initialization at the start time without the modes it "
+        "compiles (the initialization systems, which ModeSystem.timings do not cover, and the event "
+        "iteration). First simulate: wall time of the first run after initialization (it repeats the "
+        "initialization with everything compiled). Simulate: a second 0.2 s run "
         "with the translation reused (RK45, rtol 1e-6, 500 output points).", "", limit, "", table, "",
         fit_table, ""])
 
@@ -1089,13 +1152,14 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
     if not done:
         return None
     ns = np.array([p["n"] for p in done], dtype=float)
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = plt.subplots(figsize=(10.5, 5.5))
     series = [("flatten", "flatten+partition", "tab:gray", "o"), ("alias", "alias", "tab:cyan", "v"),
               ("structure", "structure", "tab:red", "s"), ("blt", "blt", "tab:pink", "<"),
               ("algebraic", "algebraic", "tab:olive", ">"), ("codegen", "codegen", "tab:purple", "D"),
               ("translation", "translation (1 mode)", "black", "o"),
               ("evaluator_setup", "event setup", "tab:brown", "^"),
-              ("simulate", "simulate 0.2 s", "tab:blue", "*")]
+              ("initialization", "initialization (w/o modes)", "tab:orange", "P"),
+              ("simulate", "simulate 0.2 s (warm)", "tab:blue", "*")]
     for key, label, color, marker in series:
         ys = np.array([p.get(key, math.nan) for p in done], dtype=float)
         if np.count_nonzero(np.isfinite(ys)) == 0:
@@ -1126,7 +1190,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
     ax.set_title("Scaling of translation and simulation with model size (dotted: power-law fits)")
     ax.grid(True, which="major", alpha=0.4)
     ax.grid(True, which="minor", alpha=0.12)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -1238,7 +1302,8 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     if sizes:
         section("scaling", start)
     fits = {}
-    for key in ("translation", "structure", "flatten", "algebraic", "codegen", "evaluator_setup", "simulate"):
+    for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
+                "evaluator_setup", "initialization", "simulate"):
         # a point stopped by the budget still counts for the phases it finished
         measured = [p for p in points if isinstance(p.get(key), (int, float)) and math.isfinite(p[key])]
         if len(measured) >= 2:
@@ -1266,7 +1331,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         files["effects.csv"] = out_dir / "effects.csv"
         _write_dict_csv(files["effects.csv"], [vars(r) for r in effect_records])
     if points:
-        tables["scaling"] = _scaling_markdown(points, fits)
+        tables["scaling"] = _scaling_markdown(points, fits, isolate_scaling)
         files["scaling.md"] = out_dir / "scaling.md"
         files["scaling.md"].write_text(tables["scaling"])
         files["scaling.csv"] = out_dir / "scaling.csv"

@@ -155,8 +155,13 @@ class DiscreteEvaluator:
 
     # -- discrete equations -------------------------------------------------------
 
-    def evaluate_discrete(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> dict:
-        """One pass over the discrete equations in dependency order."""
+    def evaluate_discrete(self, discrete: Mapping, pre: Mapping, relations, initial: bool,
+                          relation_free: bool = False) -> dict:
+        """One pass over the discrete equations in dependency order.
+
+        With ``relation_free`` only the equations that read no relation are
+        evaluated; the others keep their values.
+        """
         current = dict(discrete)
         env = {}
         for k, value in enumerate(relations):
@@ -165,6 +170,8 @@ class DiscreteEvaluator:
         for name, value in pre.items():
             env[f"pre({name})"] = value
         for variable, args, fn, origin in self.equations:
+            if relation_free and any(a.startswith("$rel") for a in args):
+                continue
             env.update(current)
             value = fn(*[env[a] for a in args])
             current[variable] = bool(value) if self.kinds[variable] == "boolean" else int(value)
@@ -261,6 +268,13 @@ class DiscreteEvaluator:
                                 if discrete[n] != first_pre[n])
                 return EventOutcome(discrete, relations, system, full, passes, changes)
             pre = dict(discrete)
+            # The new pre values first act on the discrete equations that read no
+            # relation: relation values still describe the previous discrete
+            # state (sa is an acceleration while sliding, a torque while locked)
+            # and must be recomputed before they decide anything.  So a friction
+            # element that has just stopped (pre(mode) = Stuck) is tried locked
+            # first, and static friction holds a load it can hold.
+            discrete = self.evaluate_discrete(discrete, pre, relations, initial, relation_free=True)
         self._fail(t, history, "event iteration")
 
     def _pass(self, t, values, discrete, pre, relations, relations_before, initial):

@@ -53,7 +53,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              stop_time: float | None = None, interval: float | None = None, method: str = "RK45",
              rtol: float | None = None, atol: float | None = None, max_step: float | None = None,
              relation_epsilon: float = 1e-10, max_event_iterations: int = 20,
-             chattering_events: int = 100, outputs: Sequence[str] | None = None) -> SimulationResult:
+             chattering_events: int = 100, outputs: Sequence[str] | None = None,
+             max_steps: int | None = None, timeout: float | None = None) -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -77,6 +78,10 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         Compute only these variables: states and equations that cannot
         influence them (nor the events) are left out of the right-hand side,
         and the result holds only these columns (and the discrete ones).
+    max_steps, timeout : optional
+        Budgets of integrator steps and wall-clock seconds; a run that
+        exceeds one stops with a :class:`~acausal.errors.SolverError` and
+        keeps what it computed.
 
     Returns
     -------
@@ -105,6 +110,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         rtol = experiment.tolerance or 1e-6
     run = _Run(translation, method, rtol, atol, max_step, relation_epsilon, max_event_iterations,
                chattering_events)
+    run.max_steps, run.timeout = max_steps, timeout
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
@@ -161,7 +167,9 @@ class _Run:
         if grid[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
             grid = np.append(grid, t1)
         self.grid = grid
+        self.interval = interval
         self.next_grid = 0
+        self.wall_start = _time.perf_counter()
         try:
             state = initialize(self.translation, self.evaluator, t0)
             self.notes.extend(state.notes)
@@ -176,8 +184,9 @@ class _Run:
                 # two friction elements locking the same motion): stop with the
                 # reason, keeping what was computed
                 t_fail = self.rows[-1][0] if self.rows else t0
+                reason = str(exc).split("\n  hint:")[0]
                 raise SolverError(f"at t = {t_fail:.12g} the model entered a discrete state it "
-                                  f"cannot solve: {exc}", hint=exc.hint) from exc
+                                  f"cannot solve: {reason}", hint=exc.hint) from exc
         except SimulationError as exc:
             error = exc
             message = str(exc)
@@ -235,10 +244,13 @@ class _Run:
                         hint="the model switches back and forth without time passing; check the "
                              "relation named (a friction element without inertia, or a threshold "
                              "that its own switching crosses)")
-            elif t_new >= t1:
+            elif t_new >= t1 and not any(root == t_new for _, root in self._time_roots
+                                         if self._next_time_event(t, relations) == t_new):
                 self.rows.append((t_new, system, np.array(x_new, dtype=float), dict(discrete)))
                 return
             else:
+                # a time event (also one exactly at the stop time: it is processed,
+                # and the run ends on its right limit)
                 t_e, x_e = t_new, np.array(x_new, dtype=float)
                 fired = tuple(self.relations[i].text for i, root in self._time_roots if root == t_e)
                 kind = "time"
@@ -253,6 +265,8 @@ class _Run:
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
             self.rows.append((t_e, system, x.copy(), dict(discrete)))
             t = t_e
+            if t >= t1:
+                return
             # a grid point at the event time is represented by the two event rows
             while self.next_grid < len(self.grid) and self.grid[self.next_grid] <= t_e * (1 + 1e-14):
                 self.next_grid += 1
@@ -292,6 +306,14 @@ class _Run:
             t_old = solver.t
             message = solver.step()
             self.steps += 1
+            if self.max_steps is not None and self.steps > self.max_steps:
+                raise SolverError(f"{self.method} used its budget of {self.max_steps} steps by "
+                                  f"t = {solver.t:.12g}",
+                                  hint="the model may be stiff: try an implicit method (Radau, BDF)")
+            if self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout:
+                raise SolverError(f"the simulation used its time budget of {self.timeout:g} s by "
+                                  f"t = {solver.t:.12g}",
+                                  hint="the model may be stiff: try an implicit method (Radau, BDF)")
             if solver.status == "failed":
                 self.nfev += solver.nfev
                 raise SolverError(f"{self.method} failed at t = {solver.t:.12g}: {message}",
@@ -301,7 +323,11 @@ class _Run:
             dense = solver.dense_output() if (watched or self.next_grid < len(self.grid)) else None
             event = None
             if watched and t_new > t_old:
-                samples = np.linspace(t_old, t_new, 5)[1:]
+                # at least 4 samples a step, and no coarser than the output grid:
+                # while a model is stuck its steps grow long, and a drive that
+                # crosses a threshold and returns within one step must not be missed
+                n = min(max(4, int(math.ceil((t_new - t_old) / self.interval))), 2000)
+                samples = np.linspace(t_old, t_new, n + 1)[1:]
                 lo = t_old
                 for s in samples:
                     xs = dense(s) if s < t_new else solver.y

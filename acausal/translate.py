@@ -226,8 +226,9 @@ class Translation:
                     str(exc).split("\n  hint:")[0],
                     hint="this discrete state only: elements that can lock the same relative motion "
                          "(two friction elements, or a bearing and a brake, on one rigid shaft) leave "
-                         "the split of the holding torque undetermined when both are stuck; put an "
-                         "inertia or a compliance (SpringDamper) between them") from exc
+                         "the split of the holding torque undetermined when both are stuck; put a "
+                         "compliance (SpringDamper) between them or merge them into one element "
+                         "(MSL Rotational Users Guide, RequirementsForSimulationTool)") from exc
             raise
         timings["structure"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
