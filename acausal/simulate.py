@@ -306,6 +306,9 @@ class _Run:
             t_old = solver.t
             message = solver.step()
             self.steps += 1
+            if (self.max_steps is not None and self.steps > self.max_steps) or (
+                    self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout):
+                self.nfev += solver.nfev  # count this segment's evaluations before stopping
             if self.max_steps is not None and self.steps > self.max_steps:
                 raise SolverError(f"{self.method} used its budget of {self.max_steps} steps by "
                                   f"t = {solver.t:.12g}",

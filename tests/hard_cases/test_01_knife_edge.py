@@ -20,7 +20,11 @@ What acausal does
 -----------------
 Relations get a relative hysteresis (``relation_epsilon``, 1e-10): a relation
 flips only when its argument passes zero by that margin, so touching the
-limit (or exceeding it by round-off) is not a crossing.
+limit (or exceeding it by round-off) is not a crossing.  Initialization
+uses the same margin (|g| within it counts as g = 0): it used to evaluate
+relations exactly, so a torque one ulp above the limit that was present
+from t = 0 started a slip at the initial event (bug C of
+docs/hard-cases.md, fixed; ``test_torque_one_ulp_above_tau0_from_the_start_does_not_move``).
 
 Every expected value here is analytic: while locked ``a = 0``, so the
 bearing holds exactly the applied torque and every speed stays 0.

@@ -23,15 +23,17 @@ sticks.  By symmetry the backward slip runs from t_b + 0.5 to t_s + 0.5.
 So: exactly four mode changes per period (0 -> 1, 1 -> 0, 0 -> -1,
 -1 -> 0), every slip lasting t_s - t_b = 0.1484 s, every stick 0.3516 s.
 
-Engine gap found here
----------------------
+The step-size trap (bug A of docs/hard-cases.md, fixed)
+-------------------------------------------------------
 While the inertia is stuck every state derivative is exactly zero, so the
-adaptive solvers grow the step tenfold per step (7 steps for the whole
-run) and the breakaway relation ``sa > tau0_max`` — true only for 0.14 s per
-half period — is never sampled while it holds: with the default
-``max_step`` RK45, DOP853 and Radau report no breakaway at all, BDF and
-LSODA only some.  The passing tests use ``max_step=0.01``; the xfail test
-documents the default.
+adaptive solvers grow the step tenfold per step, and the breakaway relation
+``sa > tau0_max`` is true for only ~0.14 s per half period.  When crossing
+functions were sampled at 4 points per step, that window fell between the
+samples: with the default ``max_step`` RK45, DOP853 and Radau reported no
+breakaway at all, BDF and LSODA only some.  acausal now samples them at
+least at the output-grid resolution inside a long step, and
+``test_default_max_step_finds_every_breakaway`` checks that the default
+finds all 20 mode changes.  The detailed test keeps ``max_step=0.01``.
 """
 
 from __future__ import annotations

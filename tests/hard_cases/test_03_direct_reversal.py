@@ -21,9 +21,13 @@ t* = J w0 / (|T| + tau0).
 When the drive lies between tau0 and tau0_max (peak > 1) the physical answer
 is different: at t* the static friction can hold the drive, so the inertia
 must stick (w = 0 afterwards).  The MSL friction equations admit both the
-stuck and the reverse-sliding solution of the mixed system at that instant;
-acausal picks reverse sliding (xfail test below; an engine bug with respect
-to the physics).
+stuck and the reverse-sliding solution of the mixed system at that instant.
+acausal used to pick reverse sliding (bug B of docs/hard-cases.md): the
+pass with ``pre(mode)`` Stuck started from the previous pass's guess
+``locked = False``.  Now, after the pre values change, the event iteration
+first re-evaluates the discrete equations that read no relation, so a
+just-stopped element is tried locked first, and it sticks
+(``test_drive_between_tau0_and_tau0_max_sticks``).
 """
 
 from __future__ import annotations

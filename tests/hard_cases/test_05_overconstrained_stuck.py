@@ -17,10 +17,14 @@ What acausal does
 * Both stuck at the start: ``simulate`` raises StructurallySingularError
   (a StructuralError, a ValueError) naming the discrete state
   (``bf1.locked=True, bf2.locked=True``), the equations of both elements and a
-  friction-specific hint.
+  friction-specific hint: put a compliance (SpringDamper) between the
+  elements or merge them into one.  (It used to recommend "an inertia or a
+  compliance", but an inertia is rigid: bf1 -> inertia -> bf2 is still
+  singular — bug E of docs/hard-cases.md, fixed.)
 * Sliding first: the run returns ``status == -1`` with a SolverError whose
   message gives the time (the analytic stop t* = J w0 / (tau1 + tau2)) and the
-  same diagnosis, and the result keeps everything up to t*.
+  same diagnosis, and the result keeps everything up to t*.  The hint is
+  stated once (it used to appear twice in this message — bug F, fixed).
 """
 
 from __future__ import annotations

@@ -25,17 +25,26 @@ sign(w), reversing directly when w returns to 0 (the drive then exceeds
 tau0).  The event times come from the closed-form oracle (brentq on the
 integral of the drive).
 
-Engine gap found here
----------------------
-``simulate`` has no step or time budget (no ``max_steps``, no timeout): an
-explicit method on a stiffer coupling simply runs for as long as it takes.
-The RK45 check therefore runs in a subprocess with a 60 s timeout.
+Budgets
+-------
+An explicit method on a stiff coupling runs for as long as stability
+demands (a stiffer spring, c = 1e12, would need ~1e6 steps per second).
+``simulate(..., max_steps=N, timeout=seconds)`` bounds a run: one that
+exceeds a budget stops with status -1 and a SolverError whose hint
+suggests an implicit method, and keeps the rows computed so far
+(``test_step_budget_stops_an_explicit_method``; added after this case
+showed that ``simulate`` had no budget, gap G of docs/hard-cases.md).
+The full, unbudgeted RK45 run still runs in a subprocess with a 60 s
+timeout: that watchdog does not depend on the engine's own budget
+machinery, so a hang anywhere (not only in the step loop) fails the test
+instead of blocking pytest.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 import time as _time
@@ -49,6 +58,7 @@ if __name__ == "__main__":  # run as a script by test_explicit_method_does_not_h
     sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from acausal import Model, simulate  # noqa: E402
+from acausal.errors import SolverError  # noqa: E402
 from library.blocks import Sine  # noqa: E402
 from library.rotational import BearingFriction, Inertia, SpringDamper, Torque  # noqa: E402
 
@@ -155,8 +165,7 @@ def test_explicit_method_does_not_hang():
         done = subprocess.run([sys.executable, __file__, "RK45"], capture_output=True, text=True,
                               timeout=60)
     except subprocess.TimeoutExpired:  # pragma: no cover - the failure this test guards against
-        pytest.fail("RK45 on the stiff coupling did not finish within 60 s (and simulate has no "
-                    "step budget to stop it)")
+        pytest.fail("RK45 on the stiff coupling did not finish within 60 s")
     assert done.returncode == 0, done.stderr[-2000:]
     report = json.loads(done.stdout.strip().splitlines()[-1])
     if report["status"] != 0:  # allowed: a clear stop
@@ -173,6 +182,45 @@ def test_explicit_method_does_not_hang():
     print(f"\n[case 6] c = 1e8, RK45: status {report['status']}, {report['steps']} steps "
           f"({report['steps'] / radau.stats['steps']:.0f}x Radau's {radau.stats['steps']}), "
           f"{report['nfev']} rhs evaluations, {report['wall']:.2f} s")
+
+
+def test_step_budget_stops_an_explicit_method():
+    """RK45 with max_steps=2000 stops early: status -1, a SolverError naming the step budget with a
+    hint towards an implicit method, and the rows computed up to there (right, by the oracle)."""
+    budget = 2000
+    t0 = _time.perf_counter()
+    result = simulate(StiffCoupling(), stop_time=STOP, interval=1e-3, method="RK45",
+                      max_steps=budget)
+    wall = _time.perf_counter() - t0
+    assert wall < 5.0                      # RK45 needs ~1e4 steps for the whole run (~1.5 s)
+    assert result.status == -1
+    error = result.error
+    assert isinstance(error, SolverError) and error.result is result
+    assert result.message == str(error)
+    assert f"budget of {budget} steps" in result.message
+    assert "implicit method" in error.hint and "Radau" in error.hint
+    assert result.message.count("hint:") == 1
+    assert budget <= result.stats["steps"] <= budget + 1
+    # the rows computed so far are kept: from the start, never backwards (an event has two rows
+    # at one time), up to where the budget ran out, and well before the stop time
+    named = re.search(r"by t = ([-+0-9.eE]+)", result.message)
+    assert named
+    t_stop = float(named.group(1))
+    t = result.time
+    assert len(t) > 0 and t[0] == 0.0
+    assert np.all(np.diff(t) >= 0) and t[-1] > t[0]
+    assert T_B < t[-1] <= t_stop < STOP
+    # ... and they are right: the breakaway was found, and both speeds follow the oracle
+    changes = [(e.time, old, new) for e in result.events for n, old, new in e.changes
+               if n == "bearing.mode"]
+    assert [(o, n) for _, o, n in changes] == [(0, 1)]
+    assert abs(changes[0][0] - T_B) < 1e-5
+    exact = np.array([oracle_w(s) for s in t])
+    for name in ("inertia1.w", "inertia2.w"):
+        np.testing.assert_allclose(result[name], exact, rtol=0, atol=1e-5)
+    print(f"\n[case 6] c = 1e8, RK45 with max_steps={budget}: status {result.status} after "
+          f"{result.stats['steps']} steps, {wall:.2f} s wall; kept {len(t)} rows up to t = {t[-1]:g} "
+          f"(budget ran out at t = {t_stop:.6g}); {result.message.splitlines()[0]}; hint: {error.hint}")
 
 
 if __name__ == "__main__":

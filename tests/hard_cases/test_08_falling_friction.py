@@ -24,8 +24,10 @@ Analytic checks
   speed in every row, and the stiction rules at every event, with the net
   applied torque ``drive - c*phi`` at the event: a stick needs |net| <=
   tau0_max, a breakaway from rest |net| >= tau0_max, a direct reversal |net|
-  > tau0_max.  With peak = 1.2 acausal reverses directly with |net| between
-  tau0 and tau0_max (the ambiguity of hard case 3) — xfail.
+  > tau0_max.  With peak = 1.2 acausal used to reverse directly with |net|
+  between tau0 and tau0_max (bug B of docs/hard-cases.md, the ambiguity of
+  hard case 3); since the fix such an element sticks, and the rules hold
+  for both peaks.
 """
 
 from __future__ import annotations

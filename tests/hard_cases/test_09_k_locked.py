@@ -28,7 +28,9 @@ step, so it decays and the creep is bounded by w_res / K.
 K_locked has a limit, too: explicit Euler is unstable for K*h > 2.  Then
 the "stuck" velocity grows geometrically until it leaves the hysteresis
 band and the run stops (status -1).  RK4's stability limit (~2.79) is
-higher, so the same K is stable there.
+higher, so the same K is stable there.  This is documented behaviour, not
+a bug being fixed (limitation H of docs/hard-cases.md): the stop is an
+EventIterationError whose hint does not name K_locked * h as the cause.
 
 Model: J = 1 coasting from w0 = 2 against tau0 = 1 (peak 1.5) with a slowly
 varying drive 0.5 sin(2 pi 0.05 t), below the sliding friction all the time,

@@ -14,13 +14,16 @@ What makes it hard
   ``startTime = stop_time``.  The run must end cleanly at t = stop_time
   without stepping past it, without a crash and without a spurious event.
 
-Engine gap found here
----------------------
-A time event exactly at the stop time is not processed: the last row is
-the left limit (Step output 0 although ``time < startTime`` is false at
-t = stop_time).  Dymola and OpenModelica (since OpenModelica PR #7761,
-"Handle pending events at final time", for issue #7758) do handle an event
-pending at the final time.  xfail test below.
+A time event at the stop time (bug D of docs/hard-cases.md, fixed)
+-------------------------------------------------------------------
+A time event exactly at the stop time used to be left unprocessed: the
+last row was the left limit (Step output 0 although ``time < startTime`` is
+false at t = stop_time).  Dymola and OpenModelica (since OpenModelica PR
+#7761, "Handle pending events at final time", for issue #7758) handle an
+event pending at the final time, and so does acausal now: the event is
+processed and the run ends on its right limit, so t = stop_time has two
+rows like any other event, the last one with the Step's new output
+(``test_step_at_the_stop_time_shows_its_value_at_the_end``).
 """
 
 from __future__ import annotations
