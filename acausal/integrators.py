@@ -38,8 +38,12 @@ class _FixedStep(OdeSolver):
             return False, f"the solution became non-finite at t = {self.t + h:.6g}"
         self.y_old, self.f_old = self.y, self.f
         self.t = self.t + h if abs(self.t_bound - (self.t + h)) > 1e-12 * abs(h) else self.t_bound
+        f_new = self.fun(self.t, y_new)
+        if not np.all(np.isfinite(f_new)):
+            self.t = self.t_old if self.t_old is not None else self.t
+            return False, f"the derivatives became non-finite at t = {self.t + h:.6g}"
         self.y = y_new
-        self.f = self.fun(self.t, self.y)
+        self.f = f_new
         return True, None
 
     def _dense_output_impl(self):

@@ -331,6 +331,12 @@ class _Run:
                 # crosses a threshold and returns within one step must not be missed
                 n = min(max(4, int(math.ceil((t_new - t_old) / self.interval))), 2000)
                 samples = np.linspace(t_old, t_new, n + 1)[1:]
+                # the output-grid points inside the step are samples too: no output
+                # row can then show a relation at odds with its discrete state
+                lo_i = np.searchsorted(self.grid, t_old, side="right")
+                hi_i = np.searchsorted(self.grid, t_new, side="left")
+                if hi_i > lo_i:
+                    samples = np.union1d(samples, self.grid[lo_i:hi_i])
                 lo = t_old
                 for s in samples:
                     xs = dense(s) if s < t_new else solver.y
@@ -345,8 +351,13 @@ class _Run:
                 self.nfev += solver.nfev
                 names = tuple(self.relations[k].text for k in fired)
                 return t_e, x_e, (t_e, x_e, names)
-            self._emit_grid_until(t_new, inclusive=t_new < t_bound, system=system,
-                                  x_at=(dense if dense is not None else (lambda s: solver.y)),
+            def x_at(s, dense=dense, y=solver.y.copy(), t_new=t_new):
+                # a grid point at the step end (up to round-off) takes the step's value
+                if dense is None or abs(s - t_new) <= 1e-12 * max(1.0, abs(t_new)):
+                    return y
+                return dense(s)
+
+            self._emit_grid_until(t_new, inclusive=t_new < t_bound, system=system, x_at=x_at,
                                   discrete=discrete)
             if solver.status == "finished":
                 self.nfev += solver.nfev

@@ -181,13 +181,15 @@ class StructuralResult:
 
 
 def _incidence(residual: sp.Expr, values: dict) -> set[str]:
-    """Names occurring in a residual once parameters take their values.
+    """Unknowns occurring in a residual (parameters and time excluded).
 
-    Substituting the values first drops terms whose coefficient is zero
-    (a damper with d = 0 does not make its torque depend on its speed).
+    Parameters equal to zero were already replaced by 0 when the equations
+    were specialised (a damper with d = 0 does not make its torque depend on
+    its speed); a combination that happens to vanish, (a + b)*u with
+    b = -a, keeps ``u``: the structure must describe the code generated
+    from the same expressions.
     """
-    expr = residual.xreplace(values) if values else residual
-    return {s.name for s in expr.free_symbols if s is not time}
+    return {s.name for s in residual.free_symbols if s is not time and s not in values}
 
 
 # --------------------------------------------------------------------------

@@ -320,7 +320,7 @@ class Translation:
         values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
         incidence = []
         for eq in equations:
-            names = {s.name for s in eq.residual.xreplace(values).free_symbols}
+            names = {s.name for s in eq.residual.free_symbols if s not in values}
             extra = sorted(n for n in names if n not in u_index and n != "time")
             if extra:
                 raise InitializationError(f"{context}: {eq.origin} uses {extra[0]}, which is "
@@ -399,8 +399,9 @@ def model_signature(model: Component) -> tuple:
         attributes = tuple(sorted((k, _freeze(v)) for k, v in component._attribute_modifiers.items()))
         connections = tuple((_end(a), _end(b)) for a, b in component._connections)
         klass = type(component)
-        parts.append((component.path, f"{klass.__module__}.{klass.__qualname__}", id(klass),
-                      modifiers, attributes, connections))
+        # the class object itself (not its id): the cache then keeps it alive, so a
+        # class created later can never be mistaken for it
+        parts.append((component.path, klass, modifiers, attributes, connections))
     return (tuple(parts), getattr(model, "experiment", None))
 
 

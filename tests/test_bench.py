@@ -1,0 +1,63 @@
+"""The work-precision benchmark: exact-solution cases, files written, effects on demand."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from acausal import bench
+
+
+def test_exact_solutions_are_consistent():
+    t_b, t_s = bench.stick_slip_times()
+    assert t_b == pytest.approx(math.asin(0.1) / (2 * math.pi))
+    assert 0.5 < t_s < 1.0 and abs(float(bench.stick_slip_exact(t_s))) < 1e-12
+    assert bench.stick_slip_stop_time() == pytest.approx(1.1 * t_s)
+    assert bench.CD_T_STOP == 4.0
+    np.testing.assert_allclose(bench.coast_down_exact([0, 2, 4, 5]), [3, 1.5, 0, 0])
+
+
+@pytest.mark.parametrize("name", ["CoastDown", "StickSlip"])
+def test_exact_cases_converge(name):
+    run = bench.run_case(bench.get_case(name), ["RK45"], [1e-5, 1e-9], repeats=0)
+    assert run.translation.status == 0 and run.translation.modes >= 1
+    loose, tight = run.records
+    for record in run.records:
+        assert record.status == 0, record.message
+        assert math.isfinite(record.error) and math.isfinite(record.event_error)
+        assert record.sim_seconds > 0 and record.rhs_evaluations > 0
+    if name == "StickSlip":
+        assert tight.error < loose.error / 10
+        assert tight.event_error < loose.event_error
+        assert tight.error < 1e-6
+    else:
+        # w is linear in t, so every rtol integrates it exactly; what is left is
+        # the relation hysteresis at the stop
+        assert tight.error <= loose.error * 1.01 + 1e-12
+        assert tight.event_error < 1e-7
+
+
+def test_run_bench_writes_files(tmp_path):
+    result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-4, 1e-7],
+                             case_names=["CoastDown", "StickSlip"], effects=False, scaling_sizes=(2, 4),
+                             isolate_scaling=False,
+                             repeats=1)
+    for name in ("bench.md", "bench.csv", "work_precision.png", "scaling.md", "scaling.csv", "scaling.png"):
+        assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
+    assert len(result.records) == 4 and not result.failures
+    text = (tmp_path / "bench.md").read_text()
+    assert "| StickSlip | RK45 | 1e-04 |" in text and "Fastest method" in text
+    assert (tmp_path / "bench.csv").read_text().count("\n") == 5
+    assert [p["status"] for p in result.scaling] == ["ok", "ok"]
+    assert math.isfinite(result.scaling_fits["translation"][1])
+
+
+def test_pruning_keeps_the_requested_output():
+    make = lambda: bench.drive_train_model(4, heat_ports=True, stop_time=0.5)  # noqa: E731
+    record = bench.run_effects_case("DriveTrain4", make, "inertia4.w", rtol=1e-9, repeats=1)
+    assert record.status == "ok"
+    assert record.max_rel_difference < 1e-6
+    assert record.states_kept < record.states_total
+    assert record.derivative_steps_kept < record.derivative_steps_full
