@@ -21,7 +21,7 @@ import sympy as sp
 from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
-from .codegen import GeneratedCode, generate
+from .codegen import GeneratedCode, generate, needed_steps
 from .errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError,
                      UnderDeterminedError)
 from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
@@ -270,7 +270,7 @@ class Translation:
         needed_states: set[str] = set()
         while True:
             wanted = targets | {derivative_of[s] for s in needed_states}
-            chosen = _needed_steps(steps, wanted)
+            chosen = needed_steps(steps, wanted)
             reads = set(wanted)
             for k in chosen:
                 reads |= steps[k].reads()
@@ -463,12 +463,3 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
                            or n.startswith("der("))
     return Translation(flat, partitioned, _time.perf_counter() - t0, demand)
 
-
-def _needed_steps(steps, targets: set[str]) -> list[int]:
-    needed = set(targets)
-    chosen = []
-    for k in range(len(steps) - 1, -1, -1):
-        if needed & set(steps[k].defines):
-            chosen.append(k)
-            needed |= steps[k].reads()
-    return sorted(chosen)

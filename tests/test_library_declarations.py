@@ -447,12 +447,12 @@ def test_sign_selection_clutch_quirk():
     clutch = attach(Clutch(mu_pos=table), "c")
     backward_b = {bearing.w: w, **friction_state(bearing, start_backward=True)}
     assert value(rhs_of(bearing, bearing.tau), backward_b) == pytest.approx(-0.9)
-    assert value(rhs_of(brake, brake.mu), {brake.w: w, **friction_state(brake, start_backward=True)}) \
+    assert value(rhs_of(brake, brake.mu), {brake.w_relfric: w, **friction_state(brake, start_backward=True)}) \
         == pytest.approx(-0.9)
-    # Clutch: (s1, s2) = (+1, -1) when starting backward (MSL quirk)
-    assert value(rhs_of(clutch, clutch.mu), {clutch.w_rel: w, **friction_state(clutch, start_backward=True)}) \
+    # Clutch: (s1, s2) = (+1, -1) when starting backward (MSL quirk); mu is written in w_relfric (= w_rel)
+    assert value(rhs_of(clutch, clutch.mu), {clutch.w_relfric: w, **friction_state(clutch, start_backward=True)}) \
         == pytest.approx(-0.1)
-    for x, speed in ((bearing, bearing.w), (clutch, clutch.w_rel)):
+    for x, speed in ((bearing, bearing.w), (clutch, clutch.w_relfric)):
         forward = rhs_of(x, x.tau if x is bearing else x.mu)
         assert value(forward, {speed: w, **friction_state(x, start_forward=True)}) == pytest.approx(0.1)
         assert value(forward, {speed: w, **friction_state(x, pre_mode=Forward)}) == pytest.approx(0.1)

@@ -111,6 +111,44 @@ def _signs(component, clutch_quirk: bool = False):
     return s1, s2
 
 
+class _NormalForceFriction(_TableFriction):
+    """The friction law Clutch and Brake share: a normal force times a friction coefficient.
+
+    ``fn = fn_max*f_normalized``; free when ``fn <= 0``; sliding torque
+    ``mu*cgeo*fn`` with ``mu`` from the table ``mu_pos`` (mirrored by the
+    signs of :func:`_signs`); static limit ``tau0_max = peak*mu_pos(0)*cgeo*fn``.
+    """
+
+    _clutch_quirk = False
+
+    mu_pos = Parameter([[0.0, 0.5]], structural=True,
+                       description="[w,mu] positive sliding friction coefficient (w_relfric>=0)")
+    peak = Parameter(1.0, min=1,
+                     description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
+    cgeo = Parameter(1.0, min=0, description="Geometry constant containing friction distribution assumption")
+    fn_max = Parameter(1.0, unit="N", min=0, description="Maximum normal force")
+    f_normalized = RealInput(unit="1",
+                             description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; "
+                                         "engaged if > 0)")
+    mu = Variable(unit="1", description="Friction coefficient")
+    fn = Variable(unit="N", description="Normal force (=fn_max*f_normalized)")
+
+    def equations(self):
+        MU = _table(self, "mu_pos")
+        s1, s2 = _signs(self, clutch_quirk=self._clutch_quirk)
+        mu0 = MU(0)
+        return [
+            Eq(self.fn, self.fn_max * self.f_normalized),
+            Eq(self.free, self.fn <= 0),
+            Eq(self.tau0, mu0 * self.cgeo * self.fn),
+            Eq(self.tau0_max, self.peak * self.tau0),
+            Eq(self.mu, s2 * MU(s1 * self.w_relfric)),
+            Eq(self.tau, sp.Piecewise((self.sa, self.locked), (0, self.free),
+                                      (self.mu * self.cgeo * self.fn, True))),
+            Eq(self.lossPower, self.tau * self.w_relfric),
+        ]
+
+
 # --------------------------------------------------------------------------
 
 
@@ -287,7 +325,7 @@ class BearingFriction(_TableFriction, PartialElementaryTwoFlangesAndSupport2, Pa
         ]
 
 
-class Clutch(_TableFriction, PartialCompliantWithRelativeStates, PartialFriction,
+class Clutch(_NormalForceFriction, PartialCompliantWithRelativeStates, PartialFriction,
              PartialElementaryConditionalHeatPortWithoutT):
     """Clutch with controlled normal force (Modelica.Mechanics.Rotational.Components.Clutch).
 
@@ -299,36 +337,16 @@ class Clutch(_TableFriction, PartialCompliantWithRelativeStates, PartialFriction
     backward sliding evaluates the table at ``+w_rel`` with sign -1.
     """
 
-    mu_pos = Parameter([[0.0, 0.5]], structural=True,
-                       description="[w,mu] positive sliding friction coefficient (w_rel>=0)")
-    peak = Parameter(1.0, min=1,
-                     description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
-    cgeo = Parameter(1.0, min=0, description="Geometry constant containing friction distribution assumption")
-    fn_max = Parameter(1.0, unit="N", min=0, description="Maximum normal force")
-    f_normalized = RealInput(unit="1",
-                             description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; clutch is engaged if > 0)")
-    mu = Variable(unit="1", description="Friction coefficient")
-    fn = Variable(unit="N", description="Normal force (fn=fn_max*f_normalized)")
+    _clutch_quirk = True  # MSL evaluates the table at +w_rel when starting backward
 
     def equations(self):
-        MU = _table(self, "mu_pos")
-        s1, s2 = _signs(self, clutch_quirk=True)
-        mu0 = MU(0)
         return [
             Eq(self.w_relfric, self.w_rel),
             Eq(self.a_relfric, self.a_rel),
-            Eq(self.fn, self.fn_max * self.f_normalized),
-            Eq(self.free, self.fn <= 0),
-            Eq(self.tau0, mu0 * self.cgeo * self.fn),
-            Eq(self.tau0_max, self.peak * self.tau0),
-            Eq(self.mu, s2 * MU(s1 * self.w_rel)),
-            Eq(self.tau, sp.Piecewise((self.sa, self.locked), (0, self.free),
-                                      (self.mu * self.cgeo * self.fn, True))),
-            Eq(self.lossPower, self.tau * self.w_relfric),
         ]
 
 
-class Brake(_TableFriction, PartialElementaryTwoFlangesAndSupport2, PartialFriction,
+class Brake(_NormalForceFriction, PartialElementaryTwoFlangesAndSupport2, PartialFriction,
             PartialElementaryConditionalHeatPortWithoutT):
     """Brake with controlled normal force (Modelica.Mechanics.Rotational.Components.Brake).
 
@@ -339,25 +357,12 @@ class Brake(_TableFriction, PartialElementaryTwoFlangesAndSupport2, PartialFrict
     from :class:`components.friction.PartialFriction`.
     """
 
-    mu_pos = Parameter([[0.0, 0.5]], structural=True,
-                       description="[w,mu] positive sliding friction coefficient (w>=0)")
-    peak = Parameter(1.0, min=1,
-                     description="Peak for maximum value of mu at w==0 (mu0_max = peak*mu_pos[1,2])")
-    cgeo = Parameter(1.0, min=0, description="Geometry constant containing friction distribution assumption")
-    fn_max = Parameter(1.0, unit="N", min=0, description="Maximum normal force")
-    f_normalized = RealInput(unit="1",
-                             description="Normalized force signal 0..1 (normal force = fn_max*f_normalized; brake is active if > 0)")
     phi = Variable(unit="rad", description="Angle between shaft flanges (flange_a, flange_b) and support")
     tau = Variable(unit="N.m", description="Brake friction torque")
     w = Variable(unit="rad/s", description="Absolute angular velocity of flange_a and flange_b")
     a = Variable(unit="rad/s2", description="Absolute angular acceleration of flange_a and flange_b")
-    mu = Variable(unit="1", description="Friction coefficient")
-    fn = Variable(unit="N", description="Normal force (=fn_max*f_normalized)")
 
     def equations(self):
-        MU = _table(self, "mu_pos")
-        s1, s2 = _signs(self)
-        mu0 = MU(0)
         return [
             Eq(self.phi, self.flange_a.phi - self.phi_support),
             Eq(self.flange_b.phi, self.flange_a.phi),
@@ -366,14 +371,6 @@ class Brake(_TableFriction, PartialElementaryTwoFlangesAndSupport2, PartialFrict
             Eq(self.w_relfric, self.w),
             Eq(self.a_relfric, self.a),
             Eq(self.flange_a.tau + self.flange_b.tau - self.tau, 0),
-            Eq(self.fn, self.fn_max * self.f_normalized),
-            Eq(self.tau0, mu0 * self.cgeo * self.fn),
-            Eq(self.tau0_max, self.peak * self.tau0),
-            Eq(self.free, self.fn <= 0),
-            Eq(self.mu, s2 * MU(s1 * self.w)),
-            Eq(self.tau, sp.Piecewise((self.sa, self.locked), (0, self.free),
-                                      (self.mu * self.cgeo * self.fn, True))),
-            Eq(self.lossPower, self.tau * self.w_relfric),
         ]
 
 
