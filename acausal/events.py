@@ -153,6 +153,25 @@ class DiscreteEvaluator:
                 out.append(rel.holds_with_hysteresis(g, previous[k], eps))
         return tuple(out)
 
+    def flipped_relations(self, system: ModeSystem, t: float, x, relations,
+                          watched: tuple[int, ...]) -> tuple[int, ...]:
+        """The watched relations whose value at ``(t, x)`` differs from ``relations``.
+
+        The hot path of event detection: only the watched relations are
+        evaluated (with hysteresis against their current values).
+        """
+        if not watched:
+            return ()
+        raw = system.crossings(t, x)
+        out = []
+        epsilon = self.epsilon
+        for k in watched:
+            lhs, rhs = raw[2 * k], raw[2 * k + 1]
+            eps = epsilon * max(1.0, abs(lhs), abs(rhs))
+            if self.relations[k].holds_with_hysteresis(lhs - rhs, relations[k], eps) != relations[k]:
+                out.append(k)
+        return tuple(out)
+
     # -- discrete equations -------------------------------------------------------
 
     def evaluate_discrete(self, discrete: Mapping, pre: Mapping, relations, initial: bool,

@@ -297,10 +297,7 @@ class _Run:
         evaluator = self.evaluator
 
         def flipped(tt, xx):
-            if not watched:
-                return ()
-            now = evaluator.relation_values(system, tt, xx, relations)
-            return tuple(k for k in watched if now[k] != relations[k])
+            return evaluator.flipped_relations(system, tt, xx, relations, watched)
 
         while True:
             t_old = solver.t
