@@ -216,6 +216,10 @@ def load_reference(modelica_class: str, directory: str | Path | None = None) -> 
             hint="pass the full dotted name, e.g. 'Modelica.Mechanics.Rotational.Examples.First'",
         )
     folder = root / modelica_class
+    nested = root.joinpath(*modelica_class.split("."))
+    if not folder.is_dir() and nested.is_dir():
+        # a MAP-LIB_ReferenceResults checkout nests the class path in folders
+        folder = nested
     if not folder.is_dir():
         raise ReferenceDataError(
             f"no reference results for {modelica_class}: folder {folder} does not exist"

@@ -479,3 +479,18 @@ def test_malformed_folder(tmp_path, kwargs, file_name, words):
     assert words in message
     assert "hint:" in message
     assert isinstance(error.value, ValueError)
+
+
+def test_nested_map_lib_layout_is_found(tmp_path):
+    """A MAP-LIB_ReferenceResults checkout nests the class path in folders; it loads the same."""
+    import shutil
+
+    source = reference_dir() / "Modelica.Mechanics.Rotational.Examples.First"
+    if not source.is_dir():
+        pytest.skip(f"MSL reference results not found at {reference_dir()}")
+    nested = tmp_path.joinpath("Modelica", "Mechanics", "Rotational", "Examples", "First")
+    shutil.copytree(source, nested)
+    flat = load_reference("Modelica.Mechanics.Rotational.Examples.First")
+    deep = load_reference("Modelica.Mechanics.Rotational.Examples.First", tmp_path)
+    assert deep.compared == flat.compared
+    np.testing.assert_array_equal(deep.time, flat.time)
