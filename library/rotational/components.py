@@ -283,7 +283,32 @@ class IdealPlanetary(Component):
         ]
 
 
-class BearingFriction(_TableFriction, PartialElementaryTwoFlangesAndSupport2, PartialFriction,
+class _HousingFriction:
+    """Friction between a rigid shaft (flange_a = flange_b) and its housing.
+
+    Shared by BearingFriction and Brake: the shaft angle relative to the
+    support, its speed and acceleration as the friction element's relative
+    motion, and the torque the element absorbs from its flanges.
+    """
+
+    phi = Variable(unit="rad", description="Angle between shaft flanges (flange_a, flange_b) and support")
+    tau = Variable(unit="N.m", description="Friction torque absorbed from the flanges")
+    w = Variable(unit="rad/s", description="Absolute angular velocity of flange_a and flange_b")
+    a = Variable(unit="rad/s2", description="Absolute angular acceleration of flange_a and flange_b")
+
+    def equations(self):
+        return [
+            Eq(self.phi, self.flange_a.phi - self.phi_support),
+            Eq(self.flange_b.phi, self.flange_a.phi),
+            Eq(self.w, der(self.phi)),
+            Eq(self.a, der(self.w)),
+            Eq(self.w_relfric, self.w),
+            Eq(self.a_relfric, self.a),
+            Eq(self.flange_a.tau + self.flange_b.tau - self.tau, 0),
+        ]
+
+
+class BearingFriction(_HousingFriction, _TableFriction, PartialElementaryTwoFlangesAndSupport2, PartialFriction,
                       PartialElementaryConditionalHeatPortWithoutT):
     """Coulomb friction in bearings (Modelica.Mechanics.Rotational.Components.BearingFriction).
 
@@ -301,10 +326,6 @@ class BearingFriction(_TableFriction, PartialElementaryTwoFlangesAndSupport2, Pa
                         description="[w,tau] positive sliding friction characteristic (w>=0)")
     peak = Parameter(1.0, min=1,
                      description="Peak for maximum friction torque at w==0 (tau0_max = peak*tau_pos[1,2])")
-    phi = Variable(unit="rad", description="Angle between shaft flanges (flange_a, flange_b) and support")
-    tau = Variable(unit="N.m", description="Friction torque")
-    w = Variable(unit="rad/s", description="Absolute angular velocity of flange_a and flange_b")
-    a = Variable(unit="rad/s2", description="Absolute angular acceleration of flange_a and flange_b")
 
     def equations(self):
         T = _table(self, "tau_pos")
@@ -313,13 +334,6 @@ class BearingFriction(_TableFriction, PartialElementaryTwoFlangesAndSupport2, Pa
             Eq(self.tau0, T(0)),
             Eq(self.tau0_max, self.peak * self.tau0),
             Eq(self.free, sp.false),
-            Eq(self.phi, self.flange_a.phi - self.phi_support),
-            Eq(self.flange_b.phi, self.flange_a.phi),
-            Eq(self.w, der(self.phi)),
-            Eq(self.a, der(self.w)),
-            Eq(self.w_relfric, self.w),
-            Eq(self.a_relfric, self.a),
-            Eq(self.flange_a.tau + self.flange_b.tau - self.tau, 0),
             Eq(self.tau, If(self.locked, self.sa, s2 * T(s1 * self.w))),
             Eq(self.lossPower, self.tau * self.w_relfric),
         ]
@@ -346,7 +360,7 @@ class Clutch(_NormalForceFriction, PartialCompliantWithRelativeStates, PartialFr
         ]
 
 
-class Brake(_NormalForceFriction, PartialElementaryTwoFlangesAndSupport2, PartialFriction,
+class Brake(_HousingFriction, _NormalForceFriction, PartialElementaryTwoFlangesAndSupport2, PartialFriction,
             PartialElementaryConditionalHeatPortWithoutT):
     """Brake with controlled normal force (Modelica.Mechanics.Rotational.Components.Brake).
 
@@ -356,22 +370,6 @@ class Brake(_NormalForceFriction, PartialElementaryTwoFlangesAndSupport2, Partia
     static limit ``tau0_max = peak*mu_pos(0)*cgeo*fn``; stuck/sliding logic
     from :class:`components.friction.PartialFriction`.
     """
-
-    phi = Variable(unit="rad", description="Angle between shaft flanges (flange_a, flange_b) and support")
-    tau = Variable(unit="N.m", description="Brake friction torque")
-    w = Variable(unit="rad/s", description="Absolute angular velocity of flange_a and flange_b")
-    a = Variable(unit="rad/s2", description="Absolute angular acceleration of flange_a and flange_b")
-
-    def equations(self):
-        return [
-            Eq(self.phi, self.flange_a.phi - self.phi_support),
-            Eq(self.flange_b.phi, self.flange_a.phi),
-            Eq(self.w, der(self.phi)),
-            Eq(self.a, der(self.w)),
-            Eq(self.w_relfric, self.w),
-            Eq(self.a_relfric, self.a),
-            Eq(self.flange_a.tau + self.flange_b.tau - self.tau, 0),
-        ]
 
 
 class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialElementaryConditionalHeatPortWithoutT):

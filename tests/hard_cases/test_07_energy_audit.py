@@ -14,7 +14,7 @@ The audit
 ---------
 The work of the torque source is integrated *inside the model*: a
 PowerSensor between the source and the inertia measures ``tau*w`` and a
-test-local WorkMeter integrates ``der(W) = power``.  Then, at every output
+an Integrator (library.blocks) integrates the power into the work.  Then, at every output
 row (not only at the end)::
 
     W = J w^2 / 2  +  c phi^2 / 2  +  C (T - T0)      (kinetic + spring + heat)
@@ -31,8 +31,8 @@ import time as _time
 import numpy as np
 import pytest
 
-from acausal import Component, Eq, Model, RealInput, Variable, der, simulate
-from library.blocks import Sine
+from acausal import Model, simulate
+from library.blocks import Integrator, Sine
 from library.rotational import BearingFriction, Fixed, Inertia, PowerSensor, Spring, Torque
 from library.thermal import HeatCapacitor
 
@@ -43,14 +43,6 @@ TAU_POS, PEAK = [[0.0, 2.0], [10.0, 2.5]], 1.2
 STOP = 100.0
 
 
-class WorkMeter(Component):
-    """Integrates a power signal: ``der(W) = power`` (test-local)."""
-
-    power = RealInput(unit="W", description="Power delivered")
-    W = Variable(start=0.0, fixed=True, unit="J", description="Work done since the start")
-
-    def equations(self):
-        return [Eq(der(self.W), self.power)]
 
 
 class StickSlipOscillator(Model):
@@ -60,7 +52,7 @@ class StickSlipOscillator(Model):
         self.sine = Sine(amplitude=A, f=F_HZ)
         self.torque = Torque()
         self.powerSensor = PowerSensor()
-        self.workMeter = WorkMeter()
+        self.workMeter = Integrator()  # the work: integral of the power
         self.inertia = Inertia(J=J, phi=REST, w=REST)
         self.spring = Spring(c=C_SPRING)
         self.fixed = Fixed()
@@ -69,7 +61,7 @@ class StickSlipOscillator(Model):
         self.connect(self.sine.y, self.torque.tau)
         self.connect(self.torque.flange, self.powerSensor.flange_a)
         self.connect(self.powerSensor.flange_b, self.inertia.flange_a)
-        self.connect(self.powerSensor.power, self.workMeter.power)
+        self.connect(self.powerSensor.power, self.workMeter.u)
         self.connect(self.inertia.flange_b, self.spring.flange_a)
         self.connect(self.spring.flange_b, self.fixed.flange)
         self.connect(self.inertia.flange_b, self.bearing.flange_a)
@@ -77,7 +69,7 @@ class StickSlipOscillator(Model):
 
 
 def audit(result):
-    W = result["workMeter.W"]
+    W = result["workMeter.y"]
     kinetic = 0.5 * J * result["inertia.w"] ** 2
     spring = 0.5 * C_SPRING * result["inertia.phi"] ** 2   # the spring's other end is fixed at 0
     heat = C_HEAT * (result["housing.T"] - T0)

@@ -37,8 +37,8 @@ import math
 import numpy as np
 import pytest
 
-from acausal import Component, Eq, Model, RealInput, Variable, der, simulate
-from library.blocks import Sine
+from acausal import Model, simulate
+from library.blocks import Integrator, Sine
 from library.rotational import BearingFriction, Fixed, Inertia, PowerSensor, Spring, Torque
 from library.thermal import HeatCapacitor
 
@@ -104,14 +104,6 @@ def test_coast_down_on_the_falling_branch(w0, method):
 J, C_SPRING, C_HEAT, T0, AMP, F_HZ, STOP = 1.0, 20.0, 2.0, 300.0, 3.0, 0.4, 30.0
 
 
-class WorkMeter(Component):
-    """Integrates a power signal: ``der(W) = power`` (test-local)."""
-
-    power = RealInput(unit="W")
-    W = Variable(start=0.0, fixed=True, unit="J")
-
-    def equations(self):
-        return [Eq(der(self.W), self.power)]
 
 
 def oscillator(peak):
@@ -120,7 +112,7 @@ def oscillator(peak):
             self.sine = Sine(amplitude=AMP, f=F_HZ)
             self.torque = Torque()
             self.powerSensor = PowerSensor()
-            self.workMeter = WorkMeter()
+            self.workMeter = Integrator()  # the work: integral of the power
             self.inertia = Inertia(J=J, phi=REST, w=REST)
             self.spring = Spring(c=C_SPRING)
             self.fixed = Fixed()
@@ -129,7 +121,7 @@ def oscillator(peak):
             self.connect(self.sine.y, self.torque.tau)
             self.connect(self.torque.flange, self.powerSensor.flange_a)
             self.connect(self.powerSensor.flange_b, self.inertia.flange_a)
-            self.connect(self.powerSensor.power, self.workMeter.power)
+            self.connect(self.powerSensor.power, self.workMeter.u)
             self.connect(self.inertia.flange_b, self.spring.flange_a)
             self.connect(self.spring.flange_b, self.fixed.flange)
             self.connect(self.inertia.flange_b, self.bearing.flange_a)
@@ -176,7 +168,7 @@ def test_driven_oscillator_stays_stable_and_consistent(peak, method):
     expected = np.sign(w[sliding]) * np.interp(np.abs(w[sliding]), table_w, table_tau)
     np.testing.assert_allclose(result["bearing.tau"][sliding], expected, rtol=0, atol=1e-9)
     # energy audit, throughout
-    W = result["workMeter.W"]
+    W = result["workMeter.y"]
     stored = 0.5 * J * w ** 2 + 0.5 * C_SPRING * result["inertia.phi"] ** 2
     heat = C_HEAT * (result["housing.T"] - T0)
     worst = np.max(np.abs(W - stored - heat)) / np.max(np.abs(W))
