@@ -123,24 +123,37 @@ def _solve_for(residual: sp.Expr, var: sp.Symbol, values: dict) -> sp.Expr | Non
 
 
 def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt: BLTResult,
-                 parameter_values: dict[str, float]) -> AlgebraicResult:
-    """Turn each block into solution steps."""
-    values = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
+                 parameter_values: dict[str, float], memo: dict | None = None) -> AlgebraicResult:
+    """Turn each block into solution steps.
+
+    ``memo`` (optional) keeps the solution of each block for other calls with
+    the same parameter values: the discrete states of one model share most
+    blocks.
+    """
+    memo = {} if memo is None else memo
+    values = memo.get("values")
+    if values is None:
+        values = memo["values"] = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
     steps = []
     torn = linear = nonlinear = 0
     for block in blt.blocks:
         eqs = [equations[i] for i in block.equations]
         names = [unknowns[j] for j in block.unknowns]
         if block.size == 1:
-            var = real_symbol(names[0])
-            expr = _solve_for(eqs[0].residual, var, values)
+            key = (eqs[0].residual, names[0])
+            if key not in memo:
+                memo[key] = _solve_for(eqs[0].residual, real_symbol(names[0]), values)
+            expr = memo[key]
             if expr is not None:
                 steps.append(Assign(names[0], expr, eqs[0].origin))
                 continue
             nonlinear += 1
             steps.append(NewtonSolve((names[0],), (), (eqs[0].residual,), (str(eqs[0].origin),)))
             continue
-        step = _tear(eqs, names, values)
+        key = (tuple(e.residual for e in eqs), tuple(names))
+        step = memo.get(key)
+        if step is None:
+            step = memo[key] = _tear(eqs, names, values)
         torn += 1
         if isinstance(step, LinearSolve):
             linear += 1

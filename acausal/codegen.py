@@ -15,7 +15,9 @@ same model every time.
 
 from __future__ import annotations
 
+import keyword
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
@@ -26,15 +28,16 @@ from sympy.printing.pycode import PythonCodePrinter
 from .algebraic import Assign, LinearSolve, NewtonSolve
 from .errors import SolverError
 
-__all__ = ["GeneratedCode", "generate", "needed_steps", "newton_solve"]
+__all__ = ["GeneratedCode", "generate", "needed_steps", "newton_solve", "python_identifiers"]
 
 
 class _Printer(PythonCodePrinter):
     """Python printer that also prints table functions by name."""
 
-    def __init__(self, functions: dict) -> None:
+    def __init__(self, functions: dict, local: dict[str, str]) -> None:
         super().__init__({"fully_qualified_modules": True, "standard": "python3"})
         self.functions = functions
+        self.local = local
 
     def _print_Function(self, expr):  # noqa: N802 - sympy API
         impl = getattr(type(expr), "_imp_", None) or getattr(expr.func, "_imp_", None)
@@ -45,7 +48,12 @@ class _Printer(PythonCodePrinter):
         return super()._print_Function(expr)
 
     def _print_Symbol(self, expr):  # noqa: N802
-        return expr.name
+        ident = self.local.get(expr.name)
+        if ident is not None:
+            return ident
+        if expr.name.startswith("_"):  # a common subexpression of this step
+            return expr.name
+        raise SolverError(f"generated code: {expr.name} is not known here")
 
 
 @dataclass(frozen=True)
@@ -104,10 +112,38 @@ def needed_steps(steps: Sequence, targets: set[str]) -> list[int]:
     return sorted(chosen)
 
 
+def python_identifiers(names: Sequence[str], taken: set[str] | None = None) -> dict[str, str]:
+    """Readable, distinct Python identifiers for model names (``J1.w`` -> ``J1_w``).
+
+    ``der(J1.w)`` becomes ``der_J1_w``.  Names that would clash with a Python
+    keyword, with the names the generated code uses itself (``t``, ``x``,
+    ``p``, ``math``, ``np``, anything starting with ``_``) or with an earlier
+    name get a prefix or a numeric suffix; the result depends only on the
+    order of ``names``, so it is the same every run.
+    """
+    taken = set() if taken is None else taken
+    out = {}
+    for name in names:
+        ident = re.sub(r"\W", "_", name.replace("(", "_").replace(")", "")) or "v"
+        if ident[0].isdigit() or ident.startswith("_") or ident in _RESERVED or keyword.iskeyword(ident):
+            ident = "v_" + ident
+        candidate, k = ident, 2
+        while candidate in taken:
+            candidate, k = f"{ident}_{k}", k + 1
+        taken.add(candidate)
+        out[name] = candidate
+    return out
+
+
+#: Names the generated code defines itself (model names are kept clear of them).
+_RESERVED = {"t", "x", "p", "math", "np", "make", "derivatives", "crossings", "outputs"}
+
+
 def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
              unknowns: Sequence[str], parameters: Sequence[str],
              crossings: Sequence[sp.Expr] = (), name: str = "system",
-             guesses: dict[str, float] | None = None) -> GeneratedCode:
+             guesses: dict[str, float] | None = None, identifiers: dict[str, str] | None = None,
+             memo: dict | None = None) -> GeneratedCode:
     """Generate the code of one system.
 
     Parameters
@@ -119,49 +155,60 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     parameters : names bound from ``p`` in this order
     crossings : expressions returned by ``crossings``
     guesses : start values, the first guesses of Newton iterations
+    identifiers : dict, optional
+        Python identifier of each name (see :func:`python_identifiers`); made
+        from the names here when not given.  Names missing from it are added.
+    memo : dict, optional
+        Code already written for a step, shared by the systems of one model
+        (the discrete states of a hybrid model have most steps in common, and
+        printing expressions is the slow part of code generation).  Only
+        valid together with the same ``identifiers``.
     """
     guesses = guesses or {}
-    local: dict[str, str] = {}
-    for k, n in enumerate(states):
-        local[n] = f"x{k}"
-    for k, n in enumerate(unknowns):
-        local[n] = f"v{k}"
-    for k, n in enumerate(parameters):
-        local[n] = f"p{k}"
+    if identifiers is None:
+        identifiers = {}
+    missing = [n for n in [*states, *unknowns, *parameters] if n not in identifiers]
+    if missing:
+        identifiers.update(python_identifiers(missing, set(identifiers.values())))
+    local = dict(identifiers)
     local["time"] = "t"
-    rename = {}
+    memo = {} if memo is None else memo
+    step_memo = memo.setdefault("steps", {})
+    functions: dict = memo.setdefault("functions", {})
+    printer = _Printer(functions, local)
 
-    def loc(expr: sp.Expr) -> sp.Expr:
-        mapping = {}
-        for s in expr.free_symbols:
-            if s.name not in local:
-                raise SolverError(f"generated code for {name}: {s.name} is not known here")
-            target = rename.get(s.name)
-            if target is None:
-                target = rename[s.name] = sp.Symbol(local[s.name], real=True)
-            mapping[s] = target
-        return expr.xreplace(mapping)
+    def code_of(step) -> tuple[list[str], set[str]]:
+        key = _step_key(step)
+        found = step_memo.get(key)
+        if found is None:
+            found = step_memo[key] = (_step_code(step, printer, local), step.reads())
+        return found
 
-    functions: dict = {}
-    printer = _Printer(functions)
-    blocks_code: list[list[str]] = []
-    for index, step in enumerate(steps):
-        blocks_code.append(_step_code(step, index, loc, printer, local))
-
+    known = set(states) | set(parameters) | {"time"}
+    blocks_code = []
+    for step in steps:
+        lines, reads = code_of(step)
+        if not reads <= known:
+            raise SolverError(f"generated code for {name}: {sorted(reads - known)[0]} is not known "
+                              f"where {step.defines[0]} is computed")
+        known |= set(step.defines)
+        blocks_code.append(lines)
     deriv_steps = needed_steps(steps, set(derivatives))
     cross_reads = set()
     for g in crossings:
         cross_reads |= {s.name for s in g.free_symbols}
+    if not cross_reads <= known:
+        raise SolverError(f"generated code for {name}: {sorted(cross_reads - known)[0]} is not known here")
     cross_steps = needed_steps(steps, cross_reads)
 
     lines = [f"# generated by acausal for {name}", "def make(p):"]
     if parameters:
         lines.append(f"    {', '.join(local[n] for n in parameters)}, = p")
     lines.append("    _state = {}")
-    for index, step in enumerate(steps):
+    for step in steps:
         if isinstance(step, NewtonSolve):
             start = [float(guesses.get(t, 0.0)) for t in step.tears]
-            lines.append(f"    _start{index} = np.array({start!r})")
+            lines.append(f"    _start_{local[step.tears[0]]} = np.array({start!r})")
     unpack = f"        {', '.join(local[n] for n in states)}, = x" if states else None
 
     def function(fname: str, chosen: list[int], result: str) -> None:
@@ -173,8 +220,7 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
         lines.append(f"        return {result}")
 
     function("derivatives", deriv_steps, _tuple(local[d] for d in derivatives))
-    cross_exprs = [loc(g) for g in crossings]
-    function("crossings", cross_steps, _tuple(printer.doprint(g) for g in cross_exprs))
+    function("crossings", cross_steps, _tuple(printer.doprint(g) for g in crossings))
     function("outputs", list(range(len(steps))), _tuple(local[u] for u in unknowns))
     lines.append("    return derivatives, crossings, outputs")
     source = "\n".join(lines) + "\n"
@@ -183,6 +229,16 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     namespace.update(functions)
     exec(compile(source, f"<acausal {name}>", "exec"), namespace)
     return GeneratedCode(source, namespace["make"], len(deriv_steps), len(steps))
+
+
+def _step_key(step) -> tuple:
+    """What the code of a step depends on (its origin only through the error text)."""
+    if isinstance(step, Assign):
+        return ("assign", step.variable, step.expression)
+    inner = tuple((a.variable, a.expression) for a in step.inner)
+    if isinstance(step, LinearSolve):
+        return ("linear", step.tears, step.A, step.b, inner, step.origins[:3])
+    return ("newton", step.tears, inner, step.residuals, step.origins[:3])
 
 
 def _tuple(items) -> str:
@@ -229,16 +285,19 @@ def _small(expr: sp.Expr, limit: int = 12) -> bool:
     return True
 
 
-def _step_code(step, index: int, loc, printer, local) -> list[str]:
-    prefix = f"c{index}_"
+def _step_code(step, printer, local) -> list[str]:
+    """The lines of one step.  Its own temporaries are named after the first
+    unknown it defines, so the text is the same in every system that has it."""
+    own = local[step.defines[0]]
+    prefix = f"_{own}_"
     if isinstance(step, Assign):
-        pre, (text,) = _cse_lines([loc(step.expression)], printer, prefix)
-        return pre + [f"{local[step.variable]} = {text}"]
+        pre, (text,) = _cse_lines([step.expression], printer, prefix)
+        return pre + [f"{own} = {text}"]
     what = repr("; ".join(step.origins[:3]))
-    inner = [(local[a.variable], loc(a.expression)) for a in step.inner]
+    inner = [(local[a.variable], a.expression) for a in step.inner]
     if isinstance(step, LinearSolve):
         n = len(step.tears)
-        flat = [loc(e) for row in step.A for e in row] + [loc(e) for e in step.b]
+        flat = [e for row in step.A for e in row] + list(step.b)
         pre, printed = _cse_lines(flat, printer, prefix)
         A = [printed[r * n:(r + 1) * n] for r in range(n)]
         b = printed[n * n:]
@@ -263,18 +322,18 @@ def _step_code(step, index: int, loc, printer, local) -> list[str]:
         return lines
     # NewtonSolve: a local residual function over the tearing unknowns
     z = [local[t] for t in step.tears]
-    lines = [f"def _res{index}(_z):", f"    {', '.join(z)}, = _z"]
+    lines = [f"def _res_{own}(_z):", f"    {', '.join(z)}, = _z"]
     for var, expr in inner:
         ipre, (text,) = _cse_lines([expr], printer, f"{prefix}i{var}_")
         lines += ["    " + l for l in ipre] + [f"    {var} = {text}"]
-    res_pre, res_printed = _cse_lines([loc(r) for r in step.residuals], printer, prefix)
+    res_pre, res_printed = _cse_lines(list(step.residuals), printer, prefix)
     lines += ["    " + l for l in res_pre] + [f"    return ({', '.join(res_printed)},)"]
-    guess = f"_guess{index}"
-    lines = [f"{guess} = _state.get({index})"] + lines
-    lines += [f"if {guess} is None:", f"    {guess} = _start{index}",
-              f"_sol{index} = _newton(_res{index}, {guess}, {what})",
-              f"_state[{index}] = _sol{index}",
-              f"{', '.join(z)}, = _sol{index}"]
+    guess = f"_guess_{own}"
+    lines = [f"{guess} = _state.get({own!r})"] + lines
+    lines += [f"if {guess} is None:", f"    {guess} = _start_{own}",
+              f"_sol_{own} = _newton(_res_{own}, {guess}, {what})",
+              f"_state[{own!r}] = _sol_{own}",
+              f"{', '.join(z)}, = _sol_{own}"]
     for var, expr in inner:
         ipre, (text,) = _cse_lines([expr], printer, f"{prefix}o{var}_")
         lines += ipre + [f"{var} = {text}"]

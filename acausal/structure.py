@@ -272,7 +272,8 @@ def _alternating_reach(start, graph, matching):
 
 
 def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable],
-            parameter_values: dict[str, float], context: str = "the model") -> StructuralResult:
+            parameter_values: dict[str, float], context: str = "the model",
+            memo: dict | None = None) -> StructuralResult:
     """Balance check, Pantelides, dummy derivatives and final matching.
 
     Parameters
@@ -283,9 +284,16 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
         The continuous unknowns left (name -> FlatVariable, attributes merged).
     parameter_values : dict
         For structural zeros.
+    memo : dict, optional
+        Shared by calls with the same parameter values (the discrete states
+        of one model): keeps the time derivative of each equation differentiated.
     """
-    parameters = set(parameter_values)
-    values = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
+    memo = {} if memo is None else memo
+    if "values" not in memo:
+        memo["parameters"] = set(parameter_values)
+        memo["values"] = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
+    parameters, values = memo["parameters"], memo["values"]
+    derivative_of = memo.setdefault("derivatives", {})
     order_of = {name: k for k, name in enumerate(variables)}
 
     # variable list V with derivative chains: A[j] = index of der(V[j]) or -1
@@ -342,7 +350,10 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
                     add_var(der_name(V[j]))
             assign.extend([-1] * (len(V) - len(assign)))
             for l in sorted(visited_eqs):
-                derivative = differentiate(eqs[l].residual, parameters)
+                derivative = derivative_of.get(eqs[l].residual)
+                if derivative is None:
+                    derivative = derivative_of[eqs[l].residual] = differentiate(eqs[l].residual,
+                                                                                parameters)
                 origin = eqs[l].origin
                 new_origin = Origin(origin.component, origin.component_class, origin.declared_in,
                                     origin.index, f"d/dt[{origin.text}]")

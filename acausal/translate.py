@@ -21,7 +21,7 @@ import sympy as sp
 from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
-from .codegen import GeneratedCode, generate, needed_steps
+from .codegen import GeneratedCode, generate, needed_steps, python_identifiers
 from .errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError,
                      UnderDeterminedError)
 from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
@@ -136,6 +136,15 @@ class Translation:
         self.systems: dict[tuple, ModeSystem] = {}
         self.initial_systems: dict[tuple, InitialSystem] = {}
         self.flatten_seconds = flatten_seconds
+        # One Python name per model name, the same in every system's code.
+        continuous = list(self.continuous)
+        self._identifiers = python_identifiers(
+            [*self.parameter_names, *continuous, *(f"der({n})" for n in continuous)])
+        # The discrete states of a model share most equations: what a stage
+        # derived from one equation (its specialisation, derivative, solution,
+        # code) is kept here for the next state.  Valid for this model's
+        # parameter values only, like everything else in a Translation.
+        self._memo: dict[str, dict] = {"specialise": {}, "structure": {}, "algebraic": {}, "codegen": {}}
 
     # -- discrete states ----------------------------------------------------
 
@@ -157,15 +166,25 @@ class Translation:
         # the terms they multiply, so the generated code must not contain them.
         subs.update(self._zero_parameters)
         source = self.partitioned.equations if equations is None else equations
+        memo = self._memo["specialise"]
         out = []
         for eq in source:
-            residual = eq.residual.xreplace(subs) if subs else eq.residual
-            leftover = [s.name for s in residual.free_symbols if s.name.startswith("$rel")
-                        or s is INITIAL or s.name in self.partitioned.discrete_variables]
-            if leftover:
-                raise StructuralError(f"{eq.origin}: discrete value {leftover[0]} left after "
-                                      f"specialisation")
-            out.append(FlatEquation(residual, eq.origin))
+            # Only the discrete symbols an equation contains decide its form:
+            # an equation is specialised once per combination of their values.
+            used = memo.get(eq.residual)
+            if used is None:
+                used = memo[eq.residual] = tuple(s for s in eq.residual.free_symbols if s in subs)
+            key = (eq.residual, tuple(subs[s] for s in used))
+            residual = memo.get(key)
+            if residual is None:
+                residual = eq.residual.xreplace({s: subs[s] for s in used}) if used else eq.residual
+                leftover = [s.name for s in residual.free_symbols if s.name.startswith("$rel")
+                            or s is INITIAL or s.name in self.partitioned.discrete_variables]
+                if leftover:
+                    raise StructuralError(f"{eq.origin}: discrete value {leftover[0]} left after "
+                                          f"specialisation")
+                memo[key] = residual
+            out.append(eq if residual is eq.residual else FlatEquation(residual, eq.origin))
         return tuple(out)
 
     def evaluator(self, relation_epsilon: float = 1e-10, max_iterations: int = 20):
@@ -210,7 +229,8 @@ class Translation:
         t0 = _time.perf_counter()
         try:
             try:
-                structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context)
+                structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context,
+                                    self._memo["structure"])
             except StructuralError:
                 # Alias elimination may have absorbed the culprit (an extra `w = 0`):
                 # check the equations as written, so the message names them all.
@@ -235,14 +255,16 @@ class Translation:
         blt = sort_blt(structure.incidence, structure.matching)
         timings["blt"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
-        algebraic = solve_blocks(structure.equations, structure.unknowns, blt, self.parameter_values)
+        algebraic = solve_blocks(structure.equations, structure.unknowns, blt, self.parameter_values,
+                                 self._memo["algebraic"])
         timings["algebraic"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         crossings = self._crossing_expressions(aliases)
         steps, states, derivs, unknowns = self._demanded(algebraic.steps, structure, aliases, crossings)
         guesses = {n: v.start for n, v in aliases.variables.items()}
         code = generate(steps, states, derivs, unknowns, self.parameter_names, crossings,
-                        name=context, guesses=guesses)
+                        name=context, guesses=guesses, identifiers=self._identifiers,
+                        memo=self._memo["codegen"])
         derivatives, crossing_fn, outputs = code.make(self.parameter_vector)
         timings["codegen"] = _time.perf_counter() - t0
         system = ModeSystem(key, description, equations, aliases, structure, blt, algebraic, code,
@@ -353,10 +375,11 @@ class Translation:
         for j, i in enumerate(assign):
             matching[renumber[i]] = j
         blt = sort_blt(kept_inc, matching)
-        algebraic = solve_blocks(kept_eqs, unknowns, blt, self.parameter_values)
+        algebraic = solve_blocks(kept_eqs, unknowns, blt, self.parameter_values, self._memo["algebraic"])
         guesses = {n: v.start for n, v in variables.items()}
         code = generate(algebraic.steps, (), (), unknowns, self.parameter_names, (),
-                        name=context, guesses=guesses)
+                        name=context, guesses=guesses, identifiers=self._identifiers,
+                        memo=self._memo["codegen"])
         _, _, outputs = code.make(self.parameter_vector)
         system = InitialSystem(key, tuple(kept_eqs), tuple(unknowns), relaxed, blt, algebraic, code,
                                outputs)
