@@ -25,6 +25,7 @@ from typing import Mapping
 
 import sympy as sp
 
+from .codegen import compile_functions
 from .errors import EventIterationError, SimulationError
 from .flatten import INITIAL
 from .translate import ModeSystem, Translation
@@ -86,11 +87,12 @@ class DiscreteEvaluator:
         self.max_iterations = max_iterations
         variables = translation.flat.variable_map
         self.kinds = {n: variables[n].kind for n in self.partitioned.discrete_variables}
-        self.equations = []
-        for eq in self.partitioned.discrete_equations:
-            args = sorted(eq.rhs.free_symbols, key=lambda s: s.name)
-            fn = sp.lambdify(args, eq.rhs, modules="math") if args else (lambda v=eq.rhs: v)
-            self.equations.append((eq.variable, [a.name for a in args], fn, eq.origin))
+        equations = self.partitioned.discrete_equations
+        arguments = [sorted(s.name for s in eq.rhs.free_symbols) for eq in equations]
+        functions = compile_functions(arguments, [eq.rhs for eq in equations],
+                                      f"the discrete equations of {translation.flat.name}")
+        self.equations = [(eq.variable, args, fn, eq.origin)
+                          for eq, args, fn in zip(equations, arguments, functions)]
         self._downstream = self._downstream_equations()
 
     def _downstream_equations(self) -> dict[int, list[int]]:
