@@ -1,7 +1,5 @@
 """``python -m acausal``: the same command line as the ``acausal`` script."""
 
-import sys
+from .cli import run
 
-from .cli import main
-
-sys.exit(main())
+run()

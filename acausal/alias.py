@@ -92,7 +92,8 @@ def _alias_form(residual: sp.Expr, unknowns: set[str], parameters: set[str]):
 
 
 def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, FlatVariable],
-                      parameters: set[str], keep: frozenset[str] = frozenset()) -> AliasResult:
+                      parameters: set[str], keep: frozenset[str] = frozenset(),
+                      memo: dict | None = None) -> AliasResult:
     """Remove alias equations from ``equations``.
 
     Parameters
@@ -104,8 +105,14 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
         Names of parameters (constants for this purpose).
     keep : frozenset of str
         Variables that must not be eliminated.
+    memo : dict, optional
+        Shared by calls with the same variables, parameters and ``keep`` (the
+        discrete states of one model): keeps the alias form of each equation.
     """
-    unknowns = {n for n, v in variables.items() if not v.is_discrete}
+    memo = {} if memo is None else memo
+    candidates = memo.get("candidates")
+    if candidates is None:
+        candidates = memo["candidates"] = {n for n, v in variables.items() if not v.is_discrete} - keep
     differentiated = set()
     for eq in equations:
         for sym in eq.residual.free_symbols:
@@ -135,7 +142,9 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     kept: list[FlatEquation] = []
     eliminated: list[FlatEquation] = []
     for eq in equations:
-        form = _alias_form(eq.residual, unknowns - keep, parameters)
+        form = memo.get(eq.residual, False)
+        if form is False:
+            form = memo[eq.residual] = _alias_form(eq.residual, candidates, parameters)
         if form is None:
             kept.append(eq)
             continue

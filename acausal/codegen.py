@@ -221,7 +221,11 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
         lines.append(f"        return {result}")
 
     function("derivatives", deriv_steps, _tuple(local[d] for d in derivatives))
-    function("crossings", cross_steps, _tuple(printer.doprint(g) for g in crossings))
+    printed = memo.setdefault("expressions", {})
+    for g in crossings:
+        if g not in printed:
+            printed[g] = printer.doprint(g)
+    function("crossings", cross_steps, _tuple(printed[g] for g in crossings))
     function("outputs", list(range(len(steps))), _tuple(local[u] for u in unknowns))
     lines.append("    return derivatives, crossings, outputs")
     source = "\n".join(lines) + "\n"

@@ -32,6 +32,7 @@ References
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
@@ -123,6 +124,10 @@ def priority_matching(G: Sequence[Sequence[int]], n_vars: int, order: Sequence[i
 # --------------------------------------------------------------------------
 # Differentiation
 # --------------------------------------------------------------------------
+
+
+def _derivative_text(origin: Origin) -> str:
+    return f"d/dt[{origin.text}]"
 
 
 def differentiate(residual: sp.Expr, parameters: set[str]) -> sp.Expr:
@@ -356,7 +361,7 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
                                                                                 parameters)
                 origin = eqs[l].origin
                 new_origin = Origin(origin.component, origin.component_class, origin.declared_in,
-                                    origin.index, f"d/dt[{origin.text}]")
+                                    origin.index, functools.partial(_derivative_text, origin))
                 B[l] = len(eqs)
                 eqs.append(FlatEquation(derivative, new_origin))
                 parent_eq.append(l)

@@ -144,7 +144,9 @@ class Translation:
         # derived from one equation (its specialisation, derivative, solution,
         # code) is kept here for the next state.  Valid for this model's
         # parameter values only, like everything else in a Translation.
-        self._memo: dict[str, dict] = {"specialise": {}, "structure": {}, "algebraic": {}, "codegen": {}}
+        self._memo: dict[str, dict] = {"specialise": {}, "alias": {}, "structure": {}, "algebraic": {},
+                                       "codegen": {}}
+        self._parameter_set = set(self.parameter_values)
 
     # -- discrete states ----------------------------------------------------
 
@@ -224,7 +226,8 @@ class Translation:
         equations = self.specialise(key)
         timings["specialise"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
-        aliases = eliminate_aliases(equations, self.continuous, set(self.parameter_values))
+        aliases = eliminate_aliases(equations, self.continuous, self._parameter_set,
+                                    memo=self._memo["alias"])
         timings["alias"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
         try:
