@@ -127,7 +127,8 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     ranked = sorted(systems, key=lambda s: (s is not main,
                                             visited is not None and s.description not in visited,
                                             number[s.key]))
-    pictured = ranked[:MAX_PICTURES]
+    # one picture per compiled system: states sharing another's system have its picture
+    pictured = [s for s in ranked if s is main or s.shares is None][:MAX_PICTURES]
     stem = _safe(translation.flat.name)
     names = {}
     for system in pictured:
@@ -475,7 +476,9 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
             w.lines += textwrap.wrap(d, _WIDTH, initial_indent="  ", subsequent_indent="      ")
     w.line()
     systems = list(translation.systems.values())
-    w.line(f"Discrete states compiled ({len(systems)}):")
+    state_number = {system.key: n for n, system in enumerate(systems, start=1)}
+    w.line(f"Discrete states compiled ({len(systems)}, {translation.compiled_systems} distinct "
+           f"systems):")
     for n, system in enumerate(systems, start=1):
         w.line()
         marks = []
@@ -487,6 +490,10 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
         w.items(f"  State {n}: ", [_key_text(translation, system.key)], indent=6)
         if marks:
             w.line(f"    ({'; '.join(marks)})")
+        if system.shares is not None and system is not main:
+            w.line(f"    the same equations as state {state_number[system.shares]}: its compiled "
+                   f"system serves both")
+            continue
         st = system.structure
         w.line(f"    {len(system.aliases.equations)} equations after alias elimination, "
                f"{len(st.differentiated)} added by index reduction")

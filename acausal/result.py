@@ -62,7 +62,8 @@ class SimulationResult:
     modes : tuple of str
         Discrete states visited, in the order first visited.
     compiled_modes : int
-        Discrete states compiled (visited, or tried during event iteration).
+        Systems compiled for the discrete states visited or tried during event
+        iteration (states whose equations are the same share one).
     stats : dict
         Right-hand side evaluations, steps, seconds spent.
     notes : tuple of str
@@ -134,7 +135,7 @@ class SimulationResult:
     def summary(self) -> str:
         lines = [f"{self.model_name}: {'ok' if self.success else 'FAILED'} — {self.message}",
                  f"  {len(self.time)} output points, {len(self.events)} events, "
-                 f"{len(self.modes)} discrete states visited, {self.compiled_modes} compiled"]
+                 f"{len(self.modes)} discrete states visited, {self.compiled_modes} systems compiled"]
         for key in ("steps", "rhs_evaluations", "translate_seconds", "simulate_seconds"):
             if key in self.stats:
                 value = self.stats[key]

@@ -426,7 +426,7 @@ class _Run:
             "rtol": self.rtol,
         }
         return SimulationResult(times, columns, 0 if error is None else -1, message, tuple(self.events),
-                                tuple(self.modes), len(translation.systems), stats, tuple(self.notes),
+                                tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
                                 error, flat.name)
 
 

@@ -10,6 +10,7 @@ way.  Each stage's output stays on the :class:`ModeSystem` for inspection.
 
 from __future__ import annotations
 
+import dataclasses
 import time as _time
 from collections import OrderedDict
 from dataclasses import dataclass, field
@@ -88,6 +89,9 @@ class ModeSystem:
     #: relations need.
     states: tuple[str, ...] = ()
     unknowns: tuple[str, ...] = ()
+    #: The discrete state whose compiled system this one shares, when both
+    #: specialise to the same equations (None: compiled for this state).
+    shares: tuple | None = None
 
     def values(self, t: float, x) -> dict[str, float]:
         """Continuous variables and derivatives at ``(t, x)`` (aliases: see events.mode_values)."""
@@ -147,6 +151,7 @@ class Translation:
         self._memo: dict[str, dict] = {"specialise": {}, "alias": {}, "structure": {}, "algebraic": {},
                                        "codegen": {}}
         self._parameter_set = set(self.parameter_values)
+        self._by_equations: dict[tuple, ModeSystem] = {}
 
     # -- discrete states ----------------------------------------------------
 
@@ -225,6 +230,16 @@ class Translation:
         t0 = _time.perf_counter()
         equations = self.specialise(key)
         timings["specialise"] = _time.perf_counter() - t0
+        # Discrete states that differ only in values the equations do not read
+        # (pre(mode) of a sliding clutch, say) have the same equations: one
+        # compiled system serves them all.
+        signature = tuple(eq.residual for eq in equations)
+        twin = self._by_equations.get(signature)
+        if twin is not None:
+            system = dataclasses.replace(twin, key=key, description=description, timings=timings,
+                                         shares=twin.key)
+            self.systems[key] = system
+            return system
         t0 = _time.perf_counter()
         aliases = eliminate_aliases(equations, self.continuous, self._parameter_set,
                                     memo=self._memo["alias"])
@@ -273,6 +288,7 @@ class Translation:
         system = ModeSystem(key, description, equations, aliases, structure, blt, algebraic, code,
                             timings, derivatives, crossing_fn, outputs, tuple(states), tuple(unknowns))
         self.systems[key] = system
+        self._by_equations[signature] = system
         return system
 
     def _demanded(self, steps, structure: StructuralResult, aliases: AliasResult, crossings):
@@ -400,6 +416,11 @@ class Translation:
                     hint=f"remove fixed=True from {name} or change its start value")
 
     # -- summary --------------------------------------------------------------
+
+    @property
+    def compiled_systems(self) -> int:
+        """How many systems were compiled (discrete states with equal equations share one)."""
+        return sum(s.shares is None for s in self.systems.values())
 
     @property
     def translation_seconds(self) -> float:

@@ -133,7 +133,7 @@ def test_hybrid_model_with_several_states(tmp_path):
     explanation = explain(StepDrive(), out_dir=tmp_path)
     text = explanation.text
     assert "(step.startTime > time)=True" in text and "(step.startTime > time)=False" in text
-    assert "Discrete states compiled (2)" in text
+    assert "Discrete states compiled (2, 2 distinct systems)" in text
     assert sorted(p.name for p in explanation.pictures) == ["incidence_StepDrive_1.png",
                                                             "incidence_StepDrive_2.png"]
     for picture in explanation.pictures:
