@@ -23,6 +23,7 @@ import itertools
 from dataclasses import dataclass
 from typing import Mapping
 
+import numpy as np
 import sympy as sp
 
 from .codegen import compile_functions
@@ -30,13 +31,17 @@ from .errors import EventIterationError, SimulationError
 from .flatten import INITIAL
 from .translate import ModeSystem, Translation
 
-__all__ = ["DiscreteEvaluator", "EventOutcome", "mode_values"]
+__all__ = ["DiscreteEvaluator", "EventOutcome", "alias_plan", "mode_values"]
+
+
+#: From this many watched relations on, they are checked with numpy at once.
+_VECTORISE_FROM = 48
 
 
 def mode_values(translation: Translation, system: ModeSystem, t: float, x) -> dict[str, float]:
     """All continuous variables at ``(t, x)``: unknowns, states and aliases."""
     values = system.values(t, x)
-    plan = _alias_plan(translation, system)
+    plan = alias_plan(translation, system)
     for name, coeff, source in plan:
         if source is None:
             values[name] = coeff
@@ -45,7 +50,12 @@ def mode_values(translation: Translation, system: ModeSystem, t: float, x) -> di
     return values
 
 
-def _alias_plan(translation: Translation, system: ModeSystem):
+def alias_plan(translation: Translation, system: ModeSystem) -> list[tuple[str, float, str | None]]:
+    """How each alias of a system follows from its values: ``(name, coefficient, source)``.
+
+    ``name = coefficient * source``, or ``name = coefficient`` when source is
+    None (parameters evaluated).  Built once per system.
+    """
     plan = getattr(system, "_alias_plan", None)
     if plan is not None:
         return plan
@@ -94,6 +104,7 @@ class DiscreteEvaluator:
         self.equations = [(eq.variable, args, fn, eq.origin)
                           for eq, args, fn in zip(equations, arguments, functions)]
         self._downstream = self._downstream_equations()
+        self._vector_plan = None
 
     def _downstream_equations(self) -> dict[int, list[int]]:
         """For each relation, the discrete equations (in order) its value can reach."""
@@ -165,6 +176,8 @@ class DiscreteEvaluator:
         if not watched:
             return ()
         raw = system.crossings(t, x)
+        if len(watched) >= _VECTORISE_FROM:
+            return self._flipped_vectorised(raw, relations, watched)
         out = []
         epsilon = self.epsilon
         for k in watched:
@@ -173,6 +186,33 @@ class DiscreteEvaluator:
             if self.relations[k].holds_with_hysteresis(lhs - rhs, relations[k], eps) != relations[k]:
                 out.append(k)
         return tuple(out)
+
+    def _flipped_vectorised(self, raw, relations, watched) -> tuple[int, ...]:
+        """:meth:`flipped_relations` for many relations at once, with numpy.
+
+        The same arithmetic as :meth:`Relation.holds_with_hysteresis`, written
+        so that every operation rounds the same way: ``d * (g ± eps)`` with
+        ``d = ±1`` compared with 0 (``>`` for strict relations, ``>=`` not).
+        """
+        plan = self._vector_plan
+        if plan is None or plan[0] is not watched or plan[1] is not relations:
+            w = np.array(watched, dtype=int)
+            rels = [self.relations[k] for k in watched]
+            previous = np.array([relations[k] for k in watched], dtype=bool)
+            direction = np.array([1.0 if r.op in (">", ">=") else -1.0 for r in rels])
+            strict = np.array([r.op in (">", "<") for r in rels], dtype=bool)
+            timed = np.array([r.is_time_event for r in rels], dtype=bool)
+            # the margin keeps the previous value: towards it on the side of d
+            toward = np.where(previous, direction, -direction)
+            plan = self._vector_plan = (watched, relations, w, previous, direction, strict, timed, toward)
+        _, _, w, previous, direction, strict, timed, toward = plan
+        values = np.asarray(raw, dtype=float)
+        lhs, rhs = values[2 * w], values[2 * w + 1]
+        eps = self.epsilon * np.maximum(1.0, np.maximum(np.abs(lhs), np.abs(rhs)))
+        eps = np.where(timed, 0.0, eps)
+        v = direction * ((lhs - rhs) + toward * eps)
+        holds = np.where(strict, v > 0, v >= 0)
+        return tuple(w[holds != previous].tolist())
 
     # -- discrete equations -------------------------------------------------------
 
@@ -184,7 +224,7 @@ class DiscreteEvaluator:
         evaluated; the others keep their values.
         """
         current = dict(discrete)
-        env = {}
+        env = dict(current)
         for k, value in enumerate(relations):
             env[f"$rel{k}"] = value
         env[INITIAL.name] = initial
@@ -193,9 +233,9 @@ class DiscreteEvaluator:
         for variable, args, fn, origin in self.equations:
             if relation_free and any(a.startswith("$rel") for a in args):
                 continue
-            env.update(current)
             value = fn(*[env[a] for a in args])
-            current[variable] = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            value = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            current[variable] = env[variable] = value
         return current
 
     def relevant_relations(self, discrete: Mapping, relations) -> tuple[int, ...]:
@@ -207,6 +247,12 @@ class DiscreteEvaluator:
         always watched.  At the next event all relations are re-evaluated.
         """
         selector_names = {s.name for s in self.translation.selectors}
+        # the values every flip is tried against: relations as they are, pre = current
+        env = {f"$rel{j}": value for j, value in enumerate(relations)}
+        env[INITIAL.name] = False
+        for name, value in discrete.items():
+            env[f"pre({name})"] = value
+        env.update(discrete)
         out = []
         for k, rel in enumerate(self.relations):
             if rel.is_time_event:
@@ -214,25 +260,24 @@ class DiscreteEvaluator:
             if rel.symbol.name in selector_names:
                 out.append(k)
                 continue
-            if self._flip_changes(k, discrete, relations):
+            if self._flip_changes(k, env, discrete, relations):
                 out.append(k)
         return tuple(out)
 
-    def _flip_changes(self, k: int, discrete: Mapping, relations) -> bool:
-        """Whether flipping relation k alone changes a discrete variable (pre = current)."""
-        env = {f"$rel{j}": value for j, value in enumerate(relations)}
-        env[f"$rel{k}"] = not relations[k]
-        env[INITIAL.name] = False
-        for name, value in discrete.items():
-            env[f"pre({name})"] = value
-        env.update(discrete)
+    def _flip_changes(self, k: int, env: Mapping, discrete: Mapping, relations) -> bool:
+        """Whether flipping relation k alone changes a discrete variable (pre = current).
+
+        Only the equations downstream of the relation are evaluated; they see
+        ``env`` with the relation flipped.  (A variable they recompute keeps
+        its value, or the answer is already yes.)
+        """
+        flipped = f"$rel{k}"
         for i in self._downstream[k]:
             variable, args, fn, _origin = self.equations[i]
-            value = fn(*[env[a] for a in args])
+            value = fn(*[(not relations[k]) if a == flipped else env[a] for a in args])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
             if value != discrete[variable]:
                 return True
-            env[variable] = value
         return False
 
     # -- event iteration ------------------------------------------------------------

@@ -28,7 +28,7 @@ import scipy.integrate as integrate
 import sympy as sp
 
 from .errors import ChatteringError, SimulationError, SolverError, StructuralError
-from .events import DiscreteEvaluator, mode_values
+from .events import DiscreteEvaluator, alias_plan, mode_values
 from .flatten import der_name
 from .initialization import initialize
 from .integrators import RK4, Euler
@@ -200,6 +200,14 @@ class _Run:
             error.result = result
         return result
 
+    def _snapshot(self, discrete: dict) -> dict:
+        """A copy of the discrete values for an output row, shared by the rows
+        that have the same values (a large model has thousands of them)."""
+        last = self.rows[-1][3] if self.rows else None
+        if last is not None and last == discrete:
+            return last
+        return dict(discrete)
+
     def _record_mode(self, system: ModeSystem) -> None:
         if system.description not in self.modes:
             self.modes.append(system.description)
@@ -211,7 +219,7 @@ class _Run:
         values = outcome.values
         self._record_mode(system)
         x = np.array([values[s] for s in system.states], dtype=float)
-        self.rows.append((t, system, x.copy(), dict(discrete)))
+        self.rows.append((t, system, x.copy(), self._snapshot(discrete)))
         while self.next_grid < len(self.grid) and self.grid[self.next_grid] <= t:
             self.next_grid += 1
         recent = deque(maxlen=self.chattering_events)
@@ -246,7 +254,7 @@ class _Run:
                              "that its own switching crosses)")
             elif t_new >= t1 and not any(root == t_new for _, root in self._time_roots
                                          if self._next_time_event(t, relations) == t_new):
-                self.rows.append((t_new, system, np.array(x_new, dtype=float), dict(discrete)))
+                self.rows.append((t_new, system, np.array(x_new, dtype=float), self._snapshot(discrete)))
                 return
             else:
                 # a time event (also one exactly at the stop time: it is processed,
@@ -255,7 +263,7 @@ class _Run:
                 fired = tuple(self.relations[i].text for i, root in self._time_roots if root == t_e)
                 kind = "time"
             # left limit, event iteration, right limit
-            self.rows.append((t_e, system, np.array(x_e, dtype=float), dict(discrete)))
+            self.rows.append((t_e, system, np.array(x_e, dtype=float), self._snapshot(discrete)))
             values = mode_values(self.translation, system, t_e, x_e)
             fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
             outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices)
@@ -263,7 +271,7 @@ class _Run:
             system, discrete, relations = outcome.system, outcome.discrete, outcome.relations
             self._record_mode(system)
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
-            self.rows.append((t_e, system, x.copy(), dict(discrete)))
+            self.rows.append((t_e, system, x.copy(), self._snapshot(discrete)))
             t = t_e
             if t >= t1:
                 return
@@ -277,7 +285,8 @@ class _Run:
                                               (inclusive and grid[self.next_grid] <= t_end)):
             tg = grid[self.next_grid]
             if not (self.rows and self.rows[-1][0] == tg):
-                self.rows.append((float(tg), system, np.array(x_at(tg), dtype=float), dict(discrete)))
+                self.rows.append((float(tg), system, np.array(x_at(tg), dtype=float),
+                                  self._snapshot(discrete)))
             self.next_grid += 1
 
     def _segment(self, system: ModeSystem, t: float, x, t_bound: float, discrete, relations):
@@ -360,6 +369,24 @@ class _Run:
                 self.nfev += solver.nfev
                 return t_new, solver.y.copy(), None
 
+    def _fill(self, block: np.ndarray, index: dict[str, int], rows, system: ModeSystem,
+              discrete: dict) -> None:
+        """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``."""
+        targets, sources, aliases = _fill_plan(self.translation, system, index)
+        n_states = len(system.states)
+        values = np.full((len(rows), n_states + len(system.unknowns)), np.nan)
+        for r, (t, _, x, _) in enumerate(rows):
+            values[r, :n_states] = x
+            try:
+                values[r, n_states:] = system.outputs(t, x)
+            except (SimulationError, ArithmeticError, ValueError):
+                pass  # the states are still known; the rest stays NaN
+        block[:, targets] = values[:, sources]
+        for column, coeff, source in aliases:
+            block[:, column] = coeff if source < 0 else coeff * values[:, source]
+        for name, value in discrete.items():
+            block[:, index[name]] = float(value)
+
     @staticmethod
     def _bisect(lo: float, hi: float, dense, flipped, y_hi, t_new):
         """Narrow [lo, hi] (not flipped at lo, flipped at hi) to the flip instant."""
@@ -397,20 +424,17 @@ class _Run:
             names = [n for n in names if n in translation.demand] + discrete_names
         index = {n: k for k, n in enumerate(names)}
         data = np.full((len(self.rows), len(names)), np.nan)
-        times = np.empty(len(self.rows))
-        for r, (t, system, x, discrete) in enumerate(self.rows):
-            times[r] = t
-            try:
-                values = mode_values(translation, system, t, x)
-            except (SimulationError, ArithmeticError, ValueError):
-                values = dict(zip(system.states, x))
-            row = data[r]
-            for n, v in values.items():
-                k = index.get(n)
-                if k is not None:
-                    row[k] = v
-            for n, v in discrete.items():
-                row[index[n]] = float(v)
+        times = np.array([row[0] for row in self.rows], dtype=float)
+        # Rows come in stretches with one system and one set of discrete
+        # values (between events): each stretch is filled column by column.
+        start = 0
+        while start < len(self.rows):
+            _, system, _, discrete = self.rows[start]
+            stop = start + 1
+            while stop < len(self.rows) and self.rows[stop][1] is system and self.rows[stop][3] is discrete:
+                stop += 1
+            self._fill(data[start:stop], index, self.rows[start:stop], system, discrete)
+            start = stop
         columns = {n: data[:, k] for n, k in index.items()}
         for p in flat.parameters:
             if translation.demand is None or p.name in translation.demand:
@@ -428,6 +452,35 @@ class _Run:
         return SimulationResult(times, columns, 0 if error is None else -1, message, tuple(self.events),
                                 tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
                                 error, flat.name)
+
+
+def _fill_plan(translation: Translation, system: ModeSystem, index: dict[str, int]):
+    """Where a system's values go in the result: ``(targets, sources, aliases)``.
+
+    The system's values are its states then its unknowns; ``targets`` are
+    their result columns and ``sources`` their positions (for those the
+    result keeps); ``aliases`` are ``(column, coefficient, position or -1)``
+    with -1 for a constant.
+    """
+    plan = getattr(system, "_fill_plan", None)
+    if plan is not None and plan[0] is index:
+        return plan[1]
+    own = list(system.states) + list(system.unknowns)
+    position = {n: k for k, n in enumerate(own)}
+    pairs = [(index[n], k) for k, n in enumerate(own) if n in index]
+    aliases = []
+    for name, coeff, source in alias_plan(translation, system):
+        column = index.get(name)
+        if column is None:
+            continue
+        if source is None:
+            aliases.append((column, coeff, -1))
+        elif source in position:  # with an output demand, some are not computed
+            aliases.append((column, coeff, position[source]))
+    result = (np.array([c for c, _ in pairs], dtype=int), np.array([k for _, k in pairs], dtype=int),
+              aliases)
+    object.__setattr__(system, "_fill_plan", (index, result))
+    return result
 
 
 def _base(name: str) -> str:
