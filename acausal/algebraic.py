@@ -106,11 +106,35 @@ class AlgebraicResult:
     nonlinear_blocks: int
 
 
+def _linear_coefficient(residual: sp.Expr, var: sp.Symbol) -> sp.Expr | None:
+    """``d residual / d var`` when each term holding ``var`` is ``c*var`` (c free of it).
+
+    The common case, found without sympy's differentiation (the slow part of
+    solving a large model); None when some term is anything else.
+    """
+    coefficients = []
+    for term in sp.Add.make_args(residual):
+        if not term.has(var):
+            continue
+        if term == var:  # (equal, not always the same object: sympy's symbol cache is bounded)
+            coefficients.append(sp.Integer(1))
+            continue
+        if not isinstance(term, sp.Mul):
+            return None
+        rest = [f for f in term.args if f.has(var)]
+        if len(rest) != 1 or rest[0] != var:
+            return None
+        coefficients.append(sp.Mul(*[f for f in term.args if f != var]))
+    return sp.Add(*coefficients)
+
+
 def _solve_for(residual: sp.Expr, var: sp.Symbol, values: dict) -> sp.Expr | None:
     """``var`` from ``residual = 0`` if linear in it with a non-zero coefficient."""
-    coeff = sp.diff(residual, var)
-    if coeff.has(var):
-        return None
+    coeff = _linear_coefficient(residual, var)
+    if coeff is None:
+        coeff = sp.diff(residual, var)
+        if coeff.has(var):
+            return None
     numeric = coeff.xreplace(values)
     if numeric.is_number and numeric == 0:
         return None

@@ -54,6 +54,7 @@ __all__ = [
     "analyse",
     "augmenting_path",
     "priority_matching",
+    "maximum_matching",
     "check_balance",
     "differentiate",
 ]
@@ -121,6 +122,27 @@ def priority_matching(G: Sequence[Sequence[int]], n_vars: int, order: Sequence[i
     return assign
 
 
+def maximum_matching(G: Sequence[Sequence[int]], n_vars: int) -> list[int]:
+    """A maximum matching by Hopcroft-Karp (networkx): ``assign`` as in
+    :func:`priority_matching`, without its priorities.
+
+    O(E sqrt(V)): one augmenting path per equation, as
+    :func:`priority_matching` finds them, can cost O(V) each on a long drive
+    train whose equations come in an unlucky order.
+
+    References
+    ----------
+    .. [1] J. E. Hopcroft and R. M. Karp, "An n^5/2 algorithm for maximum
+       matchings in bipartite graphs", SIAM J. Comput. 2(4), 225-231, 1973.
+    """
+    graph = nx.Graph()
+    graph.add_nodes_from(range(len(G)))
+    graph.add_nodes_from(range(len(G), len(G) + n_vars))
+    graph.add_edges_from((i, len(G) + j) for i, row in enumerate(G) for j in row)
+    mate = nx.bipartite.hopcroft_karp_matching(graph, top_nodes=range(len(G)))
+    return [mate.get(len(G) + j, -1) for j in range(n_vars)]
+
+
 # --------------------------------------------------------------------------
 # Differentiation
 # --------------------------------------------------------------------------
@@ -131,13 +153,32 @@ def _derivative_text(origin: Origin) -> str:
 
 
 def differentiate(residual: sp.Expr, parameters: set[str]) -> sp.Expr:
-    """Total time derivative of a residual, derivatives as ``der(x)`` symbols."""
-    result = sp.diff(residual, time) if residual.has(time) else sp.Integer(0)
-    for sym in sorted(residual.free_symbols, key=lambda s: s.name):
-        if sym is time or sym.name in parameters:
-            continue
-        result += sp.diff(residual, sym) * real_symbol(der_name(sym.name))
-    return result
+    """Total time derivative of a residual, derivatives as ``der(x)`` symbols.
+
+    Term by term: a term ``c*x`` (``c`` of parameters and numbers) gives
+    ``c*der(x)`` directly, which is most terms of a model; others go through
+    sympy's differentiation by each variable (and time).
+    """
+    terms = []
+    for term in sp.Add.make_args(residual):
+        variables = [s for s in term.free_symbols if s is not time and s.name not in parameters]
+        if len(variables) == 1 and not term.has(time):
+            (sym,) = variables
+            # (compared with ==: sympy's symbol cache is bounded, equal symbols
+            # are not always the same object)
+            if term == sym:
+                terms.append(real_symbol(der_name(sym.name)))
+                continue
+            if isinstance(term, sp.Mul) and sum(f == sym for f in term.args) == 1 \
+                    and all(f == sym or not f.has(sym) for f in term.args):
+                coeff = sp.Mul(*[f for f in term.args if f != sym])
+                terms.append(coeff * real_symbol(der_name(sym.name)))
+                continue
+        if term.has(time):
+            terms.append(sp.diff(term, time))
+        for sym in sorted(variables, key=lambda s: s.name):
+            terms.append(sp.diff(term, sym) * real_symbol(der_name(sym.name)))
+    return sp.Add(*terms)
 
 
 # --------------------------------------------------------------------------
@@ -390,7 +431,11 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
     if len(eqs) != len(unknowns):
         raise StructuralError(f"{context}: after index reduction {len(eqs)} equations for "
                               f"{len(unknowns)} unknowns (internal inconsistency)")
-    assign_u = priority_matching(incidence, len(unknowns), range(len(eqs)))
+    assign_u = maximum_matching(incidence, len(unknowns))
+    if any(a == -1 for a in assign_u):
+        # not perfect: the equation-ordered matching names the culprits the way
+        # the model reads (the original equations are matched first)
+        assign_u = priority_matching(incidence, len(unknowns), range(len(eqs)))
     if any(a == -1 for a in assign_u):
         missing = [unknowns[j] for j, a in enumerate(assign_u) if a == -1]
         matched = set(assign_u)

@@ -152,6 +152,7 @@ class Translation:
                                        "codegen": {}}
         self._parameter_set = set(self.parameter_values)
         self._by_equations: dict[tuple, ModeSystem] = {}
+        self._discrete_names = frozenset(partitioned.discrete_variables)
 
     # -- discrete states ----------------------------------------------------
 
@@ -186,7 +187,7 @@ class Translation:
             if residual is None:
                 residual = eq.residual.xreplace({s: subs[s] for s in used}) if used else eq.residual
                 leftover = [s.name for s in residual.free_symbols if s.name.startswith("$rel")
-                            or s is INITIAL or s.name in self.partitioned.discrete_variables]
+                            or s is INITIAL or s.name in self._discrete_names]
                 if leftover:
                     raise StructuralError(f"{eq.origin}: discrete value {leftover[0]} left after "
                                           f"specialisation")
