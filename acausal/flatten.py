@@ -58,6 +58,10 @@ def der_name(name: str) -> str:
     return f"der({name})"
 
 
+#: Expression types rebuilt without evaluation while der/pre/initial are expanded.
+_UNEVALUATED = (sp.Piecewise, sp.core.relational.Relational, sp.And, sp.Or, sp.Not)
+
+
 def pre_name(name: str) -> str:
     return f"pre({name})"
 
@@ -454,6 +458,10 @@ class _Flattener:
             new_args = [rewrite(a) for a in node.args]
             if all(a is b for a, b in zip(new_args, node.args)):
                 return node
+            if isinstance(node, _UNEVALUATED):
+                # conditions are simplified when the discrete state is substituted;
+                # evaluating them here (assumption queries) was a third of flattening
+                return node.func(*new_args, evaluate=False)
             return node.func(*new_args)
 
         return rewrite(expr)
