@@ -344,8 +344,11 @@ class _Run:
                 if hi_i > lo_i:
                     samples = np.union1d(samples, self.grid[lo_i:hi_i])
                 lo = t_old
-                for s in samples:
-                    xs = dense(s) if s < t_new else solver.y
+                # the dense output at all samples in one call (the step end: its own value)
+                inside = samples[samples < t_new]
+                states_at = dense(inside).T if len(inside) else ()
+                for i, s in enumerate(samples):
+                    xs = states_at[i] if s < t_new else solver.y
                     hit = flipped(s, xs)
                     if hit:
                         event = self._bisect(lo, s, dense, flipped, solver.y if s == t_new else None, t_new)
