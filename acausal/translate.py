@@ -112,6 +112,8 @@ class InitialSystem:
     algebraic: AlgebraicResult
     code: GeneratedCode
     outputs: Any = field(repr=False, compare=False)
+    #: Seconds spent building it (matching, BLT, solving, code), its mode's system excluded.
+    seconds: float = 0.0
 
 
 class Translation:
@@ -339,6 +341,7 @@ class Translation:
         if cached is not None:
             return cached
         mode = self.system(key)
+        t_start = _time.perf_counter()
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
@@ -402,7 +405,7 @@ class Translation:
                         memo=self._memo["codegen"])
         _, _, outputs = code.make(self.parameter_vector)
         system = InitialSystem(key, tuple(kept_eqs), tuple(unknowns), relaxed, blt, algebraic, code,
-                               outputs)
+                               outputs, _time.perf_counter() - t_start)
         self.initial_systems[key] = system
         return system
 
@@ -425,7 +428,9 @@ class Translation:
 
     @property
     def translation_seconds(self) -> float:
-        return self.flatten_seconds + sum(sum(s.timings.values()) for s in self.systems.values())
+        """Seconds spent translating so far: flattening, every system compiled, every initialization system."""
+        return (self.flatten_seconds + sum(sum(s.timings.values()) for s in self.systems.values())
+                + sum(s.seconds for s in self.initial_systems.values()))
 
 
 #: Translations of recently seen models, by model signature (see model_signature).
