@@ -709,7 +709,9 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
 
 
 def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
-    code = ("import json, sys; sys.path.insert(0, {root!r}); from acausal.bench import scaling_point; "
+    # the collector set as in an `acausal` command: fewer pauses, landing in fewer stages at random
+    code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.cli import GC_THRESHOLD; "
+            "gc.set_threshold(*GC_THRESHOLD); from acausal.bench import scaling_point; "
             "report = lambda p: print('@@' + json.dumps(p), flush=True); "
             "report(scaling_point({n}, {stop}, progress=report))").format(root=str(ROOT), n=n, stop=stop_time)
     env = dict(os.environ)
@@ -1131,7 +1133,8 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True)
         "# Scaling", "",
         "Drive train of N units Inertia–BearingFriction–SpringDamper (no heat ports), sine-driven, all "
         "bearings sliding; " + ("each size in a fresh process (sympy's caches cold, as for a user's "
-                                "first translation). " if isolated else
+                                "first translation; the garbage collector set as in an `acausal` "
+                                "command). " if isolated else
                                 "in the bench's own process (sympy's caches warm from earlier "
                                 "translations, so faster than a first translation). ") +
         "Translation (1 mode) = flatten+partition + the stages (alias, structure, blt, "

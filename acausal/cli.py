@@ -33,6 +33,9 @@ from .simulate import METHODS
 
 __all__ = ["main", "run", "load_model_class"]
 
+#: The garbage collector's thresholds in a command (see :func:`run`); the default is (700, 10, 10).
+GC_THRESHOLD = (100_000, 50, 100)
+
 #: Relative tolerance used by ``acausal compare`` unless given (or the experiment's is tighter).
 COMPARE_RTOL = 1e-6
 
@@ -414,7 +417,7 @@ def run() -> None:
     0.1-0.2 s of a one-second command.  :func:`main` itself leaves the
     collector alone, for callers in a long-running process.
     """
-    gc.set_threshold(100_000, 50, 100)
+    gc.set_threshold(*GC_THRESHOLD)
     try:
         status = main()
     finally:
