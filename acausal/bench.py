@@ -742,6 +742,56 @@ def _last_report(output) -> dict | None:
     return None
 
 
+#: Fresh-process commands timed against the issue's target (wall seconds).
+COMMAND_TARGETS = (("First", "examples/first.py"), ("TwoMasses", "examples/two_masses.py"),
+                   ("CoupledClutches", "examples/coupled_clutches.py"))
+COMMAND_TARGET_SECONDS = 1.0
+
+
+def run_commands(repeats: int = 5, log: Callable[[str], None] | None = None) -> list[dict]:
+    """Wall time of ``acausal compare EXAMPLE`` in a new Python process, ``repeats`` times each.
+
+    The whole command as a user runs it: interpreter start, imports,
+    translation, simulation, reading the reference and the tube test.  Each
+    record has the smallest and the median wall time and the exit status
+    (0 = the comparison passed; without reference data it cannot).
+    """
+    log = log or (lambda _s: None)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    records = []
+    for name, example in COMMAND_TARGETS:
+        walls, statuses = [], set()
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            proc = subprocess.run([sys.executable, "-m", "acausal", "compare", example], cwd=str(ROOT),
+                                  env=env, capture_output=True, text=True)
+            walls.append(time.perf_counter() - t0)
+            statuses.add(proc.returncode)
+        record = {"model": name, "command": f"acausal compare {example}", "runs": repeats,
+                  "min_wall": min(walls), "median_wall": float(np.median(walls)),
+                  "max_wall": max(walls), "exit_status": max(statuses),
+                  "target": COMMAND_TARGET_SECONDS}
+        records.append(record)
+        log(f"  {record['command']}: min {record['min_wall']:.2f} s, median {record['median_wall']:.2f} s, "
+            f"exit {record['exit_status']}")
+    return records
+
+
+def _commands_markdown(records: Sequence[dict]) -> str:
+    rows = [(r["command"], r["runs"], f"{r['min_wall']:.2f}", f"{r['median_wall']:.2f}",
+             f"{r['max_wall']:.2f}", r["exit_status"],
+             "met" if r["median_wall"] < r["target"] else "**not met**") for r in records]
+    table = _md_table(("command", "runs", "min wall [s]", "median wall [s]", "max wall [s]",
+                       "exit status", f"median < {COMMAND_TARGET_SECONDS:g} s"), rows)
+    return "\n".join([
+        "# Fresh-process commands", "",
+        "Each command in a new Python process (`python -m acausal compare ...`), timed from outside: "
+        "interpreter start, imports, translation, simulation, reference reading and the tube test. "
+        "Exit status 0: the comparison passed (2 without reference data). The target is the median.",
+        "", table, ""])
+
+
 def fit_power_law(ns: Sequence[float], seconds: Sequence[float]) -> tuple[float, float]:
     """``(a, b)`` of ``seconds ≈ a n^b`` by least squares in log–log (NaN if < 2 points)."""
     pts = [(n, s) for n, s in zip(ns, seconds) if s is not None and s > 0 and math.isfinite(s)]
@@ -1249,7 +1299,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               rtols: Sequence[float] | None = None, *, case_names: Sequence[str] | None = None,
               effects: bool = True, scaling_sizes: Sequence[int] | None = None,
               repeats: int | None = None, isolate_scaling: bool = True,
-              verbose: bool = False) -> BenchResult:
+              commands: bool = True, verbose: bool = False) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -1260,9 +1310,10 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         3 repeats; scaling N = 10 ... 1000 within a time budget per point.
     methods, rtols : optional
         Override the adaptive methods and tolerances.
-    case_names, effects, scaling_sizes, repeats :
+    case_names, effects, scaling_sizes, repeats, commands :
         Reduce the bench (tests): the cases to run, whether to run the
-        effects section, the scaling sizes (``()`` for none).
+        effects section, the scaling sizes (``()`` for none), whether to
+        time the fresh-process commands.
     isolate_scaling : bool
         Run each scaling point in a fresh process (default), so that every
         translation starts with sympy's caches cold, as a user's first
@@ -1307,6 +1358,11 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     effect_records = run_effects(repeats=1 if quick else repeats, log=log) if effects else []
     if effects:
         section("effects", start)
+    log("fresh-process commands")
+    start = (time.perf_counter(), cpu())
+    command_records = run_commands(3 if quick else 7, log=log) if commands else []
+    if commands:
+        section("commands", start)
     if sizes:
         log("scaling")
     start = (time.perf_counter(), cpu())
@@ -1342,6 +1398,12 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         files["effects.md"].write_text(tables["effects"])
         files["effects.csv"] = out_dir / "effects.csv"
         _write_dict_csv(files["effects.csv"], [vars(r) for r in effect_records])
+    if command_records:
+        tables["commands"] = _commands_markdown(command_records)
+        files["commands.md"] = out_dir / "commands.md"
+        files["commands.md"].write_text(tables["commands"])
+        files["commands.csv"] = out_dir / "commands.csv"
+        _write_dict_csv(files["commands.csv"], command_records)
     if points:
         tables["scaling"] = _scaling_markdown(points, fits, isolate_scaling)
         files["scaling.md"] = out_dir / "scaling.md"
@@ -1386,7 +1448,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.error(f"--rtols: not a list of numbers: {args.rtols!r}")
     result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True)
     print()
-    for key in ("bench", "effects", "scaling"):
+    for key in ("bench", "effects", "commands", "scaling"):
         if key in result.tables:
             print(result.tables[key])
             print()

@@ -42,7 +42,7 @@ def test_exact_cases_converge(name):
 def test_run_bench_writes_files(tmp_path):
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-4, 1e-7],
                              case_names=["CoastDown", "StickSlip"], effects=False, scaling_sizes=(2, 4),
-                             isolate_scaling=False,
+                             isolate_scaling=False, commands=False,
                              repeats=1)
     for name in ("bench.md", "bench.csv", "work_precision.png", "scaling.md", "scaling.csv", "scaling.png"):
         assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
@@ -61,3 +61,16 @@ def test_pruning_keeps_the_requested_output():
     assert record.max_rel_difference < 1e-6
     assert record.states_kept < record.states_total
     assert record.derivative_steps_kept < record.derivative_steps_full
+
+
+def test_fresh_process_commands_pass_their_comparison():
+    """The commands the speed target is measured on run as a user runs them, and pass."""
+    from acausal.compare import reference_dir
+
+    if not (reference_dir() / "Modelica.Mechanics.Rotational.Examples.First").is_dir():
+        pytest.skip(f"MSL reference results not found at {reference_dir()}; set ACAUSAL_REFERENCE_DIR")
+    records = bench.run_commands(repeats=1)
+    assert [r["model"] for r in records] == ["First", "TwoMasses", "CoupledClutches"]
+    assert [r["exit_status"] for r in records] == [0, 0, 0]
+    text = bench._commands_markdown(records)
+    assert all(r["command"] in text for r in records)
