@@ -68,9 +68,23 @@ def test_fresh_process_commands_pass_their_comparison():
     from acausal.compare import reference_dir
 
     if not (reference_dir() / "Modelica.Mechanics.Rotational.Examples.First").is_dir():
-        pytest.skip(f"MSL reference results not found at {reference_dir()}; set ACAUSAL_REFERENCE_DIR")
+        pytest.skip(f"MSL reference results not found at {reference_dir()}; set ACAUSAL_REFERENCE_DIR "
+                    f"(modelica/MAP-LIB_ReferenceResults, branch v4.1.0)")
     records = bench.run_commands(repeats=1)
     assert [r["model"] for r in records] == ["First", "TwoMasses", "CoupledClutches"]
     assert [r["exit_status"] for r in records] == [0, 0, 0]
     text = bench._commands_markdown(records)
     assert all(r["command"] in text for r in records)
+
+
+def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeypatch):
+    """Cases needing the MSL reference results are skipped with the reason, not crashed on."""
+    monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
+    result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-6],
+                             case_names=["StickSlip", "First"], effects=False, scaling_sizes=(),
+                             repeats=1)
+    assert [run.case.name for run in result.runs] == ["StickSlip"]
+    assert set(result.skipped) == {"case First", "fresh-process commands"}
+    assert all("no-reference" in why for why in result.skipped.values())
+    assert "## Not measured" in (tmp_path / "bench.md").read_text()
+    assert (tmp_path / "work_precision.png").stat().st_size > 0
