@@ -15,6 +15,7 @@ same model every time.
 
 from __future__ import annotations
 
+import builtins
 import keyword
 import math
 import re
@@ -117,16 +118,17 @@ def python_identifiers(names: Sequence[str], taken: set[str] | None = None) -> d
     """Readable, distinct Python identifiers for model names (``J1.w`` -> ``J1_w``).
 
     ``der(J1.w)`` becomes ``der_J1_w``.  Names that would clash with a Python
-    keyword, with the names the generated code uses itself (``t``, ``x``,
-    ``p``, ``math``, ``np``, anything starting with ``_``) or with an earlier
-    name get a prefix or a numeric suffix; the result depends only on the
-    order of ``names``, so it is the same every run.
+    keyword or builtin (``max``, ``abs``), with the names the generated code
+    uses itself (``t``, ``x``, ``p``, ``math``, ``np``, anything starting with
+    ``_``) or with an earlier name get a prefix or a numeric suffix; the
+    result depends only on the order of ``names``, so it is the same every run.
     """
     taken = set() if taken is None else taken
     out = {}
     for name in names:
         ident = re.sub(r"\W", "_", name.replace("(", "_").replace(")", "")) or "v"
-        if ident[0].isdigit() or ident.startswith("_") or ident in _RESERVED or keyword.iskeyword(ident):
+        if (ident[0].isdigit() or ident.startswith("_") or ident in _RESERVED or keyword.iskeyword(ident)
+                or hasattr(builtins, ident)):  # a variable `max` must not hide max()
             ident = "v_" + ident
         candidate, k = ident, 2
         while candidate in taken:
