@@ -157,7 +157,10 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
     memo = {} if memo is None else memo
     values = memo.get("values")
     if values is None:
+        memo["parameter_values"] = dict(parameter_values)
         values = memo["values"] = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
+    elif memo["parameter_values"] != parameter_values:
+        raise ValueError("solve_blocks: this memo belongs to other parameter values")
     steps = []
     torn = linear = nonlinear = 0
     for block in blt.blocks:
@@ -174,7 +177,8 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
             nonlinear += 1
             steps.append(NewtonSolve((names[0],), (), (eqs[0].residual,), (str(eqs[0].origin),)))
             continue
-        key = (tuple(e.residual for e in eqs), tuple(names))
+        # (the origins too: the step names its equations in error messages)
+        key = (tuple(e.residual for e in eqs), tuple(names), tuple(e.origin for e in eqs))
         step = memo.get(key)
         if step is None:
             step = memo[key] = _tear(eqs, names, values)

@@ -112,7 +112,10 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     memo = {} if memo is None else memo
     candidates = memo.get("candidates")
     if candidates is None:
+        memo["inputs"] = (variables, parameters, keep)
         candidates = memo["candidates"] = {n for n, v in variables.items() if not v.is_discrete} - keep
+    elif memo["inputs"] != (variables, parameters, keep):
+        raise ValueError("eliminate_aliases: this memo belongs to other variables or parameters")
     differentiated = set()
     for eq in equations:
         for sym in eq.residual.free_symbols:

@@ -15,7 +15,6 @@ same model every time.
 
 from __future__ import annotations
 
-import builtins
 import keyword
 import math
 import re
@@ -51,11 +50,20 @@ class _Printer(PythonCodePrinter):
 
     def _print_Symbol(self, expr):  # noqa: N802
         ident = self.local.get(expr.name)
-        if ident is not None:
-            return ident
-        if expr.name.startswith("_"):  # a common subexpression of this step
-            return expr.name
-        raise SolverError(f"generated code: {expr.name} is not known here")
+        if ident is None:
+            raise SolverError(f"generated code: {expr.name} is not known here")
+        return ident
+
+    def _print_Temporary(self, expr):  # noqa: N802
+        return expr.name
+
+
+class Temporary(sp.Symbol):
+    """A common subexpression of one step: printed by its own name.
+
+    Its own class, so that a model variable of the same name (``_y_0``) can
+    never be taken for it.
+    """
 
 
 @dataclass(frozen=True)
@@ -127,8 +135,7 @@ def python_identifiers(names: Sequence[str], taken: set[str] | None = None) -> d
     out = {}
     for name in names:
         ident = re.sub(r"\W", "_", name.replace("(", "_").replace(")", "")) or "v"
-        if (ident[0].isdigit() or ident.startswith("_") or ident in _RESERVED or keyword.iskeyword(ident)
-                or hasattr(builtins, ident)):  # a variable `max` must not hide max()
+        if ident[0].isdigit() or ident.startswith("_") or ident in _RESERVED or keyword.iskeyword(ident):
             ident = "v_" + ident
         candidate, k = ident, 2
         while candidate in taken:
@@ -138,8 +145,12 @@ def python_identifiers(names: Sequence[str], taken: set[str] | None = None) -> d
     return out
 
 
-#: Names the generated code defines itself (model names are kept clear of them).
-_RESERVED = {"t", "x", "p", "math", "np", "make", "derivatives", "crossings", "outputs"}
+#: Names the generated code defines or calls (model names are kept clear of them): its own,
+#: and the builtins sympy's printer may emit.  A fixed list, not ``dir(builtins)``: that
+#: differs between environments (IPython adds names), and the code must not.
+_RESERVED = {"t", "x", "p", "math", "np", "make", "derivatives", "crossings", "outputs",
+             "abs", "min", "max", "float", "int", "bool", "pow", "round", "sum", "len", "range",
+             "tuple", "list", "dict", "set", "print", "complex", "divmod", "any", "all"}
 
 
 def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
@@ -180,22 +191,19 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     functions: dict = memo.setdefault("functions", {})
     printer = _Printer(functions, local)
 
-    def code_of(step) -> tuple[list[str], set[str]]:
-        key = _step_key(step)
-        found = step_memo.get(key)
-        if found is None:
-            found = step_memo[key] = (_step_code(step, printer, local), step.reads())
-        return found
-
     known = set(states) | set(parameters) | {"time"}
     blocks_code = []
     for step in steps:
-        lines, reads = code_of(step)
+        key = _step_key(step)
+        found = step_memo.get(key)
+        reads = found[1] if found is not None else step.reads()
         if not reads <= known:
             raise SolverError(f"generated code for {name}: {sorted(reads - known)[0]} is not known "
                               f"where {step.defines[0]} is computed")
+        if found is None:
+            found = step_memo[key] = (_step_code(step, printer, local), reads)
         known |= set(step.defines)
-        blocks_code.append(lines)
+        blocks_code.append(found[0])
     deriv_steps = needed_steps(steps, set(derivatives))
     cross_reads = set()
     for g in crossings:
@@ -296,7 +304,7 @@ def _cse_lines(exprs: list[sp.Expr], printer, prefix: str) -> tuple[list[str], l
     """
     if len(exprs) == 1 and _small(exprs[0]):
         return [], [printer.doprint(exprs[0])]
-    symbols = sp.numbered_symbols(prefix)
+    symbols = sp.numbered_symbols(prefix, cls=Temporary)
     replacements, reduced = sp.cse(exprs, symbols=symbols, optimizations=None, order="canonical")
     lines = [f"{sym} = {printer.doprint(e)}" for sym, e in replacements]
     return lines, [printer.doprint(e) for e in reduced]

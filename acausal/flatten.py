@@ -58,8 +58,10 @@ def der_name(name: str) -> str:
     return f"der({name})"
 
 
-#: Expression types rebuilt without evaluation while der/pre/initial are expanded.
-_UNEVALUATED = (sp.Piecewise, sp.core.relational.Relational, sp.And, sp.Or, sp.Not)
+#: Expression types rebuilt without evaluation while der/pre/initial are expanded:
+#: they are simplified anyway when the discrete state is substituted.  Relations
+#: are evaluated: one that is always true (der(x)**2 > -1) must not become an event.
+_UNEVALUATED = (sp.Piecewise, sp.And, sp.Or, sp.Not)
 
 
 def pre_name(name: str) -> str:
@@ -459,8 +461,6 @@ class _Flattener:
             if all(a is b for a, b in zip(new_args, node.args)):
                 return node
             if isinstance(node, _UNEVALUATED):
-                # conditions are simplified when the discrete state is substituted;
-                # evaluating them here (assumption queries) was a third of flattening
                 return node.func(*new_args, evaluate=False)
             return node.func(*new_args)
 

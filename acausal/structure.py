@@ -139,8 +139,30 @@ def maximum_matching(G: Sequence[Sequence[int]], n_vars: int) -> list[int]:
     graph.add_nodes_from(range(len(G)))
     graph.add_nodes_from(range(len(G), len(G) + n_vars))
     graph.add_edges_from((i, len(G) + j) for i, row in enumerate(G) for j in row)
-    mate = nx.bipartite.hopcroft_karp_matching(graph, top_nodes=range(len(G)))
+    mate = _bipartite_matching(graph, list(range(len(G))))
     return [mate.get(len(G) + j, -1) for j in range(n_vars)]
+
+
+def _bipartite_matching(graph: nx.Graph, top_nodes: list) -> dict:
+    """networkx's Hopcroft-Karp, or this module's iterative matching where it cannot go.
+
+    networkx searches augmenting paths recursively: a path through thousands
+    of equations (a long chain declared in an unlucky order) exceeds Python's
+    recursion limit.  The equation-by-equation matching finds the same
+    maximum, slower.
+    """
+    try:
+        return nx.bipartite.hopcroft_karp_matching(graph, top_nodes=top_nodes)
+    except RecursionError:
+        top = set(top_nodes)
+        bottom = [n for n in graph if n not in top]
+        index = {n: k for k, n in enumerate(bottom)}
+        G = [sorted(index[m] for m in graph[n]) for n in top_nodes]
+        mate = {}
+        for j, i in enumerate(priority_matching(G, len(bottom), range(len(top_nodes)))):
+            if i >= 0:
+                mate[top_nodes[i]], mate[bottom[j]] = bottom[j], top_nodes[i]
+        return mate
 
 
 # --------------------------------------------------------------------------
@@ -159,26 +181,32 @@ def differentiate(residual: sp.Expr, parameters: set[str]) -> sp.Expr:
     ``c*der(x)`` directly, which is most terms of a model; others go through
     sympy's differentiation by each variable (and time).
     """
-    terms = []
+    # The partial derivatives are summed per variable before they multiply
+    # der(x), so that terms cancel as in d/dx of the whole residual: the
+    # derivative of x*(y + 2) - x*y must not depend on y.
+    partial: dict[sp.Symbol, list] = {}
+    of_time = []
     for term in sp.Add.make_args(residual):
-        variables = [s for s in term.free_symbols if s is not time and s.name not in parameters]
+        variables = [s for s in term.free_symbols if s != time and s.name not in parameters]
         if len(variables) == 1 and not term.has(time):
             (sym,) = variables
             # (compared with ==: sympy's symbol cache is bounded, equal symbols
             # are not always the same object)
             if term == sym:
-                terms.append(real_symbol(der_name(sym.name)))
+                partial.setdefault(sym, []).append(sp.Integer(1))
                 continue
             if isinstance(term, sp.Mul) and sum(f == sym for f in term.args) == 1 \
                     and all(f == sym or not f.has(sym) for f in term.args):
-                coeff = sp.Mul(*[f for f in term.args if f != sym])
-                terms.append(coeff * real_symbol(der_name(sym.name)))
+                partial.setdefault(sym, []).append(sp.Mul(*[f for f in term.args if f != sym]))
                 continue
         if term.has(time):
-            terms.append(sp.diff(term, time))
-        for sym in sorted(variables, key=lambda s: s.name):
-            terms.append(sp.diff(term, sym) * real_symbol(der_name(sym.name)))
-    return sp.Add(*terms)
+            of_time.append(sp.diff(term, time))
+        for sym in variables:
+            partial.setdefault(sym, []).append(sp.diff(term, sym))
+    result = sp.Add(*of_time)
+    for sym in sorted(partial, key=lambda s: s.name):
+        result += sp.Add(*partial[sym]) * real_symbol(der_name(sym.name))
+    return result
 
 
 # --------------------------------------------------------------------------
@@ -257,7 +285,7 @@ def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str
             fam = base_name(name)
             if fam in family_set:
                 graph.add_edge(("e", i), ("v", fam))
-    matching = nx.bipartite.hopcroft_karp_matching(graph, top_nodes=eq_nodes)
+    matching = _bipartite_matching(graph, eq_nodes)
     unmatched_eqs = [i for i in range(len(equations)) if ("e", i) not in matching]
     unmatched_vars = [f for f in families if ("v", f) not in matching]
     if not unmatched_eqs and not unmatched_vars:
@@ -336,8 +364,11 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
     """
     memo = {} if memo is None else memo
     if "values" not in memo:
+        memo["parameter_values"] = dict(parameter_values)
         memo["parameters"] = set(parameter_values)
         memo["values"] = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
+    elif memo["parameter_values"] != parameter_values:
+        raise ValueError("analyse: this memo belongs to other parameter values")
     parameters, values = memo["parameters"], memo["values"]
     derivative_of = memo.setdefault("derivatives", {})
     order_of = {name: k for k, name in enumerate(variables)}

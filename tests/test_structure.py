@@ -397,3 +397,21 @@ def test_ideal_gear_pair_moves_with_the_reflected_inertia():
     np.testing.assert_allclose(result["gear.flange_b.tau"], -RATIO * result["gear.flange_a.tau"],
                                rtol=0, atol=1e-8)
     np.testing.assert_allclose(result["gear.flange_a.tau"], J_B * alpha / RATIO**2, rtol=0, atol=1e-8)
+
+
+def test_maximum_matching_of_a_long_chain_in_an_unlucky_order():
+    """An augmenting path through thousands of equations (networkx's search is recursive)."""
+    from acausal.structure import maximum_matching
+
+    n = 3000
+    G = [[i, i + 1] for i in range(n)] + [[0]]
+    assign = maximum_matching(G, n + 1)
+    assert sorted(assign) == list(range(n + 1))  # perfect
+    assert all(j in G[i] for j, i in enumerate(assign))
+
+
+def test_time_derivative_cancels_as_the_partial_derivatives_do():
+    """d/dt[x*(y + 2) - x*y] = 2*der(x): no dependency on y may be left in the structure."""
+    x, y = sp.Symbol("x", real=True), sp.Symbol("y", real=True)
+    derivative = differentiate(x * (y + 2) - x * y, set())
+    assert derivative == 2 * sp.Symbol("der(x)", real=True)

@@ -67,3 +67,84 @@ def test_python_identifiers_are_readable_and_distinct():
     for ident in values:
         assert ident.isidentifier()
         assert ident not in {"t", "x", "p", "if", "max", "abs"} and not ident.startswith("_")
+
+
+# -- regressions found in review ------------------------------------------------
+
+
+def test_a_variable_named_like_a_temporary_is_not_taken_for_one():
+    """Common subexpressions are named ``_y_0``...; a model variable may be too."""
+    import math
+
+    import sympy as sp
+
+    from acausal import Eq, Experiment, Model, Variable, der
+
+    class Clash(Model):
+        experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.5)
+        x = Variable(start=0.3, fixed=True)
+        _y_0 = Variable()
+        y = Variable()
+
+        def equations(self):
+            s = self.x + 1
+            return [Eq(der(self.x), 1.0), Eq(self._y_0, 100.0 + self.x),
+                    Eq(self.y, sp.sin(s) * sp.cos(s) + s**3 + sp.exp(s))]
+
+    result = simulate(Clash(), rtol=1e-10)
+    s = result["x"] + 1
+    expected = [math.sin(v) * math.cos(v) + v**3 + math.exp(v) for v in s]
+    assert np.allclose(result["y"], expected, rtol=1e-12)
+    assert np.allclose(result["_y_0"], 100.0 + result["x"], rtol=1e-12)
+
+
+def test_a_shared_block_names_the_equations_of_its_own_state():
+    """Two states can build the same block from different equations: errors name the right ones."""
+    import sympy as sp
+
+    from acausal import Boolean, Eq, Experiment, If, Model, Variable, der, time
+    from acausal.algebraic import LinearSolve, NewtonSolve
+
+    class Swap(Model):
+        experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.1)
+        x = Variable(start=0.0, fixed=True)
+        u = Variable()
+        w = Variable()
+        q = Variable()
+        b = Boolean()
+
+        def equations(self):
+            x, u, w, q = self.x, self.u, self.w, self.q
+            r1 = u + 2 * w - x
+            r2 = u * w + sp.sin(time) + 2
+            s = q - x
+            return [Eq(der(x), 1.0), Eq(0, If(self.b, r1, s)), Eq(0, If(self.b, r2, r1)),
+                    Eq(0, If(self.b, s, r2)), Eq(self.b, time < 0.5)]
+
+    translation = translate(Swap(), cache=False)
+    simulate(translation)
+    checked = 0
+    for system in translation.systems.values():
+        equations = system.structure.equations
+        for block, step in zip(system.blt.blocks, system.algebraic.steps):
+            if isinstance(step, (LinearSolve, NewtonSolve)):
+                assert step.origins == tuple(str(equations[i].origin) for i in block.equations)
+                checked += 1
+    assert checked == 2  # one torn block in each of the two states
+
+
+def test_a_relation_that_always_holds_is_no_event():
+    from acausal import Eq, Experiment, If, Model, Variable, der
+
+    class Always(Model):
+        experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.5)
+        x = Variable(start=1.0, fixed=True)
+        y = Variable()
+
+        def equations(self):
+            return [Eq(der(self.x), -self.x), Eq(self.y, If(der(self.x) ** 2 + 1 > 0, 1.0, 2.0))]
+
+    translation = translate(Always(), cache=False)
+    assert translation.partitioned.relations == ()
+    assert not translation.partitioned.is_hybrid
+    assert list(simulate(translation)["y"]) == [1.0, 1.0, 1.0]
