@@ -35,16 +35,22 @@ __all__ = ["GeneratedCode", "generate", "needed_steps", "newton_solve", "python_
 class _Printer(PythonCodePrinter):
     """Python printer that also prints table functions by name."""
 
-    def __init__(self, functions: dict, local: dict[str, str]) -> None:
+    def __init__(self, functions: dict, local: dict[str, str], function_names: dict | None = None) -> None:
         super().__init__({"fully_qualified_modules": True, "standard": "python3"})
-        self.functions = functions
+        self.functions = functions  #: name in the code -> implementation
+        self.function_names = {} if function_names is None else function_names  #: the reverse
         self.local = local
 
     def _print_Function(self, expr):  # noqa: N802 - sympy API
         impl = getattr(type(expr), "_imp_", None) or getattr(expr.func, "_imp_", None)
         if impl is not None:
-            name = f"_f_{type(expr).__name__}"
-            self.functions[name] = impl
+            name = self.function_names.get(impl)
+            if name is None:  # two tables of one class name (a.b_c, a_b.c) stay apart
+                base = name = f"_f_{type(expr).__name__}"
+                k = 2
+                while name in self.functions:
+                    name, k = f"{base}_{k}", k + 1
+                self.functions[name], self.function_names[impl] = impl, name
             return f"{name}({', '.join(self._print(a) for a in expr.args)})"
         return super()._print_Function(expr)
 
@@ -189,7 +195,7 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     memo = {} if memo is None else memo
     step_memo = memo.setdefault("steps", {})
     functions: dict = memo.setdefault("functions", {})
-    printer = _Printer(functions, local)
+    printer = _Printer(functions, local, memo.setdefault("function_names", {}))
 
     known = set(states) | set(parameters) | {"time"}
     blocks_code = []

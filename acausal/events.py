@@ -208,10 +208,11 @@ class DiscreteEvaluator:
         _, _, w, previous, direction, strict, timed, toward = plan
         values = np.asarray(raw, dtype=float)
         lhs, rhs = values[2 * w], values[2 * w + 1]
-        eps = self.epsilon * np.maximum(1.0, np.maximum(np.abs(lhs), np.abs(rhs)))
-        eps = np.where(timed, 0.0, eps)
-        v = direction * ((lhs - rhs) + toward * eps)
-        holds = np.where(strict, v > 0, v >= 0)
+        with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
+            eps = self.epsilon * np.maximum(1.0, np.maximum(np.abs(lhs), np.abs(rhs)))
+            eps = np.where(timed, 0.0, eps)
+            v = direction * ((lhs - rhs) + toward * eps)
+            holds = np.where(strict, v > 0, v >= 0)
         return tuple(w[holds != previous].tolist())
 
     # -- discrete equations -------------------------------------------------------

@@ -351,7 +351,9 @@ class _Run:
                     xs = states_at[i] if s < t_new else solver.y
                     hit = flipped(s, xs)
                     if hit:
-                        event = self._bisect(lo, s, dense, flipped, solver.y if s == t_new else None, t_new)
+                        # the bisection starts from the very state that flipped (the dense
+                        # output evaluated alone can differ in the last bit)
+                        event = self._bisect(lo, s, dense, flipped, xs)
                         break
                     lo = s
             if event is not None:
@@ -383,7 +385,9 @@ class _Run:
             try:
                 values[r, n_states:] = system.outputs(t, x)
             except (SimulationError, ArithmeticError, ValueError):
-                pass  # the states are still known; the rest stays NaN
+                # the states are still known, and so are their aliases and the
+                # constants; the unknowns of this row stay NaN
+                pass
         block[:, targets] = values[:, sources]
         for column, coeff, source in aliases:
             block[:, column] = coeff if source < 0 else coeff * values[:, source]
@@ -391,9 +395,8 @@ class _Run:
             block[:, index[name]] = float(value)
 
     @staticmethod
-    def _bisect(lo: float, hi: float, dense, flipped, y_hi, t_new):
-        """Narrow [lo, hi] (not flipped at lo, flipped at hi) to the flip instant."""
-        x_hi = y_hi if (y_hi is not None and hi == t_new) else dense(hi)
+    def _bisect(lo: float, hi: float, dense, flipped, x_hi):
+        """Narrow [lo, hi] (not flipped at lo, flipped at hi with state ``x_hi``) to the flip instant."""
         hit = flipped(hi, x_hi)
         tol = 4 * np.finfo(float).eps * max(1.0, abs(hi))
         for _ in range(200):

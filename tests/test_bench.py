@@ -72,7 +72,8 @@ def test_fresh_process_commands_pass_their_comparison():
                     f"(modelica/MAP-LIB_ReferenceResults, branch v4.1.0)")
     records = bench.run_commands(repeats=1)
     assert [r["model"] for r in records] == ["First", "TwoMasses", "CoupledClutches"]
-    assert [r["exit_status"] for r in records] == [0, 0, 0]
+    assert [r["passed"] for r in records] == [True, True, True]
+    assert [r["exit_statuses"] for r in records] == ["0", "0", "0"]
     text = bench._commands_markdown(records)
     assert all(r["command"] in text for r in records)
 
@@ -88,3 +89,13 @@ def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeyp
     assert all("no-reference" in why for why in result.skipped.values())
     assert "## Not measured" in (tmp_path / "bench.md").read_text()
     assert (tmp_path / "work_precision.png").stat().st_size > 0
+
+
+def test_a_failing_command_never_meets_the_target(tmp_path, monkeypatch):
+    """Without reference data the commands fail at once, fast: that must not count as met."""
+    monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
+    records = bench.run_commands(repeats=1)
+    assert [r["passed"] for r in records] == [False, False, False]
+    assert [r["met"] for r in records] == [False, False, False]
+    assert all("no-reference" in r["failure"] for r in records)
+    assert bench._commands_markdown(records).count("**not met**") == 3

@@ -148,3 +148,18 @@ def test_a_relation_that_always_holds_is_no_event():
     assert translation.partitioned.relations == ()
     assert not translation.partitioned.is_hybrid
     assert list(simulate(translation)["y"]) == [1.0, 1.0, 1.0]
+
+
+def test_two_tables_of_one_generated_name_stay_apart():
+    """Table classes are named after their component path; a.b_c and a_b.c give one name."""
+    import sympy as sp
+
+    from acausal.codegen import compile_functions
+    from acausal.tables import table_function
+
+    first = table_function("a.b_c", [[0.0, 0.0], [1.0, 1.0]])
+    second = table_function("a_b.c", [[0.0, 0.0], [1.0, 5.0]])
+    assert first.__name__ == second.__name__
+    x = sp.Symbol("x", real=True)
+    f, g = compile_functions([["x"], ["x"]], [first(x), second(x)])
+    assert (f(0.5), g(0.5)) == (0.5, 2.5)
