@@ -415,7 +415,7 @@ def run() -> None:
     to free: it runs less often here (as mypy does).  At exit one collection
     finalizes the garbage there is (a model file's objects included), and
     what is left is frozen, so that the interpreter's teardown does not
-    traverse it all again.  Together that is about 0.15 s of a one-second
+    traverse it all again.  Together that is about 0.1 s of a one-second
     command.  :func:`main` itself leaves the collector alone, for callers in a
     long-running process.
     """
