@@ -7,11 +7,16 @@ what a state's system is: these tests compile states in different orders and
 compare with states compiled alone.
 """
 
+import math
+
 import numpy as np
 import pytest
+import sympy as sp
 
-from acausal import simulate, translate
-from acausal.codegen import python_identifiers
+from acausal import Boolean, Eq, Experiment, If, Model, Variable, der, simulate, time, translate
+from acausal.algebraic import LinearSolve, NewtonSolve
+from acausal.codegen import compile_functions, python_identifiers
+from acausal.tables import table_function
 from examples.coupled_clutches import CoupledClutches
 
 
@@ -74,11 +79,6 @@ def test_python_identifiers_are_readable_and_distinct():
 
 def test_a_variable_named_like_a_temporary_is_not_taken_for_one():
     """Common subexpressions are named ``_y_0``...; a model variable may be too."""
-    import math
-
-    import sympy as sp
-
-    from acausal import Eq, Experiment, Model, Variable, der
 
     class Clash(Model):
         experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.5)
@@ -100,10 +100,6 @@ def test_a_variable_named_like_a_temporary_is_not_taken_for_one():
 
 def test_a_shared_block_names_the_equations_of_its_own_state():
     """Two states can build the same block from different equations: errors name the right ones."""
-    import sympy as sp
-
-    from acausal import Boolean, Eq, Experiment, If, Model, Variable, der, time
-    from acausal.algebraic import LinearSolve, NewtonSolve
 
     class Swap(Model):
         experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.1)
@@ -134,8 +130,6 @@ def test_a_shared_block_names_the_equations_of_its_own_state():
 
 
 def test_a_relation_that_always_holds_is_no_event():
-    from acausal import Eq, Experiment, If, Model, Variable, der
-
     class Always(Model):
         experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.5)
         x = Variable(start=1.0, fixed=True)
@@ -152,11 +146,6 @@ def test_a_relation_that_always_holds_is_no_event():
 
 def test_two_tables_of_one_generated_name_stay_apart():
     """Table classes are named after their component path; a.b_c and a_b.c give one name."""
-    import sympy as sp
-
-    from acausal.codegen import compile_functions
-    from acausal.tables import table_function
-
     first = table_function("a.b_c", [[0.0, 0.0], [1.0, 1.0]])
     second = table_function("a_b.c", [[0.0, 0.0], [1.0, 5.0]])
     assert first.__name__ == second.__name__
