@@ -10,6 +10,7 @@ data flows:
 against the Modelica reference results; ``explain`` shows the stages.
 """
 
+from . import errors
 from .errors import *  # noqa: F401,F403
 from .language import (
     Boolean,
@@ -37,3 +38,14 @@ from .simulate import METHODS, simulate
 from .translate import Translation, translate
 
 __version__ = "0.1.0"
+
+__all__ = [
+    # the language
+    "Boolean", "Component", "Connector", "Eq", "Experiment", "Flow", "If", "Integer", "Model",
+    "Parameter", "Potential", "RealInput", "RealOutput", "StateSelect", "Variable", "der", "initial",
+    "pre", "time",
+    # the engine
+    "METHODS", "Event", "SimulationResult", "Translation", "simulate", "translate",
+    # the errors
+    *errors.__all__,
+]

@@ -25,7 +25,6 @@ from typing import Sequence
 import sympy as sp
 
 from .blt import BLTResult
-from .errors import StructuralError
 from .flatten import FlatEquation
 from .language import real_symbol
 

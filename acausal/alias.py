@@ -256,7 +256,7 @@ def _merge(rep: str, members: list[str], factor: dict[str, int], variables: dict
                     f"{variables[fixed_from].start} and {m} has fixed start {v.start}, but they are "
                     f"connected so that {m} = {'-' if factor[m] * factor[fixed_from] < 0 else ''}"
                     f"{fixed_from}",
-                    hint=f"remove fixed=True from one of them")
+                    hint="remove fixed=True from one of them")
             if fixed_from is None:
                 fixed_from, start = m, value
     if fixed_from is None:

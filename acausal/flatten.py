@@ -10,7 +10,7 @@ chain rule.  Every equation remembers where it came from.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -24,7 +24,6 @@ from .language import (
     Experiment,
     Flow,
     Integer,
-    Model,
     Parameter,
     Potential,
     StateSelect,

@@ -15,7 +15,6 @@ later stages build their own continuous system, lazily.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
 
 import networkx as nx
 import sympy as sp

@@ -28,8 +28,7 @@ import scipy.integrate as integrate
 import sympy as sp
 
 from .errors import ChatteringError, SimulationError, SolverError, StructuralError
-from .events import DiscreteEvaluator, alias_plan, mode_values
-from .flatten import der_name
+from .events import alias_plan, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
 from .language import Component, time as time_symbol

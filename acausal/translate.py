@@ -23,8 +23,7 @@ from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .codegen import GeneratedCode, generate, needed_steps, python_identifiers
-from .errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError,
-                     UnderDeterminedError)
+from .errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError)
 from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
 from .language import Component, real_symbol
 from .partition import PartitionedModel, partition

@@ -20,7 +20,6 @@ from acausal.errors import ConnectionError_, ModifierError, ParameterError
 from acausal.language import (
     Boolean,
     Connector,
-    Flow,
     Integer,
     Model,
     Parameter,

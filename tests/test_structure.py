@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from acausal import Eq, Model, StateSelect, Variable, simulate, time
+from acausal import Model, StateSelect, simulate, time
 from acausal.alias import eliminate_aliases
 from acausal.blt import sort_blt
 from acausal.errors import (
@@ -22,7 +22,7 @@ from acausal.errors import (
     UnderDeterminedError,
 )
 from acausal.flatten import FlatEquation, FlatVariable, Origin
-from acausal.language import Component, real_symbol
+from acausal.language import real_symbol
 from acausal.structure import analyse, augmenting_path, check_balance, differentiate, priority_matching
 from acausal.translate import translate
 from library.rotational import ConstantTorque, IdealGear, Inertia

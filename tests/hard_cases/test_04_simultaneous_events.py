@@ -153,7 +153,6 @@ def test_different_inertias_switch_at_the_same_instant(method):
     t2 = np.array([e.time for e, _, _ in changes_of(result, "bearing2.mode")])
     gap = np.max(np.abs(t1[1:] - t2[1:]))
     assert gap <= 1e-9
-    t = result.time
     np.testing.assert_allclose(J2 * result["inertia2.w"], J1 * result["inertia1.w"], rtol=0,
                                atol=1e-8)
     print(f"\n[case 4] J = 1 and 3, {method}: {len([e for e in result.events if e.kind == 'state'])} "
