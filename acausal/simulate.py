@@ -374,9 +374,14 @@ class _Run:
                 return t_new, solver.y.copy(), None
 
     def _fill(self, block: np.ndarray, index: dict[str, int], rows, system: ModeSystem,
-              discrete: dict) -> None:
-        """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``."""
-        targets, sources, aliases = _fill_plan(self.translation, system, index)
+              discrete: dict, plans: dict) -> None:
+        """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
+
+        ``plans`` keeps each system's :func:`_fill_plan` for its next stretch.
+        """
+        if system.key not in plans:
+            plans[system.key] = _fill_plan(self.translation, system, index)
+        targets, sources, aliases = plans[system.key]
         n_states = len(system.states)
         values = np.full((len(rows), n_states + len(system.unknowns)), np.nan)
         for r, (t, _, x, _) in enumerate(rows):
@@ -432,13 +437,13 @@ class _Run:
         times = np.array([row[0] for row in self.rows], dtype=float)
         # Rows come in stretches with one system and one set of discrete
         # values (between events): each stretch is filled column by column.
-        start = 0
+        start, plans = 0, {}
         while start < len(self.rows):
             _, system, _, discrete = self.rows[start]
             stop = start + 1
             while stop < len(self.rows) and self.rows[stop][1] is system and self.rows[stop][3] is discrete:
                 stop += 1
-            self._fill(data[start:stop], index, self.rows[start:stop], system, discrete)
+            self._fill(data[start:stop], index, self.rows[start:stop], system, discrete, plans)
             start = stop
         columns = {n: data[:, k] for n, k in index.items()}
         for p in flat.parameters:
@@ -467,9 +472,6 @@ def _fill_plan(translation: Translation, system: ModeSystem, index: dict[str, in
     result keeps); ``aliases`` are ``(column, coefficient, position or -1)``
     with -1 for a constant.
     """
-    plan = getattr(system, "_fill_plan", None)
-    if plan is not None and plan[0] is index:
-        return plan[1]
     own = list(system.states) + list(system.unknowns)
     position = {n: k for k, n in enumerate(own)}
     pairs = [(index[n], k) for k, n in enumerate(own) if n in index]
@@ -482,10 +484,8 @@ def _fill_plan(translation: Translation, system: ModeSystem, index: dict[str, in
             aliases.append((column, coeff, -1))
         elif source in position:  # with an output demand, some are not computed
             aliases.append((column, coeff, position[source]))
-    result = (np.array([c for c, _ in pairs], dtype=int), np.array([k for _, k in pairs], dtype=int),
-              aliases)
-    object.__setattr__(system, "_fill_plan", (index, result))
-    return result
+    return (np.array([c for c, _ in pairs], dtype=int), np.array([k for _, k in pairs], dtype=int),
+            aliases)
 
 
 def _base(name: str) -> str:
