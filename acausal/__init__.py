@@ -33,9 +33,9 @@ from .language import (
     pre,
     time,
 )
-from .result import Event, SimulationResult
-from .simulate import METHODS, simulate
-from .translate import Translation, translate
+from .runtime.result import Event, SimulationResult
+from .runtime.simulate import METHODS, simulate
+from .compiler.translate import Translation, translate
 
 __version__ = "0.1.0"
 

@@ -1,5 +1,5 @@
 """``python -m acausal``: the same command line as the ``acausal`` script."""
 
-from .cli import run
+from .tools.cli import run
 
 run()

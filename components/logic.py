@@ -5,7 +5,7 @@ so ``initial()`` and ``pre(startForward)`` are sympy *expressions*, and sympy's
 logic functions reject them (``And(initial(), w > 0)`` raises ``TypeError:
 expecting bool or Boolean``).  :func:`is_initial` and :func:`pre_boolean`
 return objects that are sympy Booleans, compare equal to ``initial()`` and
-``pre(b)`` and have the same ``func`` (so ``acausal.flatten`` rewrites them to
+``pre(b)`` and have the same ``func`` (so ``acausal.compiler.flatten`` rewrites them to
 the symbols ``initial()`` and ``pre(b)`` as usual).  If the language ever
 makes ``initial()``/``pre(b)`` Boolean by itself, these helpers return them
 unchanged.

@@ -12,9 +12,9 @@ Energy balance: work of the torque source = kinetic energy gained + C·ΔT.
 import numpy as np
 
 from acausal import Experiment, Model
-from library.blocks import Sine
-from library.rotational import BearingFriction, Inertia, Torque
-from library.thermal import HeatCapacitor
+from acausal.library.blocks import Sine
+from acausal.library.rotational import BearingFriction, Inertia, Torque
+from acausal.library.thermal import HeatCapacitor
 
 
 class BearingHeating(Model):

@@ -9,8 +9,8 @@ starts at 10 rad/s.
 import math
 
 from acausal import Experiment, Model, Parameter
-from library.blocks import Sine, Step
-from library.rotational import Clutch, Fixed, Inertia, Torque
+from acausal.library.blocks import Sine, Step
+from acausal.library.rotational import Clutch, Fixed, Inertia, Torque
 
 
 class CoupledClutches(Model):

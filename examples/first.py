@@ -9,8 +9,8 @@ reference results.
 """
 
 from acausal import Experiment, Model, Parameter
-from library.blocks import Sine
-from library.rotational import Damper, Fixed, IdealGear, Inertia, Spring, Torque
+from acausal.library.blocks import Sine
+from acausal.library.rotational import Damper, Fixed, IdealGear, Inertia, Spring, Torque
 
 
 class First(Model):

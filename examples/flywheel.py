@@ -20,8 +20,8 @@ import math
 import sympy as sp
 
 from acausal import Component, Eq, Experiment, Model, Parameter, Variable, der
-from components.rotational import Flange_a
-from library.rotational import ConstantTorque, Inertia
+from acausal.components.rotational import Flange_a
+from acausal.library.rotational import ConstantTorque, Inertia
 
 
 class QuadraticDrag(Component):

@@ -10,8 +10,8 @@ brake stops the train.
 import math
 
 from acausal import Experiment, Model, Parameter
-from library.blocks import Constant, Product, Sine, Step
-from library.rotational import Brake, Clutch, Fixed, Inertia, SpringDamper, Torque
+from acausal.library.blocks import Constant, Product, Sine, Step
+from acausal.library.rotational import Brake, Clutch, Fixed, Inertia, SpringDamper, Torque
 
 
 class Friction(Model):

@@ -10,8 +10,8 @@ Four independent drive trains, each driven by a torque 10·sin(2·pi·t):
 """
 
 from acausal import Experiment, Model
-from library.blocks import Sine, Step
-from library.rotational import BearingFriction, Brake, Clutch, Inertia, OneWayClutch, Torque
+from acausal.library.blocks import Sine, Step
+from acausal.library.rotational import BearingFriction, Brake, Clutch, Inertia, OneWayClutch, Torque
 
 
 class TestFriction(Model):

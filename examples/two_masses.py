@@ -6,7 +6,7 @@ with ``fixed=False`` computed by an initial equation (323.15 K).
 """
 
 from acausal import Eq, Experiment, Model, Parameter
-from library.thermal import CelsiusTemperatureSensor, HeatCapacitor, ThermalConductor
+from acausal.library.thermal import CelsiusTemperatureSensor, HeatCapacitor, ThermalConductor
 
 
 class TwoMasses(Model):

@@ -15,8 +15,8 @@ import pytest
 
 from acausal import Event, Model, simulate
 from examples.two_masses import TwoMasses
-from library.blocks import Step
-from library.rotational import ConstantTorque, Fixed, Inertia, Spring, SpringDamper, Torque
+from acausal.library.blocks import Step
+from acausal.library.rotational import ConstantTorque, Fixed, Inertia, Spring, SpringDamper, Torque
 
 # --------------------------------------------------------------------------
 # damped spring-inertia oscillator

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from acausal import bench
+from acausal.tools import bench
 
 
 def test_exact_solutions_are_consistent():
@@ -65,7 +65,7 @@ def test_pruning_keeps_the_requested_output():
 
 def test_fresh_process_commands_pass_their_comparison():
     """The commands the speed target is measured on run as a user runs them, and pass."""
-    from acausal.compare import reference_dir
+    from acausal.tools.compare import reference_dir
 
     if not (reference_dir() / "Modelica.Mechanics.Rotational.Examples.First").is_dir():
         pytest.skip(f"MSL reference results not found at {reference_dir()}; set ACAUSAL_REFERENCE_DIR "

@@ -1,4 +1,4 @@
-"""Tests of the ``acausal`` command line (acausal.cli, python -m acausal)."""
+"""Tests of the ``acausal`` command line (acausal.tools.cli, python -m acausal)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from acausal.cli import main
-from acausal.compare import reference_dir
+from acausal.tools.cli import main
+from acausal.tools.compare import reference_dir
 
 REPO = Path(__file__).resolve().parents[1]
 FIRST = REPO / "examples" / "first.py"
@@ -328,7 +328,7 @@ def test_structural_error_is_a_model_error(in_tmp, capsys):
 def test_bad_modifier_at_instantiation(in_tmp, capsys):
     path = write_model(in_tmp, "bad_modifier.py", """
         from acausal import Model
-        from library.rotational import Inertia
+        from acausal.library.rotational import Inertia
 
 
         class M(Model):

@@ -1,4 +1,4 @@
-"""Tests of acausal.compare: the csv-compare tube test and the reference loader.
+"""Tests of acausal.tools.compare: the csv-compare tube test and the reference loader.
 
 Hand-made curves use grids and tolerances chosen so that the window ends
 ``t +- dx`` fall exactly on sample times or clearly between them; then the
@@ -14,8 +14,8 @@ from types import MappingProxyType
 import numpy as np
 import pytest
 
-from acausal import compare
-from acausal.compare import (
+from acausal.tools import compare
+from acausal.tools.compare import (
     Comparison,
     Reference,
     SignalComparison,
@@ -73,7 +73,7 @@ def test_reference_dir_prefers_override_then_environment(monkeypatch, tmp_path):
     assert reference_dir() == tmp_path / "from-env"
 
     monkeypatch.delenv("ACAUSAL_REFERENCE_DIR")
-    expected = Path(compare.__file__).resolve().parents[2] / "shared" / "reference" / "msl-4.1.0"
+    expected = Path(compare.__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0"
     assert reference_dir() == expected
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from acausal import simulate
-from acausal.translate import translate
+from acausal.compiler.translate import translate
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -23,10 +23,10 @@ from acausal.errors import (
     StructurallySingularError,
     UnderDeterminedError,
 )
-from acausal.translate import translate
-from library.blocks import Constant
-from library.rotational import Fixed, Inertia, Torque
-from library.thermal import HeatCapacitor
+from acausal.compiler.translate import translate
+from acausal.library.blocks import Constant
+from acausal.library.rotational import Fixed, Inertia, Torque
+from acausal.library.thermal import HeatCapacitor
 
 
 def compile_model(model):

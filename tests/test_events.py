@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acausal import translate
-from acausal.events import _VECTORISE_FROM
+from acausal.runtime.events import _VECTORISE_FROM
 from examples.coupled_clutches import CoupledClutches
 
 _EVALUATOR = translate(CoupledClutches()).evaluator()

@@ -1,4 +1,4 @@
-"""Tests of acausal.explain: the stage-by-stage teaching view."""
+"""Tests of acausal.tools.explain: the stage-by-stage teaching view."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ from pathlib import Path
 import pytest
 
 from acausal import Experiment, Model, simulate, translate
-from acausal.explain import MAX_PICTURES, Explanation, explain
+from acausal.tools.explain import MAX_PICTURES, Explanation, explain
 from examples.first import First
 from examples.two_masses import TwoMasses
-from library.rotational import Inertia
-from library.rotational.sources import TorqueStep
+from acausal.library.rotational import Inertia
+from acausal.library.rotational.sources import TorqueStep
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

@@ -18,11 +18,11 @@ from acausal import Model, simulate
 from acausal.errors import ChatteringError, EventIterationError, ParameterError
 from acausal.language import Boolean, Eq, If, Integer, Variable, der, pre
 from acausal.language import time as time_symbol
-from acausal.translate import translate
-from components.friction import Forward, Free, Stuck
-from components.logic import pre_boolean
-from library.blocks import Constant, Sine, Step
-from library.rotational import (
+from acausal.compiler.translate import translate
+from acausal.components.friction import Forward, Free, Stuck
+from acausal.components.logic import pre_boolean
+from acausal.library.blocks import Constant, Sine, Step
+from acausal.library.rotational import (
     BearingFriction,
     Brake,
     Clutch,
@@ -32,7 +32,7 @@ from library.rotational import (
     Inertia,
     Torque,
 )
-from library.thermal import HeatCapacitor
+from acausal.library.thermal import HeatCapacitor
 
 REST = dict(start=0, fixed=True)
 METHODS = ("DOP853", "RK45")

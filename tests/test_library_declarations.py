@@ -31,10 +31,10 @@ from acausal.language import (
     time,
 )
 from acausal.tables import table_function, validate_table
-from components.friction import Backward, Forward, Free, PartialFriction, Stuck, Unknown
-from library import blocks, rotational, thermal
-from library.blocks import Add, Constant, Cosine, ExpSine, Feedback, Gain, Integrator, Product, Ramp, Sine, Step
-from library.rotational import (
+from acausal.components.friction import Backward, Forward, Free, PartialFriction, Stuck, Unknown
+from acausal.library import blocks, rotational, thermal
+from acausal.library.blocks import Add, Constant, Cosine, ExpSine, Feedback, Gain, Integrator, Product, Ramp, Sine, Step
+from acausal.library.rotational import (
     AccSensor,
     AngleSensor,
     BearingFriction,
@@ -58,7 +58,7 @@ from library.rotational import (
     TorqueSensor,
     TorqueStep,
 )
-from library.thermal import (
+from acausal.library.thermal import (
     Celsius,
     CelsiusFixedTemperature,
     CelsiusTemperatureSensor,
@@ -619,7 +619,7 @@ def test_integrator_matches_closed_form():
     import numpy as np
 
     from acausal import Model, simulate
-    from library.blocks import Integrator, Sine
+    from acausal.library.blocks import Integrator, Sine
 
     class Integrate(Model):
         def build(self):

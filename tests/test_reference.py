@@ -12,7 +12,7 @@ import importlib
 import pytest
 
 from acausal import simulate
-from acausal.compare import compare_signals, load_reference, reference_dir
+from acausal.tools.compare import compare_signals, load_reference, reference_dir
 
 EXAMPLES = [
     ("first", "First", 0),

@@ -13,19 +13,19 @@ import pytest
 import sympy as sp
 
 from acausal import Model, StateSelect, simulate, time
-from acausal.alias import eliminate_aliases
-from acausal.blt import sort_blt
+from acausal.compiler.alias import eliminate_aliases
+from acausal.compiler.blt import sort_blt
 from acausal.errors import (
     InitializationError,
     OverDeterminedError,
     StructurallySingularError,
     UnderDeterminedError,
 )
-from acausal.flatten import FlatEquation, FlatVariable, Origin
+from acausal.compiler.flatten import FlatEquation, FlatVariable, Origin
 from acausal.language import real_symbol
-from acausal.structure import analyse, augmenting_path, check_balance, differentiate, priority_matching
-from acausal.translate import translate
-from library.rotational import ConstantTorque, IdealGear, Inertia
+from acausal.compiler.structure import analyse, augmenting_path, check_balance, differentiate, priority_matching
+from acausal.compiler.translate import translate
+from acausal.library.rotational import ConstantTorque, IdealGear, Inertia
 
 
 # --------------------------------------------------------------------------
@@ -401,7 +401,7 @@ def test_ideal_gear_pair_moves_with_the_reflected_inertia():
 
 def test_maximum_matching_of_a_long_chain_in_an_unlucky_order():
     """An augmenting path through thousands of equations (networkx's search is recursive)."""
-    from acausal.structure import maximum_matching
+    from acausal.compiler.structure import maximum_matching
 
     n = 3000
     G = [[i, i + 1] for i in range(n)] + [[0]]

@@ -14,8 +14,8 @@ import pytest
 import sympy as sp
 
 from acausal import Boolean, Eq, Experiment, If, Model, Variable, der, simulate, time, translate
-from acausal.algebraic import LinearSolve, NewtonSolve
-from acausal.codegen import compile_functions, python_identifiers
+from acausal.compiler.algebraic import LinearSolve, NewtonSolve
+from acausal.compiler.codegen import compile_functions, python_identifiers
 from acausal.tables import table_function
 from examples.coupled_clutches import CoupledClutches
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Eq, Parameter, der
-from components.blocks import SISO
+from acausal.components.blocks import SISO
 
 __all__ = ["Integrator"]
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Eq, Parameter
-from components.blocks import SI2SO, SISO
+from acausal.components.blocks import SI2SO, SISO
 
 __all__ = ["Gain", "Product", "Add", "Feedback"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from acausal.language import Eq, If, Parameter, time
-from components.blocks import SO, SignalSource
+from acausal.components.blocks import SO, SignalSource
 
 __all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine"]
 

@@ -1,6 +1,6 @@
 """Modelica.Mechanics.Rotational: 1D rotational mechanics (components, sources, sensors)."""
 
-from components.rotational import Flange, Flange_a, Flange_b, Support
+from acausal.components.rotational import Flange, Flange_a, Flange_b, Support
 
 from .components import (
     BearingFriction,

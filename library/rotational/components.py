@@ -20,9 +20,9 @@ from acausal.language import (
     pre,
 )
 from acausal.tables import table_function, validate_table
-from components.friction import Forward, PartialFriction
-from components.logic import is_initial, pre_boolean
-from components.rotational import (
+from acausal.components.friction import Forward, PartialFriction
+from acausal.components.logic import is_initial, pre_boolean
+from acausal.components.rotational import (
     Flange_a,
     Flange_b,
     PartialCompliant,
@@ -30,7 +30,7 @@ from components.rotational import (
     PartialElementaryTwoFlangesAndSupport2,
     PartialTwoFlanges,
 )
-from components.thermal import PartialElementaryConditionalHeatPortWithoutT
+from acausal.components.thermal import PartialElementaryConditionalHeatPortWithoutT
 
 __all__ = [
     "Inertia",

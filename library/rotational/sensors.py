@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Eq, RealOutput, Variable, der
-from components.rotational import PartialAbsoluteSensor, PartialRelativeSensor
+from acausal.components.rotational import PartialAbsoluteSensor, PartialRelativeSensor
 
 __all__ = ["AngleSensor", "SpeedSensor", "AccSensor", "TorqueSensor", "RelAngleSensor",
            "RelSpeedSensor", "PowerSensor", "MultiSensor"]

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Eq, If, Parameter, RealInput, Variable, der, time
-from components.rotational import PartialElementaryOneFlangeAndSupport2, PartialTorque
+from acausal.components.rotational import PartialElementaryOneFlangeAndSupport2, PartialTorque
 
 __all__ = ["Torque", "ConstantTorque", "TorqueStep"]
 

@@ -1,6 +1,6 @@
 """Modelica.Thermal.HeatTransfer: lumped heat transfer (components, sources, sensors, Celsius)."""
 
-from components.thermal import HeatPort, HeatPort_a, HeatPort_b
+from acausal.components.thermal import HeatPort, HeatPort_a, HeatPort_b
 
 from . import celsius as Celsius  # noqa: N812 - Modelica package name
 from .celsius import CelsiusFixedTemperature, CelsiusTemperatureSensor

@@ -1,13 +1,13 @@
 """Components with temperatures in degree Celsius (Modelica.Thermal.HeatTransfer.Celsius).
 
-Use it as a namespace, like Modelica: ``from library.thermal import Celsius``
+Use it as a namespace, like Modelica: ``from acausal.library.thermal import Celsius``
 then ``Celsius.FixedTemperature(T=25)`` and ``Celsius.TemperatureSensor()``.
 """
 
 from __future__ import annotations
 
 from acausal.language import Component, Eq, Parameter, RealOutput
-from components.thermal import HeatPort_a, HeatPort_b
+from acausal.components.thermal import HeatPort_a, HeatPort_b
 
 __all__ = ["CelsiusFixedTemperature", "CelsiusTemperatureSensor", "FixedTemperature", "TemperatureSensor"]
 

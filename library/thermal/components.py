@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Component, Eq, Parameter, RealInput, Variable, der
-from components.thermal import Element1D, HeatPort_a, HeatPort_b
+from acausal.components.thermal import Element1D, HeatPort_a, HeatPort_b
 
 __all__ = ["HeatCapacitor", "ThermalConductor", "ThermalResistor", "Convection"]
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Component, Eq, RealOutput
-from components.thermal import HeatPort_a, HeatPort_b
+from acausal.components.thermal import HeatPort_a, HeatPort_b
 
 __all__ = ["TemperatureSensor", "HeatFlowSensor"]
 

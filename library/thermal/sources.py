@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acausal.language import Component, Eq, Parameter, RealInput
-from components.thermal import HeatPort_b
+from acausal.components.thermal import HeatPort_b
 
 __all__ = ["FixedTemperature", "PrescribedTemperature", "FixedHeatFlow", "PrescribedHeatFlow"]
 

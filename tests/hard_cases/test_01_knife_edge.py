@@ -38,8 +38,8 @@ import numpy as np
 import pytest
 
 from acausal import Model, simulate
-from library.blocks import Sine, Step
-from library.rotational import BearingFriction, ConstantTorque, Fixed, IdealGear, Inertia, Torque
+from acausal.library.blocks import Sine, Step
+from acausal.library.rotational import BearingFriction, ConstantTorque, Fixed, IdealGear, Inertia, Torque
 
 REST = dict(start=0, fixed=True)
 STUCK = 0

@@ -45,8 +45,8 @@ import pytest
 from scipy.optimize import brentq
 
 from acausal import Model, simulate
-from library.blocks import Sine
-from library.rotational import BearingFriction, Inertia, Torque
+from acausal.library.blocks import Sine
+from acausal.library.rotational import BearingFriction, Inertia, Torque
 
 REST = dict(start=0, fixed=True)
 J, TAU0, A, F_HZ, PERIODS = 1e-6, 1.0, 1.05, 1.0, 5

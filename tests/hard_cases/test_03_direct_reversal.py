@@ -36,7 +36,7 @@ import numpy as np
 import pytest
 
 from acausal import Model, simulate
-from library.rotational import BearingFriction, ConstantTorque, Inertia
+from acausal.library.rotational import BearingFriction, ConstantTorque, Inertia
 
 REST = dict(start=0, fixed=True)
 FORWARD, STUCK, BACKWARD = 1, 0, -1

@@ -29,8 +29,8 @@ import pytest
 from scipy.optimize import brentq
 
 from acausal import Model, simulate
-from library.blocks import Sine, Step
-from library.rotational import BearingFriction, Inertia, Torque
+from acausal.library.blocks import Sine, Step
+from acausal.library.rotational import BearingFriction, Inertia, Torque
 
 REST = dict(start=0, fixed=True)
 A, F_HZ, TAU0, STOP = 2.0, 1.0, 1.0, 2.0

@@ -36,8 +36,8 @@ import pytest
 
 from acausal import Model, simulate
 from acausal.errors import AcausalError, SolverError, StructuralError, StructurallySingularError
-from library.blocks import Constant
-from library.rotational import BearingFriction, Brake, ConstantTorque, Inertia
+from acausal.library.blocks import Constant
+from acausal.library.rotational import BearingFriction, Brake, ConstantTorque, Inertia
 
 REST = dict(start=0, fixed=True)
 TAU1, TAU2, J = 1.0, 2.0, 1.0

@@ -59,8 +59,8 @@ if __name__ == "__main__":  # run as a script by test_explicit_method_does_not_h
 
 from acausal import Model, simulate  # noqa: E402
 from acausal.errors import SolverError  # noqa: E402
-from library.blocks import Sine  # noqa: E402
-from library.rotational import BearingFriction, Inertia, SpringDamper, Torque  # noqa: E402
+from acausal.library.blocks import Sine  # noqa: E402
+from acausal.library.rotational import BearingFriction, Inertia, SpringDamper, Torque  # noqa: E402
 
 REST = dict(start=0, fixed=True)
 A, F_HZ, TAU0, J1, J2 = 5.0, 1.0, 1.0, 1.0, 1.0

@@ -38,9 +38,9 @@ import numpy as np
 import pytest
 
 from acausal import Model, simulate
-from library.blocks import Integrator, Sine
-from library.rotational import BearingFriction, Fixed, Inertia, PowerSensor, Spring, Torque
-from library.thermal import HeatCapacitor
+from acausal.library.blocks import Integrator, Sine
+from acausal.library.rotational import BearingFriction, Fixed, Inertia, PowerSensor, Spring, Torque
+from acausal.library.thermal import HeatCapacitor
 
 REST = dict(start=0, fixed=True)
 TABLE = [[0.0, 2.0], [0.5, 1.2], [5.0, 1.5]]

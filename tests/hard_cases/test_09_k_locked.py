@@ -46,8 +46,8 @@ import pytest
 
 from acausal import Model, simulate
 from acausal.errors import AcausalError
-from library.blocks import Sine
-from library.rotational import BearingFriction, Inertia, Torque
+from acausal.library.blocks import Sine
+from acausal.library.rotational import BearingFriction, Inertia, Torque
 
 REST = dict(start=0, fixed=True)
 H, STOP = 1e-3, 10.0

@@ -32,8 +32,8 @@ import numpy as np
 import pytest
 
 from acausal import Model, simulate
-from library.blocks import Step
-from library.rotational import BearingFriction, ConstantTorque, Inertia, Torque
+from acausal.library.blocks import Step
+from acausal.library.rotational import BearingFriction, ConstantTorque, Inertia, Torque
 
 REST = dict(start=0, fixed=True)
 

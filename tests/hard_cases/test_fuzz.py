@@ -75,11 +75,11 @@ from hypothesis import strategies as st
 
 from acausal import Boolean, Component, Eq, Model, Parameter, Variable, der, simulate, time
 from acausal.errors import AcausalError
-from components.rotational import Flange_a, Flange_b
-from library.blocks import Constant, Sine, Step
-from library.rotational import (BearingFriction, Brake, Clutch, Damper, Inertia, Spring, SpringDamper,
+from acausal.components.rotational import Flange_a, Flange_b
+from acausal.library.blocks import Constant, Sine, Step
+from acausal.library.rotational import (BearingFriction, Brake, Clutch, Damper, Inertia, Spring, SpringDamper,
                                 Torque)
-from library.thermal import HeatCapacitor
+from acausal.library.thermal import HeatCapacitor
 
 DEFAULT_EXAMPLES = 15
 EXAMPLES = int(os.environ.get("ACAUSAL_FUZZ_EXAMPLES", DEFAULT_EXAMPLES))

@@ -33,7 +33,7 @@ import pytest
 import sympy as sp
 
 from acausal import Boolean, Eq, Experiment, If, Model, Parameter, Variable, der, simulate, time
-from acausal.cli import main
+from acausal.tools.cli import main
 from acausal.errors import (
     AcausalError,
     ChatteringError,
@@ -42,7 +42,7 @@ from acausal.errors import (
     SimulationError,
     SolverError,
 )
-from components.logic import pre_boolean
+from acausal.components.logic import pre_boolean
 
 HERE = Path(__file__).resolve()
 
@@ -437,7 +437,7 @@ def test_compare_reference_dir_without_the_class(in_tmp, capsys):
 
 def test_reference_errors_are_documented_errors(tmp_path):
     """load_reference raises ReferenceDataError (an AcausalError and a ValueError) for the same folders."""
-    from acausal.compare import load_reference
+    from acausal.tools.compare import load_reference
 
     refs = reference_folder(tmp_path, signals=None)
     with pytest.raises(ReferenceDataError) as info:

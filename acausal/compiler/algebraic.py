@@ -26,7 +26,7 @@ import sympy as sp
 
 from .blt import BLTResult
 from .flatten import FlatEquation
-from .language import real_symbol
+from ..language import real_symbol
 
 __all__ = ["Assign", "LinearSolve", "NewtonSolve", "AlgebraicResult", "solve_blocks"]
 

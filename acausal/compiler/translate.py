@@ -23,9 +23,9 @@ from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .codegen import GeneratedCode, generate, needed_steps, python_identifiers
-from .errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError)
+from ..errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError)
 from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
-from .language import Component, real_symbol
+from ..language import Component, real_symbol
 from .partition import PartitionedModel, partition
 from .structure import StructuralResult, analyse, check_balance, priority_matching
 
@@ -201,7 +201,7 @@ class Translation:
 
     def evaluator(self, relation_epsilon: float = 1e-10, max_iterations: int = 20):
         """The discrete-part evaluator of this model (built once per setting)."""
-        from .events import DiscreteEvaluator
+        from ..runtime.events import DiscreteEvaluator
 
         key = (relation_epsilon, max_iterations)
         cache = self.__dict__.setdefault("_evaluators", {})
@@ -215,8 +215,8 @@ class Translation:
         Convenient for inspecting a model: it runs the initialization (and
         its event iteration) to find the discrete state.
         """
-        from .events import DiscreteEvaluator
-        from .initialization import initialize
+        from ..runtime.events import DiscreteEvaluator
+        from ..runtime.initialization import initialize
 
         state = initialize(self, DiscreteEvaluator(self), self.flat.experiment.start_time)
         return state.outcome.system

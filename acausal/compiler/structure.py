@@ -40,14 +40,14 @@ import networkx as nx
 import sympy as sp
 
 from .alias import base_name, derivative_order
-from .errors import (
+from ..errors import (
     OverDeterminedError,
     StructurallySingularError,
     StructuralError,
     UnderDeterminedError,
 )
 from .flatten import FlatEquation, FlatVariable, Origin, der_name
-from .language import StateSelect, real_symbol, time
+from ..language import StateSelect, real_symbol, time
 
 __all__ = [
     "StructuralResult",

@@ -66,7 +66,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from .language import Experiment, Model
+from ..language import Experiment, Model
 
 __all__ = [
     "ADAPTIVE_METHODS", "QUICK_RTOLS", "FULL_RTOLS", "Case", "RunRecord", "CaseTranslation", "CaseRun",
@@ -75,7 +75,7 @@ __all__ = [
     "stick_slip_times", "stick_slip_exact", "fit_power_law",
 ]
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 
 #: The adaptive methods compared (Euler and RK4 have a fixed step and are not).
@@ -118,7 +118,7 @@ class CoastDown(Model):
 
     def build(self):
         _ensure_path()
-        from library.rotational import BearingFriction, Inertia
+        from acausal.library.rotational import BearingFriction, Inertia
 
         self.inertia = Inertia(J=CD_J, phi=dict(start=0, fixed=True), w=dict(start=CD_W0, fixed=True))
         self.bearing = BearingFriction(tau_pos=[[0.0, CD_TAU0]])
@@ -147,8 +147,8 @@ class StickSlip(Model):
 
     def build(self):
         _ensure_path()
-        from library.blocks import Sine
-        from library.rotational import BearingFriction, Inertia, Torque
+        from acausal.library.blocks import Sine
+        from acausal.library.rotational import BearingFriction, Inertia, Torque
 
         self.sine = Sine(amplitude=SS_A, f=SS_F)
         self.torque = Torque()
@@ -250,9 +250,9 @@ def drive_train_model(n: int, heat_ports: bool = False, stop_time: float = 1.0, 
                                 interval=interval if interval is not None else stop_time / 500)
 
         def build(self):
-            from library.blocks import Sine
-            from library.rotational import BearingFriction, Inertia, SpringDamper, Torque
-            from library.thermal import HeatCapacitor
+            from acausal.library.blocks import Sine
+            from acausal.library.rotational import BearingFriction, Inertia, SpringDamper, Torque
+            from acausal.library.thermal import HeatCapacitor
 
             self.sine = Sine(amplitude=20.0, f=2.0)
             self.torque = Torque()
@@ -306,7 +306,7 @@ class Case:
 def _reference_missing(modelica_class: str) -> str | None:
     """Why the reference results of ``modelica_class`` cannot be read (None: they can)."""
     from .compare import load_reference
-    from .errors import ReferenceDataError
+    from ..errors import ReferenceDataError
 
     try:
         load_reference(modelica_class)
@@ -457,7 +457,7 @@ def _stage_sums(translation) -> dict:
 
 
 def _timed_simulate(translation, **options):
-    from .simulate import simulate
+    from ..runtime.simulate import simulate
 
     t0 = time.perf_counter()
     result = simulate(translation, **options)
@@ -628,7 +628,7 @@ STAGES = ("specialise", "alias", "structure", "blt", "algebraic", "codegen")
 
 def _fresh_translate(model: Model, outputs=None):
     """``translate`` without the in-process cache of translations (when there is one)."""
-    from .translate import translate
+    from ..compiler.translate import translate
 
     try:
         return translate(model, outputs, cache=False)
@@ -640,7 +640,7 @@ def _evaluator(translation):
     """The discrete evaluator ``simulate`` uses (cached on the translation when it can be)."""
     if hasattr(translation, "evaluator"):
         return translation.evaluator(1e-10, 20)
-    from .events import DiscreteEvaluator
+    from ..runtime.events import DiscreteEvaluator
 
     return DiscreteEvaluator(translation)
 
@@ -665,7 +665,7 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     far after each phase, so a point stopped by a time budget keeps what it
     finished.
     """
-    from .initialization import initialize
+    from ..runtime.initialization import initialize
 
     progress = progress or (lambda _p: None)
     point: dict = {"n": n, "status": "ok"}
@@ -722,8 +722,8 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
 
 def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
     # the collector set as in an `acausal` command: fewer pauses, landing in fewer stages at random
-    code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.cli import GC_THRESHOLD; "
-            "gc.set_threshold(*GC_THRESHOLD); from acausal.bench import scaling_point; "
+    code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.tools.collector import GC_THRESHOLD; "
+            "gc.set_threshold(*GC_THRESHOLD); from acausal.tools.bench import scaling_point; "
             "report = lambda p: print('@@' + json.dumps(p), flush=True); "
             "report(scaling_point({n}, {stop}, progress=report))").format(root=str(ROOT), n=n, stop=stop_time)
     env = dict(os.environ)
@@ -1354,7 +1354,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         translation does, and memory is returned; in-process points after
         other translations come out faster.
     """
-    from .simulate import METHODS
+    from ..runtime.simulate import METHODS
 
     wall0 = time.perf_counter()
     _ensure_path()
@@ -1475,7 +1475,7 @@ def _split(text: str) -> list[str]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``acausal bench``: run the benchmark, write the files, print the tables; exit status 0."""
-    from .cli import GC_THRESHOLD
+    from .collector import GC_THRESHOLD
 
     # the collector as in every `acausal` command, however the bench is started
     gc.set_threshold(*GC_THRESHOLD)
@@ -1491,7 +1491,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     methods = _split(args.methods) if args.methods else None
     if methods:
-        from .simulate import METHODS
+        from ..runtime.simulate import METHODS
 
         known = {m.lower(): m for m in METHODS}
         unknown = [m for m in methods if m.lower() not in known]

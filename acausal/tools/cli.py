@@ -27,14 +27,13 @@ import traceback
 from pathlib import Path
 from typing import Sequence
 
-from .errors import AcausalError
-from .language import Model
-from .simulate import METHODS
+from ..errors import AcausalError
+from ..language import Model
+from ..runtime.simulate import METHODS
+from .collector import GC_THRESHOLD
 
 __all__ = ["main", "run", "load_model_class"]
 
-#: The garbage collector's thresholds in a command (see :func:`run`); the default is (700, 10, 10).
-GC_THRESHOLD = (100_000, 50, 100)
 
 #: Relative tolerance used by ``acausal compare`` unless given (or the experiment's is tighter).
 COMPARE_RTOL = 1e-6
@@ -65,9 +64,8 @@ def _module_name(path: Path) -> str:
 def load_model_class(spec: str) -> type:
     """The model class named by ``FILE.py[:Model]``.
 
-    The file is imported as a module with the repository root (the folder
-    holding the ``acausal`` package, so that ``library`` and ``components``
-    import) and the file's own folder on ``sys.path``.
+    The file is imported as a module with its own folder on ``sys.path``
+    (so that it can import its neighbours).
 
     Raises
     ------
@@ -82,10 +80,9 @@ def load_model_class(spec: str) -> type:
             raise CommandError(f"{filename} is not a file")
         raise CommandError(f"file not found: {filename}")
     path = path.resolve()
-    repo_root = str(Path(__file__).resolve().parent.parent)
-    for folder in (repo_root, str(path.parent)):
-        if folder not in sys.path:
-            sys.path.insert(0, folder)
+    folder = str(path.parent)
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
     name = _module_name(path)
     module_spec = importlib.util.spec_from_file_location(name, path)
     if module_spec is None or module_spec.loader is None:
@@ -180,7 +177,7 @@ def _method(text: str) -> str:
 
 
 def _parser() -> argparse.ArgumentParser:
-    from . import __version__
+    from .. import __version__
 
     parser = argparse.ArgumentParser(
         prog="acausal",
@@ -244,8 +241,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def _simulate(model, **options):
     """Simulate after checking the times, which ``simulate`` would reject with a ValueError."""
-    from .language import Experiment
-    from .simulate import simulate
+    from ..language import Experiment
+    from ..runtime.simulate import simulate
 
     experiment = getattr(model, "experiment", None) or Experiment()
     start = experiment.start_time if options.get("start_time") is None else options["start_time"]
@@ -264,7 +261,7 @@ def _cmd_simulate(args) -> int:
         if not signals:
             raise CommandError("--signals names no variable")
     if signals is not None:
-        from .flatten import flatten
+        from ..compiler.flatten import flatten
 
         known = {v.name for v in flatten(model).variables}
         missing = [s for s in signals if s not in known]

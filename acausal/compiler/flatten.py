@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from .errors import ConnectionError_, EquationError, ModelDefinitionError, ParameterError
-from .language import (
+from ..errors import ConnectionError_, EquationError, ModelDefinitionError, ParameterError
+from ..language import (
     Boolean,
     BoundConnector,
     Component,

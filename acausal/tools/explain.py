@@ -32,10 +32,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .algebraic import Assign, LinearSolve, NewtonSolve
-from .flatten import INITIAL
-from .language import Component
-from .translate import ModeSystem, Translation, translate
+from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
+from ..compiler.flatten import INITIAL
+from ..language import Component
+from ..compiler.translate import ModeSystem, Translation, translate
 
 __all__ = ["Explanation", "explain", "MAX_PICTURES"]
 
@@ -76,7 +76,7 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     Parameters
     ----------
     model_or_translation : Model instance or Translation
-        The model, or the result of :func:`acausal.translate.translate`
+        The model, or the result of :func:`acausal.compiler.translate.translate`
         (its already compiled systems are reused).
     out_dir : str or Path, optional
         Folder for the incidence pictures (created if missing); default: the
@@ -107,12 +107,12 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     if key is not None:
         main = translation.system(tuple(key))
     elif not partitioned.is_hybrid:
-        from .events import DiscreteEvaluator
+        from ..runtime.events import DiscreteEvaluator
 
         main = translation.system(DiscreteEvaluator(translation).key({}, {}, (), False))
     else:
         if not translation.systems:
-            from .simulate import simulate
+            from ..runtime.simulate import simulate
 
             result = simulate(translation)
             visited = tuple(result.modes)
@@ -175,7 +175,7 @@ def _first_visited(translation: Translation, visited) -> ModeSystem:
             if system.description == visited[0]:
                 return system
     if not systems:  # nothing compiled, nothing visited: start from the default state
-        from .events import DiscreteEvaluator
+        from ..runtime.events import DiscreteEvaluator
 
         evaluator = DiscreteEvaluator(translation)
         variables = translation.flat.variable_map

@@ -26,10 +26,10 @@ from typing import Mapping
 import numpy as np
 import sympy as sp
 
-from .codegen import compile_functions
-from .errors import EventIterationError, SimulationError
-from .flatten import INITIAL
-from .translate import ModeSystem, Translation
+from ..compiler.codegen import compile_functions
+from ..errors import EventIterationError, SimulationError
+from ..compiler.flatten import INITIAL
+from ..compiler.translate import ModeSystem, Translation
 
 __all__ = ["DiscreteEvaluator", "EventOutcome", "alias_plan", "mode_values"]
 

@@ -82,7 +82,7 @@ from typing import Literal
 
 import numpy as np
 
-from .errors import ReferenceDataError
+from ..errors import ReferenceDataError
 
 __all__ = [
     "DEFAULT_REL_TOL",
@@ -143,9 +143,9 @@ def reference_dir(override: str | Path | None = None) -> Path:
     from_env = os.environ.get(_ENV_VAR)
     if from_env:
         return Path(from_env)
-    # compare.py is <checkout>/acausal/compare.py, so parents[2] is the folder
+    # compare.py is <checkout>/acausal/tools/compare.py, so parents[3] is the folder
     # that holds the checkout (and the shared data beside it).
-    return Path(__file__).resolve().parents[2] / "shared" / "reference" / "msl-4.1.0"
+    return Path(__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0"
 
 
 # ---------------------------------------------------------------------------

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 import networkx as nx
 import sympy as sp
 
-from .errors import ModelDefinitionError
+from ..errors import ModelDefinitionError
 from .flatten import INITIAL, DiscreteEquation, FlatEquation, FlatModel
-from .language import time
+from ..language import time
 
 __all__ = ["Relation", "PartitionedModel", "partition"]
 

@@ -19,9 +19,9 @@ from dataclasses import dataclass, replace
 
 import sympy as sp
 
-from .errors import InitializationError
+from ..errors import InitializationError
 from .flatten import FlatEquation, FlatVariable, der_name
-from .language import real_symbol, time
+from ..language import real_symbol, time
 
 __all__ = ["AliasResult", "eliminate_aliases", "derivative_order", "base_name"]
 

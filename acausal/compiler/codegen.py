@@ -26,7 +26,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from .algebraic import Assign, LinearSolve, NewtonSolve
-from .errors import SolverError
+from ..errors import SolverError
 
 __all__ = ["GeneratedCode", "generate", "needed_steps", "newton_solve", "python_identifiers",
            "compile_functions"]

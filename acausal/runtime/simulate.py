@@ -27,13 +27,13 @@ import numpy as np
 import scipy.integrate as integrate
 import sympy as sp
 
-from .errors import ChatteringError, SimulationError, SolverError, StructuralError
+from ..errors import ChatteringError, SimulationError, SolverError, StructuralError
 from .events import alias_plan, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
-from .language import Component, time as time_symbol
+from ..language import Component, time as time_symbol
 from .result import Event, SimulationResult
-from .translate import ModeSystem, Translation, translate
+from ..compiler.translate import ModeSystem, Translation, translate
 
 __all__ = ["simulate", "METHODS"]
 
@@ -59,7 +59,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     Parameters
     ----------
     model : Model instance or Translation
-        A model, or the result of :func:`acausal.translate.translate` to
+        A model, or the result of :func:`acausal.compiler.translate.translate` to
         reuse compiled systems.
     start_time, stop_time, interval : float, optional
         Default to the model's experiment annotation (interval: 500 points).

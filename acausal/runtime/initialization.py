@@ -20,9 +20,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .errors import InitializationError
+from ..errors import InitializationError
 from .events import DiscreteEvaluator, EventOutcome, mode_values
-from .translate import Translation
+from ..compiler.translate import Translation
 
 __all__ = ["InitialState", "initialize"]
 
