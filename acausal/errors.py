@@ -4,6 +4,13 @@ Each exception subclasses the built-in a Python user would expect
 (``ValueError`` for bad models and parameters, ``RuntimeError`` for failures
 during simulation), so ``except ValueError`` keeps working.  Messages name the
 component, the variable or the equation concerned and end with a hint.
+
+An error keeps its parts as fields: :attr:`AcausalError.message`,
+:attr:`AcausalError.hint` and :attr:`AcausalError.components` (the dotted
+paths of the components concerned); ``str(error)`` joins message and hint.
+The engine has no domain knowledge: where a component knows more about what
+went wrong, it says so in its ``hints`` (see :class:`acausal.language.Component`),
+and the engine adds that hint to an error that concerns the component.
 """
 
 from __future__ import annotations
@@ -29,12 +36,39 @@ __all__ = [
 
 
 class AcausalError(Exception):
-    """Base class of every error acausal raises deliberately."""
+    """Base class of every error acausal raises deliberately.
 
-    def __init__(self, message: str, hint: str | None = None) -> None:
+    Parameters
+    ----------
+    message : str
+        What is wrong, naming the component, variable or equation.
+    hint : str, optional
+        What the user can do about it.
+    components : sequence of str, optional
+        Dotted paths of the components concerned (for hints they declare).
+    """
+
+    def __init__(self, message: str, hint: str | None = None, components: tuple[str, ...] = ()) -> None:
+        self.message = message
         self.hint = hint
-        text = message if hint is None else f"{message}\n  hint: {hint}"
-        super().__init__(text)
+        self.components = tuple(components)
+        super().__init__(message if hint is None else f"{message}\n  hint: {hint}")
+
+    def with_hint(self, hint: str | None) -> "AcausalError":
+        """The same error (type, message, components, cause) with another hint."""
+        return self._copy(hint=hint)
+
+    def _copy(self, **changes) -> "AcausalError":
+        fields = {"message": self.message, "hint": self.hint, "components": self.components, **changes}
+        new = type(self).__new__(type(self))
+        AcausalError.__init__(new, fields.pop("message"), fields.pop("hint"), fields.pop("components"))
+        for name, value in vars(self).items():
+            if name not in ("message", "hint", "components"):
+                setattr(new, name, value)
+        for name, value in fields.items():
+            setattr(new, name, value)
+        new.__cause__, new.__context__ = self.__cause__, self.__context__
+        return new
 
 
 class ModelDefinitionError(AcausalError, ValueError):
@@ -90,9 +124,14 @@ class SimulationError(AcausalError, RuntimeError):
         Everything computed up to the failure.
     """
 
-    def __init__(self, message: str, hint: str | None = None, result=None) -> None:
-        super().__init__(message, hint)
+    def __init__(self, message: str, hint: str | None = None, result=None,
+                 components: tuple[str, ...] = ()) -> None:
+        super().__init__(message, hint, components)
         self.result = result
+
+    def with_result(self, result) -> "SimulationError":
+        """The same error carrying the partial ``result`` of the run it stopped."""
+        return self._copy(result=result)
 
 
 class EventIterationError(SimulationError):

@@ -40,7 +40,7 @@ def _identifier(name: str) -> str:
     """``name`` as a valid Python identifier: dots and other symbols become '_'."""
     if not isinstance(name, str) or not name:
         raise ParameterError(f"a table function needs a non-empty name, not {name!r}",
-                             hint="derive it from the component path, e.g. 'clutch1.mu_pos'")
+                             hint="derive it from the component path, e.g. 'component.table'")
     text = re.sub(r"[^0-9A-Za-z_]", "_", name)
     if text[0].isdigit():
         text = "_" + text

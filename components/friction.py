@@ -63,6 +63,18 @@ class PartialFriction(Component):
        Hawaii, August 1999.
     """
 
+    hints = {
+        "mode": "elements that can lock the same relative motion (two friction elements, or a "
+                "bearing and a brake, on one rigid shaft) leave the split of the holding torque "
+                "undetermined when both are stuck; put a compliance (SpringDamper) between them "
+                "or merge them into one element (MSL Rotational Users Guide, "
+                "RequirementsForSimulationTool)",
+        "event_iteration": "friction elements that lock the same motion can unlock each other in "
+                           "turn; add a compliance between them",
+        "chattering": "a friction element without inertia on either side switches between stuck "
+                      "and sliding without time passing; give the shaft an inertia",
+    }
+
     Unknown = Unknown
     Free = Free
     Forward = Forward

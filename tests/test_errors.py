@@ -17,6 +17,7 @@ from acausal.errors import (
     ConnectionError_,
     EquationError,
     InitializationError,
+    ModelDefinitionError,
     ModifierError,
     OverDeterminedError,
     ParameterError,
@@ -24,6 +25,7 @@ from acausal.errors import (
     UnderDeterminedError,
 )
 from acausal.compiler.translate import translate
+from acausal.runtime.initialization import start_system
 from acausal.library.blocks import Constant
 from acausal.library.rotational import Fixed, Inertia, Torque
 from acausal.library.thermal import HeatCapacitor
@@ -32,7 +34,7 @@ from acausal.library.thermal import HeatCapacitor
 def compile_model(model):
     """Translate and compile the continuous system (no simulation)."""
     translation = translate(model)
-    return translation.start_system()
+    return start_system(translation)
 
 
 def assert_hint(exc: AcausalError, *words: str) -> None:
@@ -356,3 +358,76 @@ def test_errors_are_value_errors():
     for cls in (OverDeterminedError, UnderDeterminedError, StructurallySingularError, InitializationError,
                 EquationError, ConnectionError_, ModifierError, ParameterError):
         assert issubclass(cls, ValueError) and issubclass(cls, AcausalError)
+
+
+# -- hints: the engine speaks no domain; components add their own ------------------
+
+
+class _GearLoop(Model):
+    """Two ideal gears closing a loop with ratio product 1: a redundant rigid constraint."""
+
+    def build(self):
+        from acausal.library.rotational import IdealGear
+
+        self.torque = Torque()
+        self.source = Constant(k=1.0)
+        self.j1 = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
+        self.j2 = Inertia(J=1)
+        self.g1 = IdealGear(ratio=2)
+        self.g2 = IdealGear(ratio=0.5)
+        self.connect(self.source.y, self.torque.tau)
+        self.connect(self.torque.flange, self.j1.flange_a)
+        self.connect(self.j1.flange_b, self.g1.flange_a)
+        self.connect(self.g1.flange_b, self.j2.flange_a)
+        self.connect(self.j2.flange_b, self.g2.flange_a)
+        self.connect(self.g2.flange_b, self.j1.flange_a)
+
+
+def test_a_singular_loop_of_ideal_gears_gets_a_hint_without_friction():
+    result = simulate(_GearLoop())
+    assert result.status == -1
+    error = result.error
+    assert "singular" in error.message and "g1" in error.message
+    assert error.hint and "friction" not in error.hint.lower() and "loop" in error.hint
+    assert error.result is result
+
+
+def test_component_hints_are_inherited_and_checked():
+    from acausal.language import component_hints
+
+    class Base(Component):
+        hints = {"mode": "base says"}
+
+    class Child(Base):
+        hints = {"chattering": "child says"}
+
+    assert component_hints(Child) == {"mode": "base says", "chattering": "child says"}
+
+    class Typo(Component):
+        hints = {"modes": "x"}
+
+    with pytest.raises(ModelDefinitionError, match="unknown situation 'modes'"):
+        component_hints(Typo)
+
+
+def test_a_component_hint_reaches_a_structural_error_of_a_later_mode():
+    # two bearings locking one shaft: the second discrete state (both stuck) cannot
+    # be solved; the hint comes from the friction elements, not from the engine
+    from acausal.library.rotational import BearingFriction
+
+    class TwoBearings(Model):
+        def build(self):
+            self.source = Constant(k=0.5)
+            self.torque = Torque()
+            self.j = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=1, fixed=True))
+            self.b1 = BearingFriction(tau_pos=[[0, 1]])
+            self.b2 = BearingFriction(tau_pos=[[0, 1]])
+            self.connect(self.source.y, self.torque.tau)
+            self.connect(self.torque.flange, self.j.flange_a)
+            self.connect(self.j.flange_b, self.b1.flange_a)
+            self.connect(self.j.flange_b, self.b2.flange_a)
+
+    result = simulate(TwoBearings(), stop_time=3.0)
+    assert result.status == -1
+    assert "holding torque" in result.error.hint
+    assert {"b1", "b2"} & set(result.error.components)

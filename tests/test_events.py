@@ -11,10 +11,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acausal import translate
-from acausal.runtime.events import _VECTORISE_FROM
+from acausal.runtime.events import _VECTORISE_FROM, evaluator_for
 from examples.coupled_clutches import CoupledClutches
 
-_EVALUATOR = translate(CoupledClutches()).evaluator()
+_EVALUATOR = evaluator_for(translate(CoupledClutches()))
 _RELATIONS = _EVALUATOR.relations
 
 

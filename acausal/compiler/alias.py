@@ -20,26 +20,11 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from ..errors import InitializationError
-from .flatten import FlatEquation, FlatVariable, der_name
+from ..names import base_name, der_name, derivative_order, is_derivative
+from .flatten import FlatEquation, FlatVariable
 from ..language import real_symbol, time
 
-__all__ = ["AliasResult", "eliminate_aliases", "derivative_order", "base_name"]
-
-
-def derivative_order(name: str) -> int:
-    """How many times ``name`` is differentiated: ``der(der(x))`` -> 2."""
-    order = 0
-    while name.startswith("der(") and name.endswith(")"):
-        name = name[4:-1]
-        order += 1
-    return order
-
-
-def base_name(name: str) -> str:
-    """The undifferentiated variable: ``der(der(x))`` -> ``x``."""
-    while name.startswith("der(") and name.endswith(")"):
-        name = name[4:-1]
-    return name
+__all__ = ["AliasResult", "eliminate_aliases"]
 
 
 @dataclass(frozen=True)
@@ -119,7 +104,7 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     differentiated = set()
     for eq in equations:
         for sym in eq.residual.free_symbols:
-            if sym.name.startswith("der("):
+            if is_derivative(sym.name):
                 differentiated.add(base_name(sym.name))
 
     parent: dict[str, str] = {}
@@ -225,7 +210,7 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     # derivatives of aliases: der(a) -> s*der(rep), or 0 for constants
     for eq in kept:
         for sym in eq.residual.free_symbols:
-            if sym.name.startswith("der(") and base_name(sym.name) in aliases and sym not in substitution:
+            if is_derivative(sym.name) and base_name(sym.name) in aliases and sym not in substitution:
                 order = derivative_order(sym.name)
                 expr = aliases[base_name(sym.name)]
                 rep_syms = [s for s in expr.free_symbols if s.name in merged]
@@ -233,10 +218,7 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
                     substitution[sym] = sp.Integer(0)
                 else:
                     (rep_sym,) = rep_syms
-                    name = rep_sym.name
-                    for _ in range(order):
-                        name = der_name(name)
-                    substitution[sym] = expr.coeff(rep_sym) * real_symbol(name)
+                    substitution[sym] = expr.coeff(rep_sym) * real_symbol(der_name(rep_sym.name, order))
     new_equations = tuple(FlatEquation(eq.residual.xreplace(substitution), eq.origin) for eq in kept)
     return AliasResult(new_equations, aliases, merged, tuple(eliminated), tuple(fixed_constants))
 

@@ -291,8 +291,9 @@ def _tuple(items) -> str:
 
 def _linalg_error(what: str):
     return SolverError(f"singular linear system in {what}",
-                       hint="the equations do not determine these unknowns in this mode; two "
-                            "elements may lock the same motion (see docs)")
+                       hint="the equations do not determine these unknowns at these values (in this "
+                            "discrete state): a constraint may be imposed twice, e.g. a closed loop "
+                            "of rigid connections, or two elements fix the same quantity")
 
 
 def _dense_solve(A, b, what):

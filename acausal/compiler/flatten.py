@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..names import INITIAL_NAME, der_name, pre_name
 from ..errors import ConnectionError_, EquationError, ModelDefinitionError, ParameterError
 from ..language import (
     Boolean,
@@ -28,6 +29,7 @@ from ..language import (
     Potential,
     StateSelect,
     Variable,
+    component_hints,
     der,
     initial,
     pre,
@@ -43,18 +45,11 @@ __all__ = [
     "DiscreteEquation",
     "FlatModel",
     "flatten",
-    "der_name",
-    "pre_name",
     "INITIAL",
 ]
 
 #: The symbol ``initial()`` becomes after flattening.
-INITIAL = sp.Symbol("initial()")
-
-
-def der_name(name: str) -> str:
-    """Name of the derivative variable of ``name``."""
-    return f"der({name})"
+INITIAL = sp.Symbol(INITIAL_NAME)
 
 
 #: Expression types rebuilt without evaluation while der/pre/initial are expanded:
@@ -62,9 +57,6 @@ def der_name(name: str) -> str:
 #: are evaluated: one that is always true (der(x)**2 > -1) must not become an event.
 _UNEVALUATED = (sp.Piecewise, sp.And, sp.Or, sp.Not)
 
-
-def pre_name(name: str) -> str:
-    return f"pre({name})"
 
 
 @dataclass(frozen=True)
@@ -157,6 +149,9 @@ class FlatModel:
         Continuous equations, component equations first, then connections.
     discrete_equations : tuple of DiscreteEquation
     initial_equations : tuple of FlatEquation
+    hints : dict
+        ``component path -> {situation: hint}`` for the components that
+        declare hints (:attr:`acausal.language.Component.hints`).
     """
 
     name: str
@@ -169,6 +164,24 @@ class FlatModel:
     discrete_equations: tuple[DiscreteEquation, ...]
     initial_equations: tuple[FlatEquation, ...]
     functions: dict = field(default_factory=dict)
+    hints: dict = field(default_factory=dict)
+
+    def hints_for(self, situation: str, components) -> tuple[str, ...]:
+        """The distinct hints the ``components`` (dotted paths) declare for ``situation``.
+
+        A path inside a component (a variable's owner, ``a.b.c`` for ``a.b.c.x``)
+        finds the hints of the nearest enclosing component that has some.
+        """
+        out: list[str] = []
+        for path in components:
+            while True:
+                hint = self.hints.get(path, {}).get(situation)
+                if hint is not None or not path:
+                    break
+                path = path.rpartition(".")[0]
+            if hint is not None and hint not in out:
+                out.append(hint)
+        return tuple(out)
 
     @property
     def variable_map(self) -> dict[str, FlatVariable]:
@@ -244,6 +257,7 @@ class _Flattener:
             equations=tuple(self.equations),
             discrete_equations=tuple(self.discrete_equations),
             initial_equations=tuple(self.initial_equations),
+            hints={c.path: h for c in self.components if (h := component_hints(type(c)))},
         )
 
     def _declare(self, component: Component) -> None:
@@ -500,8 +514,7 @@ class _Flattener:
                 return ("signal", end.name, False), end
             if isinstance(end, sp.Symbol) and end.name in self.variables:
                 raise ConnectionError_(f"{statement}: {end.name} is a variable, not a connector",
-                                       hint="connect() joins connectors (flanges, ports) or signal "
-                                            "inputs and outputs")
+                                       hint="connect() joins connectors or signal inputs and outputs")
             raise ConnectionError_(f"{statement}: {end!r} is not a connector of this model",
                                    hint="a disabled conditional connector cannot be connected")
 

@@ -20,8 +20,9 @@ import networkx as nx
 import sympy as sp
 
 from ..errors import ModelDefinitionError
-from .flatten import INITIAL, DiscreteEquation, FlatEquation, FlatModel
+from .flatten import DiscreteEquation, FlatEquation, FlatModel
 from ..language import time
+from ..names import is_derivative, parse, relation_name
 
 __all__ = ["Relation", "PartitionedModel", "partition"]
 
@@ -119,7 +120,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
 
     def is_continuous_symbol(sym: sp.Symbol) -> bool:
         name = sym.name
-        return sym is time or name in continuous or (name.startswith("der(") and name.endswith(")"))
+        return sym is time or name in continuous or is_derivative(name)
 
     def replace_relations(expr: sp.Basic, origin) -> sp.Basic:
         if not isinstance(expr, sp.Basic) or not expr.has(*_RELATIONS):
@@ -143,7 +144,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
                     # a time event needs the crossing time in closed form: g linear in time
                     is_time = (all(s is time or s.name in parameters for s in syms) and g.has(time)
                                and not sp.diff(g, time).has(time))
-                    relations[key] = Relation(index, sp.Symbol(f"$rel{index}"), lhs, rhs, op,
+                    relations[key] = Relation(index, sp.Symbol(relation_name(index)), lhs, rhs, op,
                                               f"{lhs} {op} {rhs}", is_time)
                 return relations[key].symbol
             if not node.args:
@@ -194,9 +195,9 @@ def partition(flat: FlatModel) -> PartitionedModel:
     selector_set: set[sp.Symbol] = set()
     for eq in equations:
         for sym in eq.residual.free_symbols:
-            name = sym.name
-            if name.startswith("$rel") or sym is INITIAL or name in discrete_names or (
-                    name.startswith("pre(") and name[4:-1] in discrete_names):
+            name = parse(sym.name)
+            if name.kind in ("relation", "initial") or name.text in discrete_names or (
+                    name.kind == "pre" and name.base in discrete_names):
                 selector_set.add(sym)
     selectors = tuple(sorted(selector_set, key=lambda s: s.name))
     return PartitionedModel(flat, equations, initial_equations, discrete,

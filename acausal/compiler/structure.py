@@ -39,14 +39,14 @@ from typing import Callable, Sequence
 import networkx as nx
 import sympy as sp
 
-from .alias import base_name, derivative_order
 from ..errors import (
     OverDeterminedError,
     StructurallySingularError,
     StructuralError,
     UnderDeterminedError,
 )
-from .flatten import FlatEquation, FlatVariable, Origin, der_name
+from .flatten import FlatEquation, FlatVariable, Origin
+from ..names import base_name, der_name, derivative_order, parse
 from ..language import StateSelect, real_symbol, time
 
 __all__ = [
@@ -310,21 +310,31 @@ def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str
                      f"{len(unmatched_vars)} more than their equations determine):")
         lines.append("    " + ", ".join(under[:20]) + (" ..." if len(under) > 20 else ""))
     detail = "\n  ".join(lines)
+    components = _components_of([equations[i].origin for i in over], under)
     if n_eq > n_var:
         raise OverDeterminedError(
             f"{context} is over-determined: {n_eq} equations for {n_var} {unknown_label}\n  {detail}",
-            hint="two components may prescribe the same quantity (e.g. a Fixed or a motion source "
-                 "on a flange whose position is already set), or an equation is written twice")
+            hint="two components may prescribe the same quantity (a fixed value or a source where "
+                 "the connection already determines it), or an equation is written twice",
+            components=components)
     if n_eq < n_var:
         raise UnderDeterminedError(
             f"{context} is under-determined: {n_eq} equations for {n_var} {unknown_label}\n  {detail}",
-            hint="a component may be missing (e.g. a Fixed to ground a drive train, or a source), or a "
-                 "connector is left unconnected where it should not be")
+            hint="a component may be missing (a fixed reference or a source that determines the "
+                 "variables named), or a connector is left unconnected where it should not be",
+            components=components)
     raise StructurallySingularError(
         f"{context} is structurally singular: {n_eq} equations and {n_var} {unknown_label}, but they "
         f"cannot be paired\n  {detail}",
         hint="some equations constrain the same variables while others are left free; check the "
-             "connections of the components named")
+             "connections of the components named",
+        components=components)
+
+
+def _components_of(origins, variables=()) -> tuple[str, ...]:
+    """The components the origins and variables named belong to, in first-seen order."""
+    paths = [o.component for o in origins] + [name.rpartition(".")[0] for name in variables]
+    return tuple(dict.fromkeys(paths))
 
 
 def _alternating_reach(start, graph, matching):
@@ -385,7 +395,7 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
         if base not in variables:
             raise StructuralError(f"{context}: {name} is neither a variable nor a parameter")
         if derivative_order(name) > 0:
-            lower = add_var(name[4:-1])
+            lower = add_var(parse(name).lower)
         else:
             lower = -1
         index[name] = len(V)
@@ -474,7 +484,8 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
         raise StructurallySingularError(
             f"{context}: after state selection no equation is left for {', '.join(missing[:8])}; "
             f"unmatched equations: " + "; ".join(str(o) for o in lonely[:5]),
-            hint="the states chosen may be constrained twice; try state_select on the variables named")
+            hint="the states chosen may be constrained twice; try state_select on the variables named",
+            components=_components_of(lonely, missing))
     matching = [-1] * len(eqs)
     for j, i in enumerate(assign_u):
         matching[i] = j
@@ -522,13 +533,15 @@ def _select_dummy_derivatives(eqs, G, A, V, B, parent_eq, variables, order_of, c
             names = ", ".join(str(eqs[i].origin) for i in level_eqs[:5])
             raise StructurallySingularError(
                 f"{context}: cannot select states for the constraint equations {names}",
-                hint="the constraints may be redundant (e.g. a closed loop of rigid connections)")
+                hint="the constraints may be redundant (e.g. a closed loop of rigid connections)",
+                components=_components_of([eqs[i].origin for i in level_eqs]))
         for j in chosen:
             if variables[base_name(V[j])].state_select == StateSelect.always:
                 raise StructuralError(
                     f"{context}: {base_name(V[j])} has state_select=always but cannot be a state "
                     f"because of the constraint {eqs[level_eqs[0]].origin}",
-                    hint="lower its state_select or remove the constraint")
+                    hint="lower its state_select or remove the constraint",
+                    components=_components_of([eqs[level_eqs[0]].origin], [base_name(V[j])]))
             dummies.add(V[j])
         # one level down: the equations these were differentiated from, if
         # they are derivatives themselves; candidates: integrals of the chosen

@@ -24,8 +24,9 @@ from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .codegen import GeneratedCode, generate, needed_steps, python_identifiers
 from ..errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError)
-from .flatten import INITIAL, FlatEquation, FlatModel, Origin, flatten
+from .flatten import FlatEquation, FlatModel, Origin, flatten
 from ..language import Component, real_symbol
+from ..names import INITIAL_NAME, der_name, is_derivative, parse
 from .partition import PartitionedModel, partition
 from .structure import StructuralResult, analyse, check_balance, priority_matching
 
@@ -46,9 +47,10 @@ def describe_key(selectors, key, relation_texts=None) -> str:
     parts = []
     relation_texts = relation_texts or {}
     for sym, value in zip(selectors, key):
-        if sym is INITIAL:
-            parts.append(f"initial()={value}")
-        elif sym.name.startswith("$rel"):
+        kind = parse(sym.name).kind
+        if kind == "initial":
+            parts.append(f"{INITIAL_NAME}={value}")
+        elif kind == "relation":
             parts.append(f"({relation_texts.get(sym.name, sym.name)})={value}")
         else:
             parts.append(f"{sym.name}={value}")
@@ -146,8 +148,8 @@ class Translation:
         # (second derivatives too, which index reduction may add: named up front, the
         # names do not depend on the order in which discrete states are compiled)
         self._identifiers = python_identifiers(
-            [*self.parameter_names, *continuous, *(f"der({n})" for n in continuous),
-             *(f"der(der({n}))" for n in continuous)])
+            [*self.parameter_names, *continuous, *(der_name(n) for n in continuous),
+             *(der_name(n, 2) for n in continuous)])
         # The discrete states of a model share most equations: what a stage
         # derived from one equation (its specialisation, derivative, solution,
         # code) is kept here for the next state.  Valid for this model's
@@ -169,7 +171,8 @@ class Translation:
         missing = [s.name for s in self.selectors if s.name not in assignment]
         if missing:
             raise KeyError(f"the discrete state of {self.flat.name} needs values for "
-                           f"{', '.join(missing)}; use start_system() for the state at the start")
+                           f"{', '.join(missing)}; acausal.runtime.initialization.start_system() "
+                           f"finds the state at the start")
         return tuple(assignment[s.name] for s in self.selectors)
 
     def specialise(self, key: tuple, equations=None) -> tuple[FlatEquation, ...]:
@@ -190,36 +193,14 @@ class Translation:
             residual = memo.get(key)
             if residual is None:
                 residual = eq.residual.xreplace({s: subs[s] for s in used}) if used else eq.residual
-                leftover = [s.name for s in residual.free_symbols if s.name.startswith("$rel")
-                            or s is INITIAL or s.name in self._discrete_names]
+                leftover = [s.name for s in residual.free_symbols
+                            if parse(s.name).kind in ("relation", "initial") or s.name in self._discrete_names]
                 if leftover:
                     raise StructuralError(f"{eq.origin}: discrete value {leftover[0]} left after "
                                           f"specialisation")
                 memo[key] = residual
             out.append(eq if residual is eq.residual else FlatEquation(residual, eq.origin))
         return tuple(out)
-
-    def evaluator(self, relation_epsilon: float = 1e-10, max_iterations: int = 20):
-        """The discrete-part evaluator of this model (built once per setting)."""
-        from ..runtime.events import DiscreteEvaluator
-
-        key = (relation_epsilon, max_iterations)
-        cache = self.__dict__.setdefault("_evaluators", {})
-        if key not in cache:
-            cache[key] = DiscreteEvaluator(self, relation_epsilon, max_iterations)
-        return cache[key]
-
-    def start_system(self) -> "ModeSystem":
-        """The system in force at the start time, after initialization.
-
-        Convenient for inspecting a model: it runs the initialization (and
-        its event iteration) to find the discrete state.
-        """
-        from ..runtime.events import DiscreteEvaluator
-        from ..runtime.initialization import initialize
-
-        state = initialize(self, DiscreteEvaluator(self), self.flat.experiment.start_time)
-        return state.outcome.system
 
     # -- building systems -----------------------------------------------------
 
@@ -269,13 +250,12 @@ class Translation:
                 raise
         except StructuralError as exc:
             if self.partitioned.is_hybrid and self.systems:
-                raise type(exc)(
-                    str(exc).split("\n  hint:")[0],
-                    hint="this discrete state only: elements that can lock the same relative motion "
-                         "(two friction elements, or a bearing and a brake, on one rigid shaft) leave "
-                         "the split of the holding torque undetermined when both are stuck; put a "
-                         "compliance (SpringDamper) between them or merge them into one element "
-                         "(MSL Rotational Users Guide, RequirementsForSimulationTool)") from exc
+                # only this discrete state fails: the components concerned may know why
+                own = self.flat.hints_for("mode", exc.components)
+                hint = "; ".join(own) if own else (
+                    "this discrete state only: its equations do not determine every unknown (or "
+                    "determine some twice); check the discrete variables of the components named")
+                raise exc.with_hint(f"this discrete state only: {hint}" if own else hint) from exc
             raise
         timings["structure"] = _time.perf_counter() - t0
         t0 = _time.perf_counter()
@@ -392,7 +372,7 @@ class Translation:
             names = ", ".join(states or missing)
             raise InitializationError(
                 f"{context}: missing initial values; nothing fixes {names}",
-                hint="give start values with fixed=True, e.g. Inertia(w=dict(start=0, fixed=True)), "
+                hint="give start values with fixed=True, e.g. Component(x=dict(start=0, fixed=True)), "
                      "or add initial equations")
         relaxed = tuple((fixed_names[i - n_fixed0], variables[fixed_names[i - n_fixed0]].start)
                         for i in unmatched)
@@ -510,15 +490,15 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
     if outputs is not None:
         known = {v.name for v in flat.variables} | {p.name for p in flat.parameters}
         demand = frozenset(outputs)
-        unknown = sorted(n for n in demand if n not in known and not n.startswith("der("))
+        unknown = sorted(n for n in demand if n not in known and not is_derivative(n))
         if unknown:
             import difflib
 
             close = difflib.get_close_matches(unknown[0], sorted(known), n=3)
             raise ModelDefinitionError(f"{flat.name} has no variable {unknown[0]!r}",
                                        hint=f"did you mean {', '.join(close)}?" if close else
-                                       "outputs are dotted variable names, e.g. inertia1.w")
+                                       "outputs are dotted variable names, e.g. component.variable")
         demand = frozenset(n for n in demand if n in known and n not in flat.parameter_values
-                           or n.startswith("der("))
+                           or is_derivative(n))
     return Translation(flat, partitioned, _time.perf_counter() - t0, demand)
 

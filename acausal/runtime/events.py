@@ -20,6 +20,7 @@ References
 from __future__ import annotations
 
 import itertools
+import weakref
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -28,10 +29,10 @@ import sympy as sp
 
 from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
-from ..compiler.flatten import INITIAL
+from ..names import INITIAL_NAME, is_relation, parse, pre_name, relation_name
 from ..compiler.translate import ModeSystem, Translation
 
-__all__ = ["DiscreteEvaluator", "EventOutcome", "alias_plan", "mode_values"]
+__all__ = ["DiscreteEvaluator", "EventOutcome", "alias_plan", "evaluator_for", "mode_values"]
 
 
 #: From this many watched relations on, they are checked with numpy at once.
@@ -73,6 +74,21 @@ def alias_plan(translation: Translation, system: ModeSystem) -> list[tuple[str, 
     return plan
 
 
+#: The evaluators of live translations, one per setting (built once: compiling
+#: the discrete equations is a few milliseconds a model).
+_EVALUATORS: "weakref.WeakKeyDictionary[Translation, dict]" = weakref.WeakKeyDictionary()
+
+
+def evaluator_for(translation: Translation, relation_epsilon: float = 1e-10,
+                  max_iterations: int = 20) -> "DiscreteEvaluator":
+    """The discrete-part evaluator of ``translation`` (built once per setting)."""
+    cache = _EVALUATORS.setdefault(translation, {})
+    key = (relation_epsilon, max_iterations)
+    if key not in cache:
+        cache[key] = DiscreteEvaluator(translation, relation_epsilon, max_iterations)
+    return cache[key]
+
+
 @dataclass(frozen=True)
 class EventOutcome:
     """The fixed point reached by event iteration."""
@@ -104,6 +120,7 @@ class DiscreteEvaluator:
         self.equations = [(eq.variable, args, fn, eq.origin)
                           for eq, args, fn in zip(equations, arguments, functions)]
         self._downstream = self._downstream_equations()
+        self._selector_names = tuple(parse(s.name) for s in translation.selectors)
         self._vector_plan = None
 
     def _downstream_equations(self) -> dict[int, list[int]]:
@@ -128,16 +145,15 @@ class DiscreteEvaluator:
 
     def key(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> tuple:
         out = []
-        for sym in self.translation.selectors:
-            name = sym.name
-            if name.startswith("$rel"):
-                out.append(bool(relations[int(name[4:])]))
-            elif sym is INITIAL:
+        for name in self._selector_names:
+            if name.kind == "relation":
+                out.append(bool(relations[name.index]))
+            elif name.kind == "initial":
                 out.append(bool(initial))
-            elif name.startswith("pre("):
-                out.append(pre[name[4:-1]])
+            elif name.kind == "pre":
+                out.append(pre[name.base])
             else:
-                out.append(discrete[name])
+                out.append(discrete[name.text])
         return tuple(out)
 
     # -- relations --------------------------------------------------------------
@@ -227,12 +243,12 @@ class DiscreteEvaluator:
         current = dict(discrete)
         env = dict(current)
         for k, value in enumerate(relations):
-            env[f"$rel{k}"] = value
-        env[INITIAL.name] = initial
+            env[relation_name(k)] = value
+        env[INITIAL_NAME] = initial
         for name, value in pre.items():
-            env[f"pre({name})"] = value
+            env[pre_name(name)] = value
         for variable, args, fn, origin in self.equations:
-            if relation_free and any(a.startswith("$rel") for a in args):
+            if relation_free and any(is_relation(a) for a in args):
                 continue
             value = fn(*[env[a] for a in args])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
@@ -249,10 +265,10 @@ class DiscreteEvaluator:
         """
         selector_names = {s.name for s in self.translation.selectors}
         # the values every flip is tried against: relations as they are, pre = current
-        env = {f"$rel{j}": value for j, value in enumerate(relations)}
-        env[INITIAL.name] = False
+        env = {relation_name(j): value for j, value in enumerate(relations)}
+        env[INITIAL_NAME] = False
         for name, value in discrete.items():
-            env[f"pre({name})"] = value
+            env[pre_name(name)] = value
         env.update(discrete)
         out = []
         for k, rel in enumerate(self.relations):
@@ -272,7 +288,7 @@ class DiscreteEvaluator:
         ``env`` with the relation flipped.  (A variable they recompute keeps
         its value, or the answer is already yes.)
         """
-        flipped = f"$rel{k}"
+        flipped = relation_name(k)
         for i in self._downstream[k]:
             variable, args, fn, _origin = self.equations[i]
             value = fn(*[(not relations[k]) if a == flipped else env[a] for a in args])
@@ -384,8 +400,11 @@ class DiscreteEvaluator:
 
     def _fail(self, t: float, history, what: str):
         changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})
+        owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
+        hint = "the discrete variables named may flip each other back and forth; check the " \
+               "conditions that set them"
+        own = self.translation.flat.hints_for("event_iteration", owners)
         raise EventIterationError(
             f"{what} at t = {t:.12g} did not converge in {self.max_iterations} iterations; "
             f"still changing: {', '.join(changing) or 'unknown'}",
-            hint="the discrete variables named may flip each other back and forth (e.g. friction "
-                 "elements that lock the same motion); add a compliance or check the conditions")
+            hint="; ".join((hint, *own)), components=owners)

@@ -21,10 +21,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import InitializationError
+from ..compiler.translate import ModeSystem, Translation
 from .events import DiscreteEvaluator, EventOutcome, mode_values
-from ..compiler.translate import Translation
 
-__all__ = ["InitialState", "initialize"]
+__all__ = ["InitialState", "initialize", "start_system"]
 
 
 @dataclass(frozen=True)
@@ -91,3 +91,13 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         notes.append(f"fixed start of {name} = {start:g} is implied by the others; not imposed again")
     outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False)
     return InitialState(start_time, values, discrete, relations, outcome, tuple(notes))
+
+
+def start_system(translation: Translation) -> ModeSystem:
+    """The system in force at the start time, after initialization.
+
+    Convenient for inspecting a model: it runs the initialization (and its
+    event iteration) to find the discrete state.
+    """
+    state = initialize(translation, DiscreteEvaluator(translation), translation.flat.experiment.start_time)
+    return state.outcome.system

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import csv
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Sequence
 
 import numpy as np
+
+from ..errors import SimulationError
 
 __all__ = ["Event", "SimulationResult"]
 
@@ -69,7 +72,8 @@ class SimulationResult:
     notes : tuple of str
         Warnings, e.g. fixed start values relaxed as redundant.
     error : Exception or None
-        The error that stopped the run.
+        The error that stopped the run; a :class:`~acausal.errors.SimulationError`
+        carries this result as its ``result`` (given at its construction).
     """
 
     time: np.ndarray
@@ -81,8 +85,16 @@ class SimulationResult:
     compiled_modes: int = 0
     stats: dict = field(default_factory=dict)
     notes: tuple = ()
-    error: Exception | None = None
+    #: the exception that stopped the run, as it was raised (see :attr:`error`)
+    stop_error: Exception | None = field(default=None, repr=False)
     model_name: str = ""
+
+    @cached_property
+    def error(self) -> Exception | None:
+        """The error that stopped the run, with this result attached (None on success)."""
+        if isinstance(self.stop_error, SimulationError):
+            return self.stop_error.with_result(self)
+        return self.stop_error
 
     @property
     def success(self) -> bool:

@@ -28,9 +28,10 @@ import scipy.integrate as integrate
 import sympy as sp
 
 from ..errors import ChatteringError, SimulationError, SolverError, StructuralError
-from .events import alias_plan, mode_values
+from .events import alias_plan, evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
+from ..names import base_name
 from ..language import Component, time as time_symbol
 from .result import Event, SimulationResult
 from ..compiler.translate import ModeSystem, Translation, translate
@@ -120,7 +121,7 @@ class _Run:
     def __init__(self, translation: Translation, method, rtol, atol, max_step, relation_epsilon,
                  max_event_iterations, chattering_events) -> None:
         self.translation = translation
-        self.evaluator = translation.evaluator(relation_epsilon, max_event_iterations)
+        self.evaluator = evaluator_for(translation, relation_epsilon, max_event_iterations)
         self.relations = translation.partitioned.relations
         self.method = method
         self.rtol = rtol
@@ -179,13 +180,12 @@ class _Run:
             try:
                 self._integrate(t0, t1, outcome)
             except StructuralError as exc:
-                # a discrete state reached during the run cannot be solved (e.g.
-                # two friction elements locking the same motion): stop with the
-                # reason, keeping what was computed
+                # a discrete state reached during the run cannot be solved: stop
+                # with the reason, keeping what was computed
                 t_fail = self.rows[-1][0] if self.rows else t0
-                reason = str(exc).split("\n  hint:")[0]
                 raise SolverError(f"at t = {t_fail:.12g} the model entered a discrete state it "
-                                  f"cannot solve: {reason}", hint=exc.hint) from exc
+                                  f"cannot solve: {exc.message}", hint=exc.hint,
+                                  components=exc.components) from exc
         except SimulationError as exc:
             error = exc
             message = str(exc)
@@ -194,10 +194,7 @@ class _Run:
                 raise
             error = SolverError(f"the simulation stopped: {type(exc).__name__}: {exc}")
             message = str(error)
-        result = self._result(t_setup, message, error)
-        if error is not None:
-            error.result = result
-        return result
+        return self._result(t_setup, message, error)
 
     def _snapshot(self, discrete: dict) -> dict:
         """A copy of the discrete values for an output row, shared by the rows
@@ -245,12 +242,18 @@ class _Run:
                         for n in names:
                             counts[n] = counts.get(n, 0) + 1
                     worst = max(counts, key=counts.get)
+                    states = list(recent)
+                    changing = sorted({n for (_, _, a), (_, _, b) in zip(states, states[1:])
+                                       for (n, va), (_, vb) in zip(a, b) if va != vb})
+                    owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
+                    own = self.translation.flat.hints_for("chattering", owners)
                     raise ChatteringError(
                         f"chattering: {len(recent)} state events between t = {recent[0][0]:.12g} "
                         f"and {recent[-1][0]:.12g}; the crossing firing most is {worst}",
-                        hint="the model switches back and forth without time passing; check the "
-                             "relation named (a friction element without inertia, or a threshold "
-                             "that its own switching crosses)")
+                        hint="; ".join(("the model switches back and forth without time passing; "
+                                        "check the relation named (a threshold that its own "
+                                        "switching crosses)", *own)),
+                        components=owners)
             elif t_new >= t1 and not any(root == t_new for _, root in self._time_roots
                                          if self._next_time_event(t, relations) == t_new):
                 self.rows.append((t_new, system, np.array(x_new, dtype=float), self._snapshot(discrete)))
@@ -293,7 +296,7 @@ class _Run:
 
         Returns ``(t_end, x_end, event)``, event = ``(t_e, x_e, fired names)`` or None.
         """
-        nominal = np.array([self.translation.continuous[_base(s)].nominal for s in system.states])
+        nominal = np.array([self.translation.continuous[base_name(s)].nominal for s in system.states])
         atol = self.rtol * nominal if self.atol is None else self.atol
 
         def fun(tt, xx):
@@ -487,8 +490,3 @@ def _fill_plan(translation: Translation, system: ModeSystem, index: dict[str, in
     return (np.array([c for c, _ in pairs], dtype=int), np.array([k for _, k in pairs], dtype=int),
             aliases)
 
-
-def _base(name: str) -> str:
-    while name.startswith("der(") and name.endswith(")"):
-        name = name[4:-1]
-    return name

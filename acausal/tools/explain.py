@@ -33,7 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
-from ..compiler.flatten import INITIAL
+from ..names import parse
 from ..language import Component
 from ..compiler.translate import ModeSystem, Translation, translate
 
@@ -533,10 +533,10 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
 
 
 def _selector_text(translation: Translation, sym) -> str:
-    name = sym.name
-    if name.startswith("$rel"):
-        return f"({translation.partitioned.relations[int(name[4:])].text})"
-    return name
+    name = parse(sym.name)
+    if name.kind == "relation":
+        return f"({translation.partitioned.relations[name.index].text})"
+    return name.text
 
 
 def _key_text(translation: Translation, key: tuple) -> str:
@@ -544,10 +544,9 @@ def _key_text(translation: Translation, key: tuple) -> str:
     variables = translation.flat.variable_map
     parts = []
     for sym, value in zip(translation.selectors, key):
-        name = sym.name
-        base = name[4:-1] if name.startswith("pre(") else name
-        var = variables.get(base)
-        if name.startswith("$rel") or sym is INITIAL or (var is not None and var.kind == "boolean"):
+        name = parse(sym.name)
+        var = variables.get(name.base)
+        if name.kind in ("relation", "initial") or (var is not None and var.kind == "boolean"):
             value = bool(value)
         elif var is not None and var.kind == "integer":
             value = int(value)
