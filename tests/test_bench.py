@@ -1,4 +1,8 @@
-"""The work-precision benchmark: exact-solution cases, files written, effects on demand."""
+"""The work-precision benchmark: exact-solution cases, files written, effects on demand.
+
+The cases are defined in ``examples/benchmarks.py`` (the suite, ``bench.suite()``);
+``acausal.tools.bench`` is the machinery that runs them.
+"""
 
 from __future__ import annotations
 
@@ -9,14 +13,27 @@ import pytest
 
 from acausal.tools import bench
 
+benchmarks = bench.suite()
+
 
 def test_exact_solutions_are_consistent():
-    t_b, t_s = bench.stick_slip_times()
+    t_b, t_s = benchmarks.stick_slip_times()
     assert t_b == pytest.approx(math.asin(0.1) / (2 * math.pi))
-    assert 0.5 < t_s < 1.0 and abs(float(bench.stick_slip_exact(t_s))) < 1e-12
-    assert bench.stick_slip_stop_time() == pytest.approx(1.1 * t_s)
-    assert bench.CD_T_STOP == 4.0
-    np.testing.assert_allclose(bench.coast_down_exact([0, 2, 4, 5]), [3, 1.5, 0, 0])
+    assert 0.5 < t_s < 1.0 and abs(float(benchmarks.stick_slip_exact(t_s))) < 1e-12
+    assert benchmarks.stick_slip_stop_time() == pytest.approx(1.1 * t_s)
+    assert benchmarks.CD_T_STOP == 4.0
+    np.testing.assert_allclose(benchmarks.coast_down_exact([0, 2, 4, 5]), [3, 1.5, 0, 0])
+
+
+def test_the_suite_defines_the_cases():
+    """bench.py runs what examples/benchmarks.py defines, in its order."""
+    table = bench.cases()
+    assert list(table) == ["CoastDown", "StickSlip", "First", "TwoMasses", "Friction", "CoupledClutches"]
+    assert all(name in table for name in benchmarks.QUICK_CASES)
+    assert all(name in table for name, _ in benchmarks.COMMAND_TARGETS)
+    assert table["StickSlip"].stop_time == pytest.approx(benchmarks.stick_slip_stop_time())
+    assert [c.name for c in table.values() if c.reference is None] == ["CoastDown", "StickSlip"]
+    assert [name for name, _, _ in benchmarks.effects_cases(3)] == ["BearingHeating", "DriveTrain3 (heat ports)"]
 
 
 @pytest.mark.parametrize("name", ["CoastDown", "StickSlip"])
@@ -55,7 +72,7 @@ def test_run_bench_writes_files(tmp_path):
 
 
 def test_pruning_keeps_the_requested_output():
-    make = lambda: bench.drive_train_model(4, heat_ports=True, stop_time=0.5)  # noqa: E731
+    make = lambda: benchmarks.drive_train_model(4, heat_ports=True, stop_time=0.5)  # noqa: E731
     record = bench.run_effects_case("DriveTrain4", make, "inertia4.w", rtol=1e-9, repeats=1)
     assert record.status == "ok"
     assert record.max_rel_difference < 1e-6

@@ -1,6 +1,17 @@
 """Work-precision benchmark: accuracy against cost for every adaptive method.
 
-``python -m acausal.bench [--quick] [--out DIR] [--methods M,...] [--rtols R,...]``
+``acausal bench [--quick] [--out DIR] [--methods M,...] [--rtols R,...]``
+(or ``python -m acausal.tools.bench ...``)
+
+This module is the machinery: it translates and simulates, times, compares,
+fits and writes tables and plots.  *What* it runs -- the models, their exact
+solutions and the words that describe them -- is defined in
+``examples/benchmarks.py`` (the *suite*, see :func:`suite`), imported with
+the examples folder on ``sys.path``.  The suite provides ``cases()`` (the
+work-precision cases as :class:`Case`, in table order), ``QUICK_CASES``,
+``EXACT_ERROR_TEXT``, ``effects_cases(n_units)``, ``scaling_model(n,
+stop_time)`` with ``SCALING_DESCRIPTION`` and ``SCALING_SIZE_LABEL``, and
+``COMMAND_TARGETS``.
 
 Four sections, each written into ``--out`` (default ``bench-out``) as
 Markdown and CSV, and printed at the end:
@@ -8,23 +19,22 @@ Markdown and CSV, and printed at the end:
 1. **Work-precision** (``bench.md``, ``bench.csv``, ``work_precision.png``;
    also ``work_precision_events.png`` for the event-time error and
    ``work_precision_rhs.png`` with right-hand side evaluations as the cost).
-   Cases:
+   Two kinds of case:
 
-   * ``First``, ``TwoMasses``, ``Friction``, ``CoupledClutches`` against
-     the MSL reference results.  *error* is the largest ``max |y - y_ref| /
-     dy`` over the compared continuous signals at the reference's time
-     points (``dy`` the tube half-height of csv-compare), a continuous
-     measure; the tube test's worst violation (0 when the result passes)
-     is reported beside it.  The reference has its own error (Dymola's, at
-     its tolerance), so *error* levels off where the reference's accuracy
-     is reached.  *Event-time error*: every time at which a ``.mode``
-     column of the reference changes is matched with the nearest event of
-     the result that changed a ``mode``; the largest distance.
-   * ``CoastDown`` and ``StickSlip``: a ``BearingFriction`` with exact
-     solutions (see :func:`coast_down_exact` and :func:`stick_slip_exact`);
-     *error* is ``max |w - w_exact|`` in rad/s on the output grid,
-     *event-time error* the distance of the breakaway and stop events to
-     the exact instants.
+   * *Reference cases* (:func:`reference_case`): MSL examples of the
+     examples folder against the MSL reference results.  *error* is the
+     largest ``max |y - y_ref| / dy`` over the compared continuous signals
+     at the reference's time points (``dy`` the tube half-height of
+     csv-compare), a continuous measure; the tube test's worst violation (0
+     when the result passes) is reported beside it.  The reference has its
+     own error (Dymola's, at its tolerance), so *error* levels off where the
+     reference's accuracy is reached.  *Event-time error*: every time at
+     which a ``.mode`` column of the reference changes is matched with the
+     nearest event of the result that changed a ``mode``; the largest
+     distance.
+   * *Exact-solution cases*: models whose solution is known in closed form;
+     the case's ``evaluate`` measures *error* (in the case's
+     ``error_unit``) and *event-time error* against it.
 
    A case is translated once (a fresh ``translate`` and a first simulation,
    which compiles the discrete states visited); each method × tolerance is
@@ -34,13 +44,15 @@ Markdown and CSV, and printed at the end:
    with its message.
 
 2. **Effects on demand** (``effects.md``, ``effects.csv``): full simulation
-   against ``outputs=[one speed]`` on ``BearingHeating`` and a generated
-   drive train of 20 units with heat ports.
+   against ``outputs=[one variable]`` on the suite's ``effects_cases``.
 
-3. **Scaling** (``scaling.md``, ``scaling.csv``, ``scaling.png``): the
-   generated drive train without heat ports for growing ``N``; translation
-   stage times and a short simulation; the growth exponent ``b`` of
-   ``time = a N^b``.
+3. **Fresh-process commands** (``commands.md``, ``commands.csv``): the wall
+   time of ``acausal compare EXAMPLE`` in a new Python process for the
+   suite's ``COMMAND_TARGETS``.
+
+4. **Scaling** (``scaling.md``, ``scaling.csv``, ``scaling.png``): the
+   suite's ``scaling_model`` for growing ``N``; translation stage times and
+   a short simulation; the growth exponent ``b`` of ``time = a N^b``.
 
 The timings measure whole ``simulate`` calls (setup of the discrete
 evaluator, integration, event handling and building the result on the
@@ -60,19 +72,17 @@ import subprocess
 import sys
 import time
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 from typing import Callable, Sequence
 
 import numpy as np
 
-from ..language import Experiment, Model
+from ..language import Model
 
 __all__ = [
     "ADAPTIVE_METHODS", "QUICK_RTOLS", "FULL_RTOLS", "Case", "RunRecord", "CaseTranslation", "CaseRun",
     "BenchResult", "cases", "get_case", "run_case", "run_effects", "scaling_point", "run_scaling",
-    "run_bench", "main", "CoastDown", "StickSlip", "drive_train_model", "coast_down_exact",
-    "stick_slip_times", "stick_slip_exact", "fit_power_law",
+    "run_bench", "main", "suite", "reference_case", "example_factory", "fit_power_law",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -82,7 +92,6 @@ EXAMPLES = ROOT / "examples"
 ADAPTIVE_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 QUICK_RTOLS = (1e-3, 1e-6, 1e-9)
 FULL_RTOLS = tuple(10.0 ** -k for k in range(3, 11))
-QUICK_CASES = ("CoastDown", "StickSlip", "First", "Friction")
 QUICK_SCALING = (10, 40)
 FULL_SCALING = (10, 30, 100, 300, 1000)
 #: Wall-time budget of one scaling point in full mode (translation + two short runs).
@@ -100,183 +109,17 @@ def _ensure_path() -> None:
             sys.path.insert(0, folder)
 
 
-# ---------------------------------------------------------------------------
-# Exact-solution models
-# ---------------------------------------------------------------------------
+def suite():
+    """The bench's cases: the module ``examples/benchmarks.py``.
 
-#: Coast-down: inertia J spinning at w0, bearing with constant friction tau0.
-CD_J, CD_W0, CD_TAU0, CD_STOP = 2.0, 3.0, 1.5, 6.0
-
-
-class CoastDown(Model):
-    """Inertia (J=2, w=3) coasting to a stop against BearingFriction(tau_pos=[[0, 1.5]]).
-
-    ``w(t) = max(w0 - tau0 t/J, 0)``, stopping at ``t* = J w0/tau0 = 4``.
-    """
-
-    experiment = Experiment(start_time=0.0, stop_time=CD_STOP, interval=0.005)
-
-    def build(self):
-        _ensure_path()
-        from acausal.library.rotational import BearingFriction, Inertia
-
-        self.inertia = Inertia(J=CD_J, phi=dict(start=0, fixed=True), w=dict(start=CD_W0, fixed=True))
-        self.bearing = BearingFriction(tau_pos=[[0.0, CD_TAU0]])
-        self.connect(self.inertia.flange_b, self.bearing.flange_a)
-
-
-def coast_down_exact(t) -> np.ndarray:
-    """Exact speed of :class:`CoastDown`."""
-    return np.maximum(CD_W0 - CD_TAU0 * np.asarray(t, dtype=float) / CD_J, 0.0)
-
-
-CD_T_STOP = CD_J * CD_W0 / CD_TAU0
-
-#: Stick-slip: Torque(A sin(2 pi f t)) on an inertia at rest, bearing tau0, peak p.
-SS_A, SS_F, SS_J, SS_TAU0, SS_PEAK = 10.0, 1.0, 1.0, 1.0, 1.0
-
-
-class StickSlip(Model):
-    """Sine torque (A=10, f=1) on an inertia at rest against BearingFriction(tau_pos=[[0, 1]], peak=1).
-
-    Breakaway at ``t_b = asin(p tau0/A)/(2 pi f)``; until the first stop ``t_s``
-    the speed is the integral of the net torque (:func:`stick_slip_exact`).
-    """
-
-    experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.001)
-
-    def build(self):
-        _ensure_path()
-        from acausal.library.blocks import Sine
-        from acausal.library.rotational import BearingFriction, Inertia, Torque
-
-        self.sine = Sine(amplitude=SS_A, f=SS_F)
-        self.torque = Torque()
-        self.inertia = Inertia(J=SS_J, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
-        self.bearing = BearingFriction(tau_pos=[[0.0, SS_TAU0]], peak=SS_PEAK)
-        self.connect(self.sine.y, self.torque.tau)
-        self.connect(self.torque.flange, self.inertia.flange_a)
-        self.connect(self.inertia.flange_b, self.bearing.flange_a)
-
-
-def _stick_slip_w(t):
-    t_b = math.asin(SS_PEAK * SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
-    om = 2 * math.pi * SS_F
-    t = np.asarray(t, dtype=float)
-    return (SS_A / om) * (math.cos(om * t_b) - np.cos(om * t)) / SS_J - SS_TAU0 * (t - t_b) / SS_J
-
-
-@lru_cache(maxsize=None)
-def stick_slip_times() -> tuple[float, float]:
-    """``(t_b, t_s)``: exact breakaway and first stop of :class:`StickSlip`."""
-    from scipy.optimize import brentq
-
-    t_b = math.asin(SS_PEAK * SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
-    # w grows while the drive exceeds the friction, i.e. until sin returns to tau0/A
-    t_peak = 0.5 / SS_F - math.asin(SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
-    hi = t_peak
-    while _stick_slip_w(hi) > 0:
-        hi += 0.05 / SS_F
-    t_s = brentq(lambda t: float(_stick_slip_w(t)), t_peak, hi, xtol=1e-15, rtol=1e-15)
-    return t_b, t_s
-
-
-def stick_slip_exact(t) -> np.ndarray:
-    """Exact speed of :class:`StickSlip` on ``[0, t_s]`` (0 before the breakaway)."""
-    t_b, _ = stick_slip_times()
-    t = np.asarray(t, dtype=float)
-    return np.where(t <= t_b, 0.0, _stick_slip_w(t))
-
-
-def stick_slip_stop_time() -> float:
-    """0.6 s if the first stop comes before it, else 1.1 t_s."""
-    _, t_s = stick_slip_times()
-    return 0.6 if t_s < 0.6 else 1.1 * t_s
-
-
-def _changed(event, name: str, old=None, new=None) -> bool:
-    for n, a, b in event.changes:
-        if n == name and (old is None or a == old) and (new is None or b == new):
-            return True
-    return False
-
-
-def _evaluate_coast_down(result, translation) -> dict:
-    t = result.time
-    w = result["inertia.w"]
-    error = float(np.max(np.abs(w - coast_down_exact(t))))
-    stops = [e.time for e in result.events if _changed(e, "bearing.mode", 1, 0)]
-    event_error = abs(stops[0] - CD_T_STOP) if stops else math.inf
-    return {"error": error, "event_error": event_error}
-
-
-def _evaluate_stick_slip(result, translation) -> dict:
-    t_b, t_s = stick_slip_times()
-    t = result.time
-    w = result["inertia.w"]
-    window = t <= t_s
-    error = float(np.max(np.abs(w[window] - stick_slip_exact(t[window]))))
-    breaks = [e.time for e in result.events if e.kind != "initial" and
-              (_changed(e, "bearing.startForward", False, True)
-               or _changed(e, "bearing.locked", True, False))]
-    stops = [e.time for e in result.events if any(n == "bearing.mode" and a == 1 and b != 1
-                                                  for n, a, b in e.changes)]
-    if breaks and stops:
-        event_error = max(abs(breaks[0] - t_b), abs(stops[0] - t_s))
-    else:
-        event_error = math.inf
-    return {"error": error, "event_error": event_error}
-
-
-# ---------------------------------------------------------------------------
-# The generated drive train
-# ---------------------------------------------------------------------------
-
-
-def drive_train_model(n: int, heat_ports: bool = False, stop_time: float = 1.0, interval=None) -> Model:
-    """A drive train of ``n`` units Inertia–BearingFriction–SpringDamper in series.
-
-    A sine torque (20 N.m, 2 Hz) drives the first inertia; every inertia
-    (J = 1) starts at 10 rad/s and has a bearing (friction 0.5 N.m) whose
-    flanges carry the train on to the next spring-damper (c = 1e3, d = 5).
-    All bearings slide forward for the first seconds, so one discrete state
-    is in force and the run measures the continuous part.  With
-    ``heat_ports`` every bearing heats its own HeatCapacitor (C = 10).
+    Imported with the examples folder first on ``sys.path`` (as the example
+    modules the reference cases load), so the scaling points' fresh
+    processes find it too.  See the module docstring for what it provides.
     """
     _ensure_path()
+    import benchmarks
 
-    class DriveTrain(Model):
-        experiment = Experiment(start_time=0.0, stop_time=stop_time,
-                                interval=interval if interval is not None else stop_time / 500)
-
-        def build(self):
-            from acausal.library.blocks import Sine
-            from acausal.library.rotational import BearingFriction, Inertia, SpringDamper, Torque
-            from acausal.library.thermal import HeatCapacitor
-
-            self.sine = Sine(amplitude=20.0, f=2.0)
-            self.torque = Torque()
-            self.connect(self.sine.y, self.torque.tau)
-            previous = self.torque.flange
-            for i in range(1, n + 1):
-                inertia = Inertia(J=1.0, phi=dict(start=0, fixed=True), w=dict(start=10.0, fixed=True))
-                bearing = BearingFriction(tau_pos=[[0.0, 0.5]], peak=1.1, useHeatPort=heat_ports)
-                setattr(self, f"inertia{i}", inertia)
-                setattr(self, f"bearing{i}", bearing)
-                self.connect(previous, inertia.flange_a)
-                self.connect(inertia.flange_b, bearing.flange_a)
-                if heat_ports:
-                    housing = HeatCapacitor(C=10.0, T=dict(start=293.15, fixed=True))
-                    setattr(self, f"housing{i}", housing)
-                    self.connect(bearing.heatPort, housing.port)
-                if i < n:
-                    spring = SpringDamper(c=1e3, d=5.0)
-                    setattr(self, f"spring{i}", spring)
-                    self.connect(bearing.flange_b, spring.flange_a)
-                    previous = spring.flange_b
-
-    DriveTrain.__name__ = DriveTrain.__qualname__ = f"DriveTrain{n}{'Heat' if heat_ports else ''}"
-    return DriveTrain()
+    return benchmarks
 
 
 # ---------------------------------------------------------------------------
@@ -315,7 +158,9 @@ def _reference_missing(modelica_class: str) -> str | None:
     return None
 
 
-def _example(module: str, cls: str) -> Callable[[], Model]:
+def example_factory(module: str, cls: str) -> Callable[[], Model]:
+    """A function making ``cls()`` of the module ``module`` of the examples folder (imported on first call)."""
+
     def make():
         _ensure_path()
         import importlib
@@ -366,26 +211,17 @@ def _reference_mode_times(reference) -> list[float]:
     return sorted(times)
 
 
-def _msl_case(name: str, module: str, modelica_class: str) -> Case:
-    """An MSL example measured against its reference results (error in tube half-heights)."""
-    return Case(name, _example(module, name), _reference_evaluator(modelica_class), "max |y-y_ref|/dy",
+def reference_case(name: str, module: str, modelica_class: str) -> Case:
+    """The example class ``name`` of ``examples/<module>.py`` measured against the reference results of
+    ``modelica_class`` (error in tube half-heights)."""
+    return Case(name, example_factory(module, name), _reference_evaluator(modelica_class), "max |y-y_ref|/dy",
                 "MSL " + ".".join(modelica_class.split(".")[-3:]),
                 reference=modelica_class)
 
 
 def cases() -> dict[str, Case]:
-    """Every work-precision case by name, in table order."""
-    out = [
-        Case("CoastDown", CoastDown, _evaluate_coast_down, "rad/s",
-             "BearingFriction coast-down, exact w(t) and stop at t*=4", CD_STOP),
-        Case("StickSlip", StickSlip, _evaluate_stick_slip, "rad/s",
-             "sine-driven stick-slip, exact w(t) until the first stop", stick_slip_stop_time()),
-        _msl_case("First", "first", "Modelica.Mechanics.Rotational.Examples.First"),
-        _msl_case("TwoMasses", "two_masses", "Modelica.Thermal.HeatTransfer.Examples.TwoMasses"),
-        _msl_case("Friction", "friction", "Modelica.Mechanics.Rotational.Examples.Friction"),
-        _msl_case("CoupledClutches", "coupled_clutches", "Modelica.Mechanics.Rotational.Examples.CoupledClutches"),
-    ]
-    return {c.name: c for c in out}
+    """Every work-precision case of the suite by name, in table order."""
+    return {c.name: c for c in suite().cases()}
 
 
 def get_case(name: str) -> Case:
@@ -602,14 +438,10 @@ def run_effects_case(name: str, make: Callable[[], Model], output: str, rtol: fl
 
 def run_effects(rtol: float = 1e-6, repeats: int = 2, n_units: int = 20,
                 log: Callable[[str], None] | None = None) -> list[EffectsRecord]:
+    """:func:`run_effects_case` for each of the suite's ``effects_cases(n_units)``."""
     log = log or (lambda _s: None)
     records = []
-    specs = [
-        ("BearingHeating", _example("bearing_heating", "BearingHeating"), "shaft.w"),
-        (f"DriveTrain{n_units} (heat ports)", lambda: drive_train_model(n_units, heat_ports=True),
-         f"inertia{n_units}.w"),
-    ]
-    for name, make, output in specs:
+    for name, make, output in suite().effects_cases(n_units):
         record = run_effects_case(name, make, output, rtol=rtol, repeats=repeats)
         log(f"  effects {name}: states {record.states_kept}/{record.states_total}, derivative steps "
             f"{record.derivative_steps_kept}/{record.derivative_steps_full}, time "
@@ -656,7 +488,7 @@ def _rss_mb() -> float:
 
 def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: str = "RK45",
                   repeats: int = 1, progress: Callable[[dict], None] | None = None) -> dict:
-    """Translate and simulate the drive train of ``n`` units (no heat ports).
+    """Translate and simulate the suite's ``scaling_model`` of size ``n``.
 
     Phases, each timed: flatten+partition; building the discrete evaluator;
     initialization (which compiles the first discrete states and the
@@ -677,7 +509,7 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
         point["wall"] = time.perf_counter() - wall0
         progress(dict(point))
 
-    model = drive_train_model(n, heat_ports=False, stop_time=stop_time)
+    model = suite().scaling_model(n, stop_time)
     gc.collect()
     t0 = time.perf_counter()
     translation = _fresh_translate(model)
@@ -754,9 +586,7 @@ def _last_report(output) -> dict | None:
     return None
 
 
-#: Fresh-process commands timed against the issue's target (wall seconds).
-COMMAND_TARGETS = (("First", "examples/first.py"), ("TwoMasses", "examples/two_masses.py"),
-                   ("CoupledClutches", "examples/coupled_clutches.py"))
+#: The target of a fresh-process command (the suite's ``COMMAND_TARGETS``), wall seconds.
 COMMAND_TARGET_SECONDS = 1.0
 
 
@@ -772,7 +602,7 @@ def run_commands(repeats: int = 5, log: Callable[[str], None] | None = None) -> 
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
     records = []
-    for name, example in COMMAND_TARGETS:
+    for name, example in suite().COMMAND_TARGETS:
         walls, statuses, failure = [], [], ""
         for _ in range(repeats):
             t0 = time.perf_counter()
@@ -960,7 +790,7 @@ def _bench_markdown(runs: Sequence[CaseRun], quick: bool, wall: float) -> str:
     parts = [f"# Work-precision benchmark ({'quick' if quick else 'full'})", "",
              f"Python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} CPUs; "
              f"bench wall time {wall:.1f} s.", "",
-             "*error*: CoastDown and StickSlip: max |w - w_exact| in rad/s on the output grid; "
+             f"*error*: {suite().EXACT_ERROR_TEXT}; "
              "MSL cases: max over compared continuous signals of max |y - y_ref| / dy at the reference "
              "times (dy = csv-compare tube half-height, rel. tol. 2e-3), limited below by the reference's "
              "own accuracy. *tube*: worst violation of the tube test in dy (0 = pass). "
@@ -1213,12 +1043,11 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True)
         limit = f"Every size finished (largest N = {max(ok)})." if ok else ""
     return "\n".join([
         "# Scaling", "",
-        "Drive train of N units Inertia–BearingFriction–SpringDamper (no heat ports), sine-driven, all "
-        "bearings sliding; " + ("each size in a fresh process (sympy's caches cold, as for a user's "
-                                "first translation; the garbage collector set as in an `acausal` "
-                                "command). " if isolated else
-                                "in the bench's own process (sympy's caches warm from earlier "
-                                "translations, so faster than a first translation). ") +
+        suite().SCALING_DESCRIPTION + "; " +
+        ("each size in a fresh process (sympy's caches cold, as for a user's first translation; the "
+         "garbage collector set as in an `acausal` command). " if isolated else
+         "in the bench's own process (sympy's caches warm from earlier translations, so faster than a "
+         "first translation). ") +
         "Translation (1 mode) = flatten+partition + the stages (alias, structure, blt, "
         "algebraic, codegen) of the first compiled system; all modes: flatten+partition + every discrete "
         "state compiled by the first simulation. Event setup: building the discrete evaluator (once per "
@@ -1275,7 +1104,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
     ax.xaxis.set_major_formatter(matplotlib.ticker.FixedFormatter([str(p["n"]) for p in points]))
     ax.xaxis.set_minor_locator(NullLocator())
     ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel("N (units Inertia–BearingFriction–SpringDamper)")
+    ax.set_xlabel(suite().SCALING_SIZE_LABEL)
     ax.set_ylabel("seconds")
     ax.set_title("Scaling of translation and simulation with model size (dotted: power-law fits)")
     ax.grid(True, which="major", alpha=0.4)
@@ -1339,7 +1168,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     Parameters
     ----------
     quick : bool
-        Quick: CoastDown, StickSlip, First, Friction; rtol 1e-3, 1e-6, 1e-9;
+        Quick: the suite's ``QUICK_CASES``; rtol 1e-3, 1e-6, 1e-9;
         2 repeats; scaling N = 10, 40.  Full: every case, rtol 1e-3 ... 1e-10;
         3 repeats; scaling N = 10 ... 1000 within a time budget per point.
     methods, rtols : optional
@@ -1367,7 +1196,10 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     rtols = tuple(float(r) for r in rtols) if rtols else (QUICK_RTOLS if quick else FULL_RTOLS)
     repeats = repeats if repeats is not None else (2 if quick else 3)
     all_cases = cases()
-    names = tuple(case_names) if case_names is not None else (QUICK_CASES if quick else tuple(all_cases))
+    if case_names is not None:
+        names = tuple(case_names)
+    else:
+        names = suite().QUICK_CASES if quick else tuple(all_cases)
     sizes = tuple(scaling_sizes) if scaling_sizes is not None else (QUICK_SCALING if quick else FULL_SCALING)
     log = (lambda s: print(s, flush=True)) if verbose else (lambda _s: None)
 
@@ -1400,7 +1232,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         section("effects", start)
     if commands:
         # the commands compare with the reference results: without them they only fail
-        for name, _example_file in COMMAND_TARGETS:
+        for name, _example_file in suite().COMMAND_TARGETS:
             missing = _reference_missing(all_cases[name].reference)
             if missing:
                 skipped["fresh-process commands"] = missing

@@ -1,0 +1,300 @@
+"""The cases of ``acausal bench``: what it measures, and the exact solutions it measures against.
+
+``acausal bench`` (:mod:`acausal.tools.bench`) is generic machinery: it
+times translations and simulations, draws work-precision plots and fits
+scaling laws.  What it runs is defined here, in the examples folder, because
+the cases are models of the component libraries.  The bench imports this
+module (with ``examples/`` on ``sys.path``) and uses:
+
+``cases()``
+    The work-precision cases in table order, two kinds:
+
+    * **Exact-solution cases** ``CoastDown`` and ``StickSlip``.  A single
+      inertia against a ``BearingFriction`` with a constant friction torque
+      (no speed dependence) moves by ``J w' = drive - tau0`` while it slides
+      and has ``w = 0`` while it sticks, so its speed is an integral of known
+      functions and is known exactly -- the integrator's and the event
+      handling's error can be measured free of any reference's own error:
+
+      - ``CoastDown``: spinning at ``w0`` with nothing driving it, the speed
+        falls linearly, ``w(t) = w0 - tau0 t / J``, until it stops at
+        ``t* = J w0 / tau0 = 4 s`` and stays stuck (no torque to break it
+        away).  See :func:`coast_down_exact`.
+      - ``StickSlip``: a sine torque ``A sin(2 pi f t)`` on the inertia at
+        rest.  It sticks until the drive reaches the breakaway torque,
+        ``t_b = asin(peak tau0 / A) / (2 pi f)``, then slides forward with
+        ``w(t) = (A/omega)(cos(omega t_b) - cos(omega t))/J - tau0 (t - t_b)/J``
+        until the speed returns to zero at ``t_s`` (a root of that closed
+        form, found to 1e-15 s).  The error is measured on ``[0, t_s]``.
+        See :func:`stick_slip_times` and :func:`stick_slip_exact`.
+
+      Their *error* is ``max |w - w_exact|`` in rad/s on the output grid,
+      their *event-time error* the distance of the breakaway and stop
+      events to the exact instants.
+    * **Reference cases**: MSL examples of this folder (``first.py``,
+      ``two_masses.py``, ``friction.py``, ``coupled_clutches.py``),
+      measured against the MSL reference results.
+
+``QUICK_CASES``
+    The cases of ``acausal bench --quick``.
+``effects_cases(n_units)``
+    The models of the *effects on demand* section: ``BearingHeating`` and a
+    generated drive train with heat ports (:func:`drive_train_model`), each
+    with the one output requested.
+``scaling_model(n, stop_time)``, ``SCALING_DESCRIPTION``, ``SCALING_SIZE_LABEL``
+    The model of size ``n`` of the *scaling* section (the drive train
+    without heat ports) and the words describing it in the table and plot.
+``COMMAND_TARGETS``
+    The examples whose ``acausal compare`` command is timed in a fresh process.
+``EXACT_ERROR_TEXT``
+    How the exact cases' *error* is measured, for the bench's table.
+
+``acausal simulate examples/benchmarks.py:CoastDown`` (or ``:StickSlip``)
+runs an exact-solution case on its own.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from acausal import Experiment, Model
+
+# The component libraries are imported inside ``build`` (as the bench always
+# did), so that importing this module stays light and a translation's
+# flatten time includes the same work as before.
+
+# ---------------------------------------------------------------------------
+# Exact-solution models
+# ---------------------------------------------------------------------------
+
+#: Coast-down: inertia J spinning at w0, bearing with constant friction tau0.
+CD_J, CD_W0, CD_TAU0, CD_STOP = 2.0, 3.0, 1.5, 6.0
+
+
+class CoastDown(Model):
+    """Inertia (J=2, w=3) coasting to a stop against BearingFriction(tau_pos=[[0, 1.5]]).
+
+    ``w(t) = max(w0 - tau0 t/J, 0)``, stopping at ``t* = J w0/tau0 = 4``.
+    """
+
+    experiment = Experiment(start_time=0.0, stop_time=CD_STOP, interval=0.005)
+
+    def build(self):
+        from acausal.library.rotational import BearingFriction, Inertia
+
+        self.inertia = Inertia(J=CD_J, phi=dict(start=0, fixed=True), w=dict(start=CD_W0, fixed=True))
+        self.bearing = BearingFriction(tau_pos=[[0.0, CD_TAU0]])
+        self.connect(self.inertia.flange_b, self.bearing.flange_a)
+
+
+def coast_down_exact(t) -> np.ndarray:
+    """Exact speed of :class:`CoastDown`."""
+    return np.maximum(CD_W0 - CD_TAU0 * np.asarray(t, dtype=float) / CD_J, 0.0)
+
+
+CD_T_STOP = CD_J * CD_W0 / CD_TAU0
+
+#: Stick-slip: Torque(A sin(2 pi f t)) on an inertia at rest, bearing tau0, peak p.
+SS_A, SS_F, SS_J, SS_TAU0, SS_PEAK = 10.0, 1.0, 1.0, 1.0, 1.0
+
+
+class StickSlip(Model):
+    """Sine torque (A=10, f=1) on an inertia at rest against BearingFriction(tau_pos=[[0, 1]], peak=1).
+
+    Breakaway at ``t_b = asin(p tau0/A)/(2 pi f)``; until the first stop ``t_s``
+    the speed is the integral of the net torque (:func:`stick_slip_exact`).
+    """
+
+    experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.001)
+
+    def build(self):
+        from acausal.library.blocks import Sine
+        from acausal.library.rotational import BearingFriction, Inertia, Torque
+
+        self.sine = Sine(amplitude=SS_A, f=SS_F)
+        self.torque = Torque()
+        self.inertia = Inertia(J=SS_J, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
+        self.bearing = BearingFriction(tau_pos=[[0.0, SS_TAU0]], peak=SS_PEAK)
+        self.connect(self.sine.y, self.torque.tau)
+        self.connect(self.torque.flange, self.inertia.flange_a)
+        self.connect(self.inertia.flange_b, self.bearing.flange_a)
+
+
+def _stick_slip_w(t):
+    t_b = math.asin(SS_PEAK * SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
+    om = 2 * math.pi * SS_F
+    t = np.asarray(t, dtype=float)
+    return (SS_A / om) * (math.cos(om * t_b) - np.cos(om * t)) / SS_J - SS_TAU0 * (t - t_b) / SS_J
+
+
+@lru_cache(maxsize=None)
+def stick_slip_times() -> tuple[float, float]:
+    """``(t_b, t_s)``: exact breakaway and first stop of :class:`StickSlip`."""
+    from scipy.optimize import brentq
+
+    t_b = math.asin(SS_PEAK * SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
+    # w grows while the drive exceeds the friction, i.e. until sin returns to tau0/A
+    t_peak = 0.5 / SS_F - math.asin(SS_TAU0 / SS_A) / (2 * math.pi * SS_F)
+    hi = t_peak
+    while _stick_slip_w(hi) > 0:
+        hi += 0.05 / SS_F
+    t_s = brentq(lambda t: float(_stick_slip_w(t)), t_peak, hi, xtol=1e-15, rtol=1e-15)
+    return t_b, t_s
+
+
+def stick_slip_exact(t) -> np.ndarray:
+    """Exact speed of :class:`StickSlip` on ``[0, t_s]`` (0 before the breakaway)."""
+    t_b, _ = stick_slip_times()
+    t = np.asarray(t, dtype=float)
+    return np.where(t <= t_b, 0.0, _stick_slip_w(t))
+
+
+def stick_slip_stop_time() -> float:
+    """0.6 s if the first stop comes before it, else 1.1 t_s."""
+    _, t_s = stick_slip_times()
+    return 0.6 if t_s < 0.6 else 1.1 * t_s
+
+
+def _changed(event, name: str, old=None, new=None) -> bool:
+    for n, a, b in event.changes:
+        if n == name and (old is None or a == old) and (new is None or b == new):
+            return True
+    return False
+
+
+def evaluate_coast_down(result, translation) -> dict:
+    """Error of a :class:`CoastDown` result: speed against :func:`coast_down_exact`, stop time against 4 s."""
+    t = result.time
+    w = result["inertia.w"]
+    error = float(np.max(np.abs(w - coast_down_exact(t))))
+    stops = [e.time for e in result.events if _changed(e, "bearing.mode", 1, 0)]
+    event_error = abs(stops[0] - CD_T_STOP) if stops else math.inf
+    return {"error": error, "event_error": event_error}
+
+
+def evaluate_stick_slip(result, translation) -> dict:
+    """Error of a :class:`StickSlip` result on ``[0, t_s]``; breakaway and stop against the exact instants."""
+    t_b, t_s = stick_slip_times()
+    t = result.time
+    w = result["inertia.w"]
+    window = t <= t_s
+    error = float(np.max(np.abs(w[window] - stick_slip_exact(t[window]))))
+    breaks = [e.time for e in result.events if e.kind != "initial" and
+              (_changed(e, "bearing.startForward", False, True)
+               or _changed(e, "bearing.locked", True, False))]
+    stops = [e.time for e in result.events if any(n == "bearing.mode" and a == 1 and b != 1
+                                                  for n, a, b in e.changes)]
+    if breaks and stops:
+        event_error = max(abs(breaks[0] - t_b), abs(stops[0] - t_s))
+    else:
+        event_error = math.inf
+    return {"error": error, "event_error": event_error}
+
+
+#: How the exact cases' error is measured (the bench's table explains its columns with it).
+EXACT_ERROR_TEXT = "CoastDown and StickSlip: max |w - w_exact| in rad/s on the output grid"
+
+
+# ---------------------------------------------------------------------------
+# The generated drive train
+# ---------------------------------------------------------------------------
+
+
+def drive_train_model(n: int, heat_ports: bool = False, stop_time: float = 1.0, interval=None) -> Model:
+    """A drive train of ``n`` units Inertia–BearingFriction–SpringDamper in series.
+
+    A sine torque (20 N.m, 2 Hz) drives the first inertia; every inertia
+    (J = 1) starts at 10 rad/s and has a bearing (friction 0.5 N.m) whose
+    flanges carry the train on to the next spring-damper (c = 1e3, d = 5).
+    All bearings slide forward for the first seconds, so one discrete state
+    is in force and the run measures the continuous part.  With
+    ``heat_ports`` every bearing heats its own HeatCapacitor (C = 10).
+    """
+
+    class DriveTrain(Model):
+        experiment = Experiment(start_time=0.0, stop_time=stop_time,
+                                interval=interval if interval is not None else stop_time / 500)
+
+        def build(self):
+            from acausal.library.blocks import Sine
+            from acausal.library.rotational import BearingFriction, Inertia, SpringDamper, Torque
+            from acausal.library.thermal import HeatCapacitor
+
+            self.sine = Sine(amplitude=20.0, f=2.0)
+            self.torque = Torque()
+            self.connect(self.sine.y, self.torque.tau)
+            previous = self.torque.flange
+            for i in range(1, n + 1):
+                inertia = Inertia(J=1.0, phi=dict(start=0, fixed=True), w=dict(start=10.0, fixed=True))
+                bearing = BearingFriction(tau_pos=[[0.0, 0.5]], peak=1.1, useHeatPort=heat_ports)
+                setattr(self, f"inertia{i}", inertia)
+                setattr(self, f"bearing{i}", bearing)
+                self.connect(previous, inertia.flange_a)
+                self.connect(inertia.flange_b, bearing.flange_a)
+                if heat_ports:
+                    housing = HeatCapacitor(C=10.0, T=dict(start=293.15, fixed=True))
+                    setattr(self, f"housing{i}", housing)
+                    self.connect(bearing.heatPort, housing.port)
+                if i < n:
+                    spring = SpringDamper(c=1e3, d=5.0)
+                    setattr(self, f"spring{i}", spring)
+                    self.connect(bearing.flange_b, spring.flange_a)
+                    previous = spring.flange_b
+
+    DriveTrain.__name__ = DriveTrain.__qualname__ = f"DriveTrain{n}{'Heat' if heat_ports else ''}"
+    return DriveTrain()
+
+
+# ---------------------------------------------------------------------------
+# What the bench runs
+# ---------------------------------------------------------------------------
+
+
+def cases() -> list:
+    """The work-precision cases (:class:`acausal.tools.bench.Case`), in table order."""
+    from acausal.tools.bench import Case, reference_case
+
+    return [
+        Case("CoastDown", CoastDown, evaluate_coast_down, "rad/s",
+             "BearingFriction coast-down, exact w(t) and stop at t*=4", CD_STOP),
+        Case("StickSlip", StickSlip, evaluate_stick_slip, "rad/s",
+             "sine-driven stick-slip, exact w(t) until the first stop", stick_slip_stop_time()),
+        reference_case("First", "first", "Modelica.Mechanics.Rotational.Examples.First"),
+        reference_case("TwoMasses", "two_masses", "Modelica.Thermal.HeatTransfer.Examples.TwoMasses"),
+        reference_case("Friction", "friction", "Modelica.Mechanics.Rotational.Examples.Friction"),
+        reference_case("CoupledClutches", "coupled_clutches",
+                       "Modelica.Mechanics.Rotational.Examples.CoupledClutches"),
+    ]
+
+
+#: The cases of ``acausal bench --quick``.
+QUICK_CASES = ("CoastDown", "StickSlip", "First", "Friction")
+
+
+def effects_cases(n_units: int = 20) -> list[tuple]:
+    """``(name, make, output)`` of the models the effects-on-demand section runs."""
+    from acausal.tools.bench import example_factory
+
+    return [
+        ("BearingHeating", example_factory("bearing_heating", "BearingHeating"), "shaft.w"),
+        (f"DriveTrain{n_units} (heat ports)", lambda: drive_train_model(n_units, heat_ports=True),
+         f"inertia{n_units}.w"),
+    ]
+
+
+def scaling_model(n: int, stop_time: float) -> Model:
+    """The scaling section's model of size ``n``: the drive train without heat ports."""
+    return drive_train_model(n, heat_ports=False, stop_time=stop_time)
+
+
+#: The scaling model in the words of the scaling table and plot.
+SCALING_DESCRIPTION = ("Drive train of N units Inertia–BearingFriction–SpringDamper (no heat ports), "
+                       "sine-driven, all bearings sliding")
+SCALING_SIZE_LABEL = "N (units Inertia–BearingFriction–SpringDamper)"
+
+#: ``(case, example file)``: the ``acausal compare`` commands timed in a fresh process.
+COMMAND_TARGETS = (("First", "examples/first.py"), ("TwoMasses", "examples/two_masses.py"),
+                   ("CoupledClutches", "examples/coupled_clutches.py"))
