@@ -32,8 +32,10 @@ from __future__ import annotations
 
 import difflib
 import enum
+import functools
+import inspect
 from dataclasses import dataclass
-from typing import Any, Callable, Iterator
+from typing import Any, Callable, Iterator, Mapping
 
 import sympy as sp
 
@@ -75,6 +77,24 @@ pre = sp.Function("pre")
 #: ``initial()``: true only while the initialization problem is solved.
 initial = sp.Function("initial")
 
+# sympy makes undefined functions classes with ``__module__ = None``, which
+# pydoc cannot document (``help(acausal)`` crashed).  Naming their module
+# and giving them a docstring changes neither equality nor hashing: sympy
+# compares undefined functions by name and assumptions only, so ``der(x)``
+# is still ``sympy.Function("der")(x)``.
+for _function, _doc in (
+        (der, "der(expr): the time derivative of ``expr`` (Modelica's ``der``).\n\n"
+              "A sympy undefined function, ``sympy.Function('der')``.  Applied to an\n"
+              "expression it is expanded by the chain rule during flattening."),
+        (pre, "pre(v): the left limit of the discrete variable ``v`` at an event (Modelica's ``pre``).\n\n"
+              "A sympy undefined function, ``sympy.Function('pre')``."),
+        (initial, "initial(): true only while the initialization problem is solved "
+                  "(Modelica's ``initial()``).\n\n"
+                  "A sympy undefined function, ``sympy.Function('initial')``.")):
+    _function.__module__ = __name__
+    _function.__doc__ = _doc
+del _function, _doc
+
 def Eq(lhs, rhs) -> sp.Equality:  # noqa: N802 - the sympy name users know
     """The equation ``lhs = rhs``.
 
@@ -89,6 +109,39 @@ def Eq(lhs, rhs) -> sp.Equality:  # noqa: N802 - the sympy name users know
 def If(condition, then, otherwise) -> sp.Piecewise:  # noqa: N802 - Modelica keyword
     """``if condition then then else otherwise`` as a sympy Piecewise."""
     return sp.Piecewise((then, condition), (otherwise, True))
+
+
+#: The situations in which the engine adds a component's own hint (see
+#: :attr:`Component.hints`) to an error, and what each means.
+HINT_SITUATIONS = {
+    "mode": "a discrete state reached after the start cannot be solved (a structural error "
+            "whose equations include the component's)",
+    "event_iteration": "event iteration does not settle while the component's discrete "
+                       "variables keep changing",
+    "chattering": "events pile up without time passing while the component's relations or "
+                  "discrete variables keep switching",
+}
+
+
+def component_hints(klass: type) -> dict[str, str]:
+    """The hints of a component class, its bases' included (nearest class wins).
+
+    Raises
+    ------
+    ModelDefinitionError
+        For a situation that is not one of :data:`HINT_SITUATIONS`.
+    """
+    merged: dict[str, str] = {}
+    for base in reversed(klass.__mro__):
+        own = vars(base).get("hints")
+        if not own:
+            continue
+        unknown = sorted(set(own) - set(HINT_SITUATIONS))
+        if unknown:
+            raise ModelDefinitionError(f"{base.__name__}.hints: unknown situation {unknown[0]!r}",
+                                       hint=f"the situations are {', '.join(HINT_SITUATIONS)}")
+        merged.update(own)
+    return merged
 
 
 def real_symbol(name: str) -> sp.Symbol:
@@ -113,6 +166,69 @@ class StateSelect(enum.IntEnum):
 _VARIABLE_ATTRIBUTES = ("start", "fixed", "nominal", "state_select", "min", "max", "unit")
 
 
+@functools.lru_cache(maxsize=None)
+def _constructor_defaults(klass: type) -> tuple[tuple[str, bool, Any], ...]:
+    """(name, positional, default) for each named argument of ``klass(...)``.
+
+    ``**kw`` is followed to the base class constructor (``RealInput(**kw)``
+    takes Variable's arguments).  The default is the attribute of an instance
+    made without arguments, so ``causality`` of a RealInput defaults to
+    "input"; it is the signature's default if that instance cannot be made.
+    """
+    arguments: dict[str, inspect.Parameter] = {}
+    for base in klass.__mro__:
+        init = vars(base).get("__init__")
+        if init is None:
+            continue
+        parameters = list(inspect.signature(init).parameters.values())[1:]
+        for parameter in parameters:
+            if (parameter.kind in (parameter.POSITIONAL_OR_KEYWORD, parameter.KEYWORD_ONLY)
+                    and parameter.name not in arguments):
+                arguments[parameter.name] = parameter
+        if not any(parameter.kind is parameter.VAR_KEYWORD for parameter in parameters):
+            break
+    try:
+        plain = klass()
+    except Exception:  # noqa: BLE001 - a subclass whose constructor needs arguments
+        plain = None
+    return tuple((name, parameter.kind is parameter.POSITIONAL_OR_KEYWORD,
+                  getattr(plain, name, parameter.default))
+                 for name, parameter in arguments.items())
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal values of the same type (``0`` differs from ``0.0`` and from False)."""
+    if a is b:
+        return True
+    if type(a) is not type(b):
+        return False
+    try:
+        return bool(a == b)
+    except Exception:  # noqa: BLE001 - arrays and other values without a truth value
+        return False
+
+
+def _value_text(value: Any) -> str:
+    """repr of an attribute value; enums by name, functions without their address."""
+    if isinstance(value, enum.Enum):
+        return f"{type(value).__name__}.{value.name}"
+    if (callable(value) and not isinstance(value, (sp.Basic, type))
+            and hasattr(value, "__qualname__")):
+        return f"<function {value.__qualname__}>"
+    return repr(value)
+
+
+def _short(text: str, width: int = 60) -> str:
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
+def _attribute_text(value: Any) -> str:
+    """A variable attribute in a docstring; one given as a function of the component is "computed"."""
+    if callable(value) and not isinstance(value, sp.Basic):
+        return "computed"
+    return _short(_value_text(value))
+
+
 class Declaration:
     """Something a component class declares; a descriptor on the class."""
 
@@ -135,6 +251,39 @@ class Declaration:
         if callable(self.condition):
             return bool(self.condition(component))
         return bool(getattr(component, self.condition))
+
+    def _changed_attributes(self) -> dict[str, Any]:
+        """The constructor arguments whose value differs from the default, in signature order."""
+        return {name: getattr(self, name) for name, _, default in _constructor_defaults(type(self))
+                if hasattr(self, name) and not _same(getattr(self, name), default)}
+
+    def __repr__(self) -> str:
+        """The constructor call, e.g. ``Parameter(1.0, unit='kg.m2', min=0)``.
+
+        Only arguments that differ from their defaults are shown; the leading
+        positional argument (a parameter's default value) without its name.
+        """
+        changed = self._changed_attributes()
+        arguments = []
+        keywords_only = False
+        for name, positional, _ in _constructor_defaults(type(self)):
+            if name not in changed:
+                keywords_only = True
+                continue
+            value = _value_text(changed[name])
+            arguments.append(value if positional and not keywords_only else f"{name}={value}")
+        return f"{type(self).__name__}({', '.join(arguments)})"
+
+    def _doc_entry(self) -> tuple[str, str]:
+        """(section, summary) of this declaration in its component's docstring."""
+        return "Variables", type(self).__name__
+
+    def _doc_condition(self) -> list[str]:
+        if self.condition is None:
+            return []
+        if isinstance(self.condition, str):
+            return [f"if {self.condition}"]
+        return ["conditional"]
 
 
 class Parameter(Declaration):
@@ -175,6 +324,18 @@ class Parameter(Declaration):
             return obj._modifier_value(self.name, self.default)
         return real_symbol(obj._path_of(self.name))
 
+    def _doc_entry(self) -> tuple[str, str]:
+        parts = ["no default" if self.default is None else f"default {_short(_value_text(self.default))}"]
+        if self.unit:
+            parts.append(f"unit {self.unit}")
+        parts += [f"{bound} {_value_text(getattr(self, bound))}" for bound in ("min", "max")
+                  if getattr(self, bound) is not None]
+        if self.structural:
+            parts.append("structural")
+        if self.fixed is not True:
+            parts.append(f"fixed={_value_text(self.fixed)}")
+        return "Parameters", ", ".join(parts + self._doc_condition())
+
 
 class Variable(Declaration):
     """A continuous-time Real variable.
@@ -207,6 +368,22 @@ class Variable(Declaration):
         if obj is None:
             return self
         return self.make_symbol(obj._path_of(self.name))
+
+    def _doc_entry(self) -> tuple[str, str]:
+        # Signal connectors (RealInput, RealOutput) are listed with the connectors.
+        section = "Connectors" if self.causality else "Variables"
+        parts = ["Real" if type(self) is Variable else type(self).__name__]
+        if self.unit:
+            parts.append(f"unit {self.unit}")
+        changed = self._changed_attributes()
+        for attribute in ("start", "min", "max"):
+            if changed.get(attribute) is not None:
+                parts.append(f"{attribute} {_attribute_text(changed[attribute])}")
+        if self.fixed is True:
+            parts.append("fixed")
+        elif "fixed" in changed:
+            parts.append(f"fixed {_attribute_text(self.fixed)}")
+        return section, ", ".join(parts + self._doc_condition())
 
 
 class RealInput(Variable):
@@ -293,6 +470,9 @@ class Connector(Declaration):
             return self
         return BoundConnector(self, obj)
 
+    def _doc_entry(self) -> tuple[str, str]:
+        return "Connectors", ", ".join([type(self).__name__] + self._doc_condition())
+
 
 class BoundConnector:
     """A connector of one component instance; its variables are symbols."""
@@ -356,6 +536,60 @@ class Experiment:
     tolerance: float | None = None
 
 
+_DOC_SECTIONS = ("Parameters", "Connectors", "Variables")
+
+
+def _declarations_doc(component_class: type["Component"], own: str | None) -> str | None:
+    """``own`` (the class's docstring) followed by numpydoc sections listing its declarations.
+
+    The class's own declarations come first, then those of its bases in
+    method resolution order.
+    """
+    import textwrap
+
+    declarations = component_class.declarations()
+    names = dict.fromkeys(name for klass in component_class.__mro__ for name in vars(klass)
+                          if name in declarations)
+    sections: dict[str, list[str]] = {title: [] for title in _DOC_SECTIONS}
+    for name in names:
+        declaration = declarations[name]
+        title, summary = declaration._doc_entry()
+        lines = sections[title]
+        lines.append(f"{name} : {summary}" if summary else name)
+        if declaration.description:
+            lines += textwrap.wrap(declaration.description, width=76, initial_indent="    ",
+                                   subsequent_indent="    ", break_on_hyphens=False)
+    text = "\n\n".join("\n".join([title, "-" * len(title), *lines])
+                       for title, lines in sections.items() if lines)
+    if not text:
+        return own
+    return f"{inspect.cleandoc(own)}\n\n{text}" if own else text
+
+
+class _ComponentDoc:
+    """The ``__doc__`` of a Component subclass: its docstring plus its declarations.
+
+    A descriptor in the class dictionary (``type.__doc__`` calls its
+    ``__get__``), so the text is made on first read, not when the class is
+    created.
+    """
+
+    __slots__ = ("_owner", "_own", "_text")
+
+    def __init__(self, owner: type["Component"], own: str | None) -> None:
+        self._owner = owner
+        self._own = own
+        self._text: str | None = None
+
+    def __get__(self, obj, objtype=None) -> str | None:
+        if self._text is None:
+            try:
+                self._text = _declarations_doc(self._owner, self._own) or ""
+            except Exception:  # noqa: BLE001 - reading a docstring must never fail
+                return self._own
+        return self._text or self._own
+
+
 class Component:
     """A component: declarations, equations and (optionally) sub-components.
 
@@ -363,7 +597,25 @@ class Component:
     them, :meth:`equations` for their equations and :meth:`initial_equations`
     for equations that hold only at initialization.  Modifiers given to the
     constructor set parameters and the attributes of variables.
+
+    The docstring of a subclass gets sections listing its parameters,
+    connectors and variables (inherited ones included), so that
+    ``help(Inertia)`` shows ``J``, its default and its unit.
     """
+
+    #: What this component knows about a failure that concerns it, by situation
+    #: (the keys of :data:`HINT_SITUATIONS`).  The engine has no domain
+    #: knowledge: it adds these hints to an error about this component's
+    #: equations or variables.  Inherited along the class hierarchy; a subclass
+    #: adds to or overrides its bases' entries.
+    hints: Mapping[str, str] = {}
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        own = vars(cls).get("__doc__")
+        if isinstance(own, _ComponentDoc):  # type(name, bases, dict(vars(other)))
+            own = own._own
+        cls.__doc__ = _ComponentDoc(cls, own)
 
     def __init__(self, **modifiers: Any) -> None:
         object.__setattr__(self, "_name", "")
