@@ -149,6 +149,11 @@ def real_symbol(name: str) -> sp.Symbol:
     return sp.Symbol(name, real=True)
 
 
+def parameter_symbols(values: Mapping[str, float]) -> dict[sp.Symbol, sp.Float]:
+    """``{symbol: sympy Float}`` for parameter values by name: what substitution needs."""
+    return {real_symbol(n): sp.Float(v) for n, v in values.items()}
+
+
 class StateSelect(enum.IntEnum):
     """Modelica's StateSelect; the value orders the wish to be a state."""
 

@@ -19,16 +19,16 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Sequence
 
 import sympy as sp
 
 from .blt import BLTResult
 from .flatten import FlatEquation
-from ..language import real_symbol
+from ..language import parameter_symbols, real_symbol
 
-__all__ = ["Assign", "LinearSolve", "NewtonSolve", "AlgebraicResult", "solve_blocks"]
+__all__ = ["Assign", "LinearSolve", "NewtonSolve", "AlgebraicResult", "AlgebraicMemo", "solve_blocks"]
 
 
 @dataclass(frozen=True)
@@ -145,21 +145,31 @@ def _solve_for(residual: sp.Expr, var: sp.Symbol, values: dict) -> sp.Expr | Non
     return -rest / coeff
 
 
+@dataclass(eq=False)
+class AlgebraicMemo:
+    """The solution of each block, for the other discrete states of one model."""
+
+    parameter_values: dict | None = None  #: the values it is valid for (checked on use)
+    values: dict = field(default_factory=dict)  #: parameter symbol -> sympy Float
+    solutions: dict = field(default_factory=dict)  #: (residual, unknown) -> expression or None
+    torn: dict = field(default_factory=dict)  #: (residuals, unknowns, origins) -> step
+
+
 def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt: BLTResult,
-                 parameter_values: dict[str, float], memo: dict | None = None) -> AlgebraicResult:
+                 parameter_values: dict[str, float], memo: AlgebraicMemo | None = None) -> AlgebraicResult:
     """Turn each block into solution steps.
 
     ``memo`` (optional) keeps the solution of each block for other calls with
     the same parameter values: the discrete states of one model share most
     blocks.
     """
-    memo = {} if memo is None else memo
-    values = memo.get("values")
-    if values is None:
-        memo["parameter_values"] = dict(parameter_values)
-        values = memo["values"] = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
-    elif memo["parameter_values"] != parameter_values:
+    memo = AlgebraicMemo() if memo is None else memo
+    if memo.parameter_values is None:
+        memo.parameter_values = dict(parameter_values)
+        memo.values = parameter_symbols(parameter_values)
+    elif memo.parameter_values != parameter_values:
         raise ValueError("solve_blocks: this memo belongs to other parameter values")
+    values = memo.values
     steps = []
     torn = linear = nonlinear = 0
     for block in blt.blocks:
@@ -167,9 +177,9 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
         names = [unknowns[j] for j in block.unknowns]
         if block.size == 1:
             key = (eqs[0].residual, names[0])
-            if key not in memo:
-                memo[key] = _solve_for(eqs[0].residual, real_symbol(names[0]), values)
-            expr = memo[key]
+            if key not in memo.solutions:
+                memo.solutions[key] = _solve_for(eqs[0].residual, real_symbol(names[0]), values)
+            expr = memo.solutions[key]
             if expr is not None:
                 steps.append(Assign(names[0], expr, eqs[0].origin))
                 continue
@@ -178,9 +188,9 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
             continue
         # (the origins too: the step names its equations in error messages)
         key = (tuple(e.residual for e in eqs), tuple(names), tuple(e.origin for e in eqs))
-        step = memo.get(key)
+        step = memo.torn.get(key)
         if step is None:
-            step = memo[key] = _tear(eqs, names, values)
+            step = memo.torn[key] = _tear(eqs, names, values)
         torn += 1
         if isinstance(step, LinearSolve):
             linear += 1

@@ -15,7 +15,7 @@ of the alias); two different fixed start values are an error.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
@@ -24,7 +24,20 @@ from ..names import base_name, der_name, derivative_order, is_derivative
 from .flatten import FlatEquation, FlatVariable
 from ..language import real_symbol, time
 
-__all__ = ["AliasResult", "eliminate_aliases"]
+__all__ = ["AliasMemo", "AliasResult", "eliminate_aliases"]
+
+
+@dataclass(eq=False)
+class AliasMemo:
+    """What alias elimination keeps for the other discrete states of one model.
+
+    Valid for one set of variables, parameters and ``keep`` (``inputs``,
+    checked on every use).
+    """
+
+    inputs: tuple | None = None
+    candidates: set[str] = field(default_factory=set)  #: variables that may be eliminated
+    forms: dict = field(default_factory=dict)  #: residual -> its alias form, or None
 
 
 @dataclass(frozen=True)
@@ -78,7 +91,7 @@ def _alias_form(residual: sp.Expr, unknowns: set[str], parameters: set[str]):
 
 def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, FlatVariable],
                       parameters: set[str], keep: frozenset[str] = frozenset(),
-                      memo: dict | None = None) -> AliasResult:
+                      memo: AliasMemo | None = None) -> AliasResult:
     """Remove alias equations from ``equations``.
 
     Parameters
@@ -90,17 +103,17 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
         Names of parameters (constants for this purpose).
     keep : frozenset of str
         Variables that must not be eliminated.
-    memo : dict, optional
+    memo : AliasMemo, optional
         Shared by calls with the same variables, parameters and ``keep`` (the
         discrete states of one model): keeps the alias form of each equation.
     """
-    memo = {} if memo is None else memo
-    candidates = memo.get("candidates")
-    if candidates is None:
-        memo["inputs"] = (variables, parameters, keep)
-        candidates = memo["candidates"] = {n for n, v in variables.items() if not v.is_discrete} - keep
-    elif memo["inputs"] != (variables, parameters, keep):
+    memo = AliasMemo() if memo is None else memo
+    if memo.inputs is None:
+        memo.inputs = (variables, parameters, keep)
+        memo.candidates = {n for n, v in variables.items() if not v.is_discrete} - keep
+    elif memo.inputs != (variables, parameters, keep):
         raise ValueError("eliminate_aliases: this memo belongs to other variables or parameters")
+    candidates = memo.candidates
     differentiated = set()
     for eq in equations:
         for sym in eq.residual.free_symbols:
@@ -130,9 +143,9 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     kept: list[FlatEquation] = []
     eliminated: list[FlatEquation] = []
     for eq in equations:
-        form = memo.get(eq.residual, False)
+        form = memo.forms.get(eq.residual, False)
         if form is False:
-            form = memo[eq.residual] = _alias_form(eq.residual, candidates, parameters)
+            form = memo.forms[eq.residual] = _alias_form(eq.residual, candidates, parameters)
         if form is None:
             kept.append(eq)
             continue

@@ -28,7 +28,7 @@ from sympy.printing.pycode import PythonCodePrinter
 from .algebraic import Assign, LinearSolve, NewtonSolve
 from ..errors import SolverError
 
-__all__ = ["GeneratedCode", "generate", "needed_steps", "newton_solve", "python_identifiers",
+__all__ = ["CodegenMemo", "GeneratedCode", "generate", "needed_steps", "newton_solve", "python_identifiers",
            "compile_functions"]
 
 
@@ -159,11 +159,21 @@ _RESERVED = {"t", "x", "p", "math", "np", "make", "derivatives", "crossings", "o
              "tuple", "list", "dict", "set", "print", "complex", "divmod", "any", "all"}
 
 
+@dataclass(eq=False)
+class CodegenMemo:
+    """Code already printed, for the other systems of one model (same identifiers)."""
+
+    steps: dict = field(default_factory=dict)  #: step key -> (code lines, names read)
+    functions: dict = field(default_factory=dict)  #: table functions called by the code
+    function_names: dict = field(default_factory=dict)
+    expressions: dict = field(default_factory=dict)  #: crossing expression -> printed text
+
+
 def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
              unknowns: Sequence[str], parameters: Sequence[str],
              crossings: Sequence[sp.Expr] = (), name: str = "system",
              guesses: dict[str, float] | None = None, identifiers: dict[str, str] | None = None,
-             memo: dict | None = None) -> GeneratedCode:
+             memo: "CodegenMemo | None" = None) -> GeneratedCode:
     """Generate the code of one system.
 
     Parameters
@@ -177,25 +187,27 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     guesses : start values, the first guesses of Newton iterations
     identifiers : dict, optional
         Python identifier of each name (see :func:`python_identifiers`); made
-        from the names here when not given.  Names missing from it are added.
-    memo : dict, optional
+        from the names here when not given (and for names missing from it).
+        It is not changed.
+    memo : CodegenMemo, optional
         Code already written for a step, shared by the systems of one model
         (the discrete states of a hybrid model have most steps in common, and
         printing expressions is the slow part of code generation).  Only
         valid together with the same ``identifiers``.
     """
     guesses = guesses or {}
-    if identifiers is None:
-        identifiers = {}
+    identifiers = {} if identifiers is None else identifiers
     missing = [n for n in [*states, *unknowns, *parameters] if n not in identifiers]
-    if missing:
-        identifiers.update(python_identifiers(missing, set(identifiers.values())))
-    local = dict(identifiers)
+    if missing and memo is not None:
+        # code in the memo was printed with the identifiers it was given
+        raise ValueError(f"generate: no identifier for {missing[0]}; a memo needs identifiers "
+                         f"naming every variable")
+    local = {**identifiers, **python_identifiers(missing, set(identifiers.values()))}
     local["time"] = "t"
-    memo = {} if memo is None else memo
-    step_memo = memo.setdefault("steps", {})
-    functions: dict = memo.setdefault("functions", {})
-    printer = _Printer(functions, local, memo.setdefault("function_names", {}))
+    memo = CodegenMemo() if memo is None else memo
+    step_memo = memo.steps
+    functions: dict = memo.functions
+    printer = _Printer(functions, local, memo.function_names)
 
     known = set(states) | set(parameters) | {"time"}
     blocks_code = []
@@ -237,7 +249,7 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
         lines.append(f"        return {result}")
 
     function("derivatives", deriv_steps, _tuple(local[d] for d in derivatives))
-    printed = memo.setdefault("expressions", {})
+    printed = memo.expressions
     for g in crossings:
         if g not in printed:
             printed[g] = printer.doprint(g)

@@ -33,7 +33,7 @@ References
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 import networkx as nx
@@ -47,9 +47,10 @@ from ..errors import (
 )
 from .flatten import FlatEquation, FlatVariable, Origin
 from ..names import base_name, der_name, derivative_order, parse
-from ..language import StateSelect, real_symbol, time
+from ..language import StateSelect, parameter_symbols, real_symbol, time
 
 __all__ = [
+    "StructureMemo",
     "StructuralResult",
     "analyse",
     "augmenting_path",
@@ -355,9 +356,28 @@ def _alternating_reach(start, graph, matching):
 # --------------------------------------------------------------------------
 
 
+@dataclass(eq=False)
+class StructureMemo:
+    """What structural analysis keeps for the other discrete states of one model."""
+
+    parameter_values: dict | None = None  #: the values it is valid for (checked on use)
+    parameters: set[str] = field(default_factory=set)
+    values: dict = field(default_factory=dict)  #: parameter symbol -> sympy Float
+    derivatives: dict = field(default_factory=dict)  #: residual -> its time derivative
+
+    def bind(self, parameter_values: dict[str, float]) -> None:
+        """Take ``parameter_values``, or check that they are the ones taken."""
+        if self.parameter_values is None:
+            self.parameter_values = dict(parameter_values)
+            self.parameters = set(parameter_values)
+            self.values = parameter_symbols(parameter_values)
+        elif self.parameter_values != parameter_values:
+            raise ValueError("analyse: this memo belongs to other parameter values")
+
+
 def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable],
             parameter_values: dict[str, float], context: str = "the model",
-            memo: dict | None = None) -> StructuralResult:
+            memo: "StructureMemo | None" = None) -> StructuralResult:
     """Balance check, Pantelides, dummy derivatives and final matching.
 
     Parameters
@@ -368,19 +388,14 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
         The continuous unknowns left (name -> FlatVariable, attributes merged).
     parameter_values : dict
         For structural zeros.
-    memo : dict, optional
+    memo : StructureMemo, optional
         Shared by calls with the same parameter values (the discrete states
         of one model): keeps the time derivative of each equation differentiated.
     """
-    memo = {} if memo is None else memo
-    if "values" not in memo:
-        memo["parameter_values"] = dict(parameter_values)
-        memo["parameters"] = set(parameter_values)
-        memo["values"] = {real_symbol(n): sp.Float(v) for n, v in parameter_values.items()}
-    elif memo["parameter_values"] != parameter_values:
-        raise ValueError("analyse: this memo belongs to other parameter values")
-    parameters, values = memo["parameters"], memo["values"]
-    derivative_of = memo.setdefault("derivatives", {})
+    memo = StructureMemo() if memo is None else memo
+    memo.bind(parameter_values)
+    parameters, values = memo.parameters, memo.values
+    derivative_of = memo.derivatives
     order_of = {name: k for k, name in enumerate(variables)}
 
     # variable list V with derivative chains: A[j] = index of der(V[j]) or -1

@@ -1,120 +1,43 @@
 """The translation driver: run the stages, once per visited discrete state.
 
-:func:`translate` flattens and partitions a model once.  The continuous
-system of a discrete state — its equations specialised to the values of the
-discrete symbols, aliases removed, index reduced, sorted, torn and compiled
-— is built by :meth:`Translation.system` the first time that state is
-visited and cached afterwards.  Initialization systems are built the same
-way.  Each stage's output stays on the :class:`ModeSystem` for inspection.
+:func:`translate` flattens and partitions a model once
+(:mod:`~acausal.compiler.flatten`, :mod:`~acausal.compiler.partition`).  The
+continuous system of a discrete state is compiled by
+:func:`~acausal.compiler.modes.compile_mode` the first time that state is
+visited, its initialization problem by
+:func:`~acausal.compiler.initial.compile_initial_system`; both are cached on
+the :class:`Translation`, with the work they share in its
+:class:`~acausal.compiler.cache.ModelCache`.  Translations of models seen
+before in this process are reused (:func:`model_signature`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import time as _time
 from collections import OrderedDict
-from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
 
-from .algebraic import AlgebraicResult, solve_blocks
-from .alias import AliasResult, eliminate_aliases
-from .blt import BLTResult, sort_blt
-from .codegen import GeneratedCode, generate, needed_steps, python_identifiers
-from ..errors import (InitializationError, ModelDefinitionError, OverDeterminedError, StructuralError)
-from .flatten import FlatEquation, FlatModel, Origin, flatten
-from ..language import Component, real_symbol
-from ..names import INITIAL_NAME, der_name, is_derivative, parse
+from ..errors import ModelDefinitionError, StructuralError
+from ..language import Component
+from ..names import is_derivative, parse
+from .cache import ModelCache
+from .flatten import FlatEquation, FlatModel, flatten
+from .initial import InitialSystem, compile_initial_system
+from .modes import ModeSystem, PassLog, compile_mode, describe_key
 from .partition import PartitionedModel, partition
-from .structure import StructuralResult, analyse, check_balance, priority_matching
 
-__all__ = ["ModeSystem", "InitialSystem", "Translation", "translate"]
+__all__ = ["ModeSystem", "InitialSystem", "Translation", "translate", "model_signature", "describe_key"]
 
 
 def _value_of(value) -> Any:
     if isinstance(value, (bool, np.bool_)):
         return sp.true if value else sp.false
     return sp.Integer(int(value))
-
-
-def describe_key(selectors, key, relation_texts=None) -> str:
-    """Readable form of a discrete state: ``clutch.mode=0, clutch.locked=True``.
-
-    Relations that select equations appear as ``(time < step.startTime)=False``.
-    """
-    parts = []
-    relation_texts = relation_texts or {}
-    for sym, value in zip(selectors, key):
-        kind = parse(sym.name).kind
-        if kind == "initial":
-            parts.append(f"{INITIAL_NAME}={value}")
-        elif kind == "relation":
-            parts.append(f"({relation_texts.get(sym.name, sym.name)})={value}")
-        else:
-            parts.append(f"{sym.name}={value}")
-    return ", ".join(parts) or "(continuous)"
-
-
-@dataclass(frozen=True)
-class ModeSystem:
-    """The compiled continuous system of one discrete state.
-
-    Attributes
-    ----------
-    key : tuple
-        Values of :attr:`PartitionedModel.selectors`, in that order.
-    equations : tuple of FlatEquation
-        Specialised equations.
-    aliases, structure, blt, algebraic, code
-        The outputs of the stages, in pipeline order.
-    timings : dict
-        Seconds spent in each stage.
-    """
-
-    key: tuple
-    description: str
-    equations: tuple[FlatEquation, ...]
-    aliases: AliasResult
-    structure: StructuralResult
-    blt: BLTResult
-    algebraic: AlgebraicResult
-    code: GeneratedCode
-    timings: dict
-    derivatives: Any = field(repr=False, compare=False)
-    crossings: Any = field(repr=False, compare=False)
-    outputs: Any = field(repr=False, compare=False)
-    #: States integrated and unknowns computed: all of them, or with an output
-    #: demand only those the demanded outputs, their states and the watched
-    #: relations need.
-    states: tuple[str, ...] = ()
-    unknowns: tuple[str, ...] = ()
-    #: The discrete state whose compiled system this one shares, when both
-    #: specialise to the same equations (None: compiled for this state).
-    shares: tuple | None = None
-
-    def values(self, t: float, x) -> dict[str, float]:
-        """Continuous variables and derivatives at ``(t, x)`` (aliases: see events.mode_values)."""
-        out = dict(zip(self.states, map(float, x)))
-        out.update(zip(self.unknowns, self.outputs(t, x)))
-        return out
-
-
-@dataclass(frozen=True)
-class InitialSystem:
-    """The compiled initialization problem of one discrete state."""
-
-    key: tuple
-    equations: tuple[FlatEquation, ...]
-    unknowns: tuple[str, ...]
-    relaxed: tuple[tuple[str, float], ...]  #: fixed start values dropped as redundant
-    blt: BLTResult
-    algebraic: AlgebraicResult
-    code: GeneratedCode
-    outputs: Any = field(repr=False, compare=False)
-    #: Seconds spent building it (matching, BLT, solving, code), its mode's system excluded.
-    seconds: float = 0.0
 
 
 class Translation:
@@ -124,9 +47,16 @@ class Translation:
     ----------
     flat : FlatModel
     partitioned : PartitionedModel
+    demand : frozenset of str or None
+        The outputs the systems compute (None: everything).
+    cache : ModelCache
+        Parameters, identifiers and the stages' memos, shared by the systems.
     systems : dict
         ``key -> ModeSystem`` for every discrete state compiled so far.
     initial_systems : dict
+        ``key -> InitialSystem``, likewise.
+    flatten_seconds : float
+        Seconds spent flattening and partitioning.
     """
 
     def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float,
@@ -134,31 +64,27 @@ class Translation:
         self.flat = flat
         self.demand = demand
         self.partitioned = partitioned
-        self.parameter_names = tuple(p.name for p in flat.parameters)
-        self.parameter_values = dict(flat.parameter_values)
-        self.parameter_vector = tuple(self.parameter_values[n] for n in self.parameter_names)
-        self._zero_parameters = {real_symbol(n): sp.Integer(0) for n, v in self.parameter_values.items()
-                                 if v == 0}
+        self.cache = ModelCache.of(flat)
         self.continuous = {n: v for n, v in flat.variable_map.items() if not v.is_discrete}
         self.systems: dict[tuple, ModeSystem] = {}
         self.initial_systems: dict[tuple, InitialSystem] = {}
         self.flatten_seconds = flatten_seconds
-        # One Python name per model name, the same in every system's code.
-        continuous = list(self.continuous)
-        # (second derivatives too, which index reduction may add: named up front, the
-        # names do not depend on the order in which discrete states are compiled)
-        self._identifiers = python_identifiers(
-            [*self.parameter_names, *continuous, *(der_name(n) for n in continuous),
-             *(der_name(n, 2) for n in continuous)])
-        # The discrete states of a model share most equations: what a stage
-        # derived from one equation (its specialisation, derivative, solution,
-        # code) is kept here for the next state.  Valid for this model's
-        # parameter values only, like everything else in a Translation.
-        self._memo: dict[str, dict] = {"specialise": {}, "alias": {}, "structure": {}, "algebraic": {},
-                                       "codegen": {}}
-        self._parameter_set = set(self.parameter_values)
         self._by_equations: dict[tuple, ModeSystem] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
+
+    # -- parameters -----------------------------------------------------------
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        return self.cache.parameters.names
+
+    @property
+    def parameter_values(self) -> Mapping[str, float]:
+        return self.cache.parameters.values
+
+    @property
+    def parameter_vector(self) -> tuple[float, ...]:
+        return self.cache.parameters.vector
 
     # -- discrete states ----------------------------------------------------
 
@@ -175,50 +101,56 @@ class Translation:
                            f"finds the state at the start")
         return tuple(assignment[s.name] for s in self.selectors)
 
+    def describe(self, key: tuple) -> str:
+        """The discrete state ``key`` in words."""
+        return describe_key(self.selectors, key, {r.symbol.name: r.text for r in self.partitioned.relations})
+
     def specialise(self, key: tuple, equations=None) -> tuple[FlatEquation, ...]:
+        """``equations`` (default: the model's) with the discrete symbols set to ``key``."""
         subs = {s: _value_of(v) for s, v in zip(self.selectors, key)}
         # Parameters that are zero are structural zeros: the matching ignores
         # the terms they multiply, so the generated code must not contain them.
-        subs.update(self._zero_parameters)
+        subs.update(self.cache.parameters.zeros)
         source = self.partitioned.equations if equations is None else equations
-        memo = self._memo["specialise"]
+        memo = self.cache.specialise
         out = []
         for eq in source:
             # Only the discrete symbols an equation contains decide its form:
             # an equation is specialised once per combination of their values.
-            used = memo.get(eq.residual)
+            used = memo.used.get(eq.residual)
             if used is None:
-                used = memo[eq.residual] = tuple(s for s in eq.residual.free_symbols if s in subs)
-            key = (eq.residual, tuple(subs[s] for s in used))
-            residual = memo.get(key)
+                used = memo.used[eq.residual] = tuple(s for s in eq.residual.free_symbols if s in subs)
+            form_key = (eq.residual, tuple(subs[s] for s in used))
+            residual = memo.forms.get(form_key)
             if residual is None:
                 residual = eq.residual.xreplace({s: subs[s] for s in used}) if used else eq.residual
                 leftover = [s.name for s in residual.free_symbols
                             if parse(s.name).kind in ("relation", "initial") or s.name in self._discrete_names]
                 if leftover:
                     raise StructuralError(f"{eq.origin}: discrete value {leftover[0]} left after "
-                                          f"specialisation")
-                memo[key] = residual
+                                          f"specialisation", components=(eq.origin.component,))
+                memo.forms[form_key] = residual
             out.append(eq if residual is eq.residual else FlatEquation(residual, eq.origin))
         return tuple(out)
 
     # -- building systems -----------------------------------------------------
+
+    def _context(self, description: str) -> str:
+        return f"{self.flat.name} [{description}]" if self.partitioned.is_hybrid else self.flat.name
 
     def system(self, key: tuple) -> ModeSystem:
         """The compiled system of discrete state ``key`` (built on first use)."""
         cached = self.systems.get(key)
         if cached is not None:
             return cached
-        description = describe_key(self.selectors, key,
-                                   {r.symbol.name: r.text for r in self.partitioned.relations})
-        context = f"{self.flat.name} [{description}]" if self.partitioned.is_hybrid else self.flat.name
-        timings = {}
-        t0 = _time.perf_counter()
-        equations = self.specialise(key)
-        timings["specialise"] = _time.perf_counter() - t0
+        description = self.describe(key)
+        context = self._context(description)
+        passes = PassLog()
+        with passes.run("specialise"):
+            equations = self.specialise(key)
         # Discrete states that differ only in values the equations do not read
-        # (pre(mode) of a sliding clutch, say) have the same equations: one
-        # compiled system serves them all.
+        # (the pre() value of a mode no equation reads, say) have the same
+        # equations: one compiled system serves them all.
         signature = tuple(eq.residual for eq in equations)
         twin = self._by_equations.get(signature)
         if twin is not None:
@@ -226,100 +158,25 @@ class Translation:
             _, rest = twin.code.source.split("\n", 1)
             code = dataclasses.replace(twin.code, source=f"# generated by acausal for {context} "
                                                          f"(shared with an equal state)\n{rest}")
-            system = dataclasses.replace(twin, key=key, description=description, timings=timings,
-                                         code=code, shares=twin.key)
+            system = dataclasses.replace(twin, key=key, description=description,
+                                         passes=tuple(passes.entries), code=code, shares=twin.key)
             self.systems[key] = system
             return system
-        t0 = _time.perf_counter()
-        aliases = eliminate_aliases(equations, self.continuous, self._parameter_set,
-                                    memo=self._memo["alias"])
-        timings["alias"] = _time.perf_counter() - t0
-        t0 = _time.perf_counter()
         try:
-            try:
-                structure = analyse(aliases.equations, aliases.variables, self.parameter_values, context,
-                                    self._memo["structure"])
-            except StructuralError:
-                # Alias elimination may have absorbed the culprit (an extra `w = 0`):
-                # check the equations as written, so the message names them all.
-                from .structure import _incidence
-
-                values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
-                check_balance(equations, [_incidence(e.residual, values) for e in equations],
-                              list(self.continuous), context)
-                raise
+            system = compile_mode(key, description, context, equations, passes, self.partitioned,
+                                  self.continuous, self.cache, self.demand)
         except StructuralError as exc:
             if self.partitioned.is_hybrid and self.systems:
                 # only this discrete state fails: the components concerned may know why
                 own = self.flat.hints_for("mode", exc.components)
                 hint = "; ".join(own) if own else (
-                    "this discrete state only: its equations do not determine every unknown (or "
-                    "determine some twice); check the discrete variables of the components named")
-                raise exc.with_hint(f"this discrete state only: {hint}" if own else hint) from exc
+                    "its equations do not determine every unknown (or determine some twice); "
+                    "check the discrete variables of the components named")
+                raise exc.with_hint(f"this discrete state only: {hint}") from exc
             raise
-        timings["structure"] = _time.perf_counter() - t0
-        t0 = _time.perf_counter()
-        blt = sort_blt(structure.incidence, structure.matching)
-        timings["blt"] = _time.perf_counter() - t0
-        t0 = _time.perf_counter()
-        algebraic = solve_blocks(structure.equations, structure.unknowns, blt, self.parameter_values,
-                                 self._memo["algebraic"])
-        timings["algebraic"] = _time.perf_counter() - t0
-        t0 = _time.perf_counter()
-        crossings = self._crossing_expressions(aliases)
-        steps, states, derivs, unknowns = self._demanded(algebraic.steps, structure, aliases, crossings)
-        guesses = {n: v.start for n, v in aliases.variables.items()}
-        code = generate(steps, states, derivs, unknowns, self.parameter_names, crossings,
-                        name=context, guesses=guesses, identifiers=self._identifiers,
-                        memo=self._memo["codegen"])
-        derivatives, crossing_fn, outputs = code.make(self.parameter_vector)
-        timings["codegen"] = _time.perf_counter() - t0
-        system = ModeSystem(key, description, equations, aliases, structure, blt, algebraic, code,
-                            timings, derivatives, crossing_fn, outputs, tuple(states), tuple(unknowns))
         self.systems[key] = system
         self._by_equations[signature] = system
         return system
-
-    def _demanded(self, steps, structure: StructuralResult, aliases: AliasResult, crossings):
-        """The steps, states and unknowns the output demand needs (all without one).
-
-        Closure: the demanded names, then every state a needed step reads,
-        then the steps that state's derivative needs, until nothing is added.
-        Relations are always computable (events must still be found).
-        """
-        all_states = list(structure.states)
-        if self.demand is None:
-            return list(steps), all_states, list(structure.derivatives), list(structure.unknowns)
-        targets = set()
-        for name in self.demand:
-            expr = aliases.aliases.get(name)
-            targets |= {s.name for s in expr.free_symbols} if expr is not None else {name}
-        for g in crossings:
-            targets |= {s.name for s in g.free_symbols}
-        derivative_of = dict(zip(structure.states, structure.derivatives))
-        needed_states: set[str] = set()
-        while True:
-            wanted = targets | {derivative_of[s] for s in needed_states}
-            chosen = needed_steps(steps, wanted)
-            reads = set(wanted)
-            for k in chosen:
-                reads |= steps[k].reads()
-            new_states = {s for s in all_states if s in reads} - needed_states
-            if not new_states:
-                break
-            needed_states |= new_states
-        kept_states = [s for s in all_states if s in needed_states]
-        kept_steps = [steps[k] for k in chosen]
-        defined = {n for step in kept_steps for n in step.defines}
-        kept_unknowns = [u for u in structure.unknowns if u in defined]
-        return kept_steps, kept_states, [derivative_of[s] for s in kept_states], kept_unknowns
-
-    def _crossing_expressions(self, aliases: AliasResult) -> list[sp.Expr]:
-        substitution = {real_symbol(n): e for n, e in aliases.aliases.items()}
-        out = []
-        for r in self.partitioned.relations:
-            out += [sp.sympify(r.lhs).xreplace(substitution), sp.sympify(r.rhs).xreplace(substitution)]
-        return out
 
     def initial_system(self, key: tuple) -> InitialSystem:
         """The initialization problem of discrete state ``key`` (with initial() true)."""
@@ -327,83 +184,13 @@ class Translation:
         if cached is not None:
             return cached
         mode = self.system(key)
-        t_start = _time.perf_counter()
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
-        substitution = {real_symbol(n): e for n, e in mode.aliases.aliases.items()}
-        user = [FlatEquation(e.residual.xreplace(substitution), e.origin)
-                for e in self.specialise(key, self.partitioned.initial_equations)]
-        variables = mode.aliases.variables
-        state_set = set(mode.structure.states)
-        fixed_states, fixed_others = [], []
-        for name, var in variables.items():
-            if var.fixed:
-                eq = FlatEquation(real_symbol(name) - var.start,
-                                  Origin(var.component, "", "fixed start", 0, f"{name} = {var.start:g}"))
-                (fixed_states if name in state_set else fixed_others).append((name, eq))
-        self._check_fixed_constants(mode.aliases)
-        dae = list(mode.structure.equations)
-        equations = dae + user + [e for _, e in fixed_states] + [e for _, e in fixed_others]
-        fixed_names = [n for n, _ in fixed_states] + [n for n, _ in fixed_others]
-        unknowns = list(mode.structure.unknowns) + list(mode.structure.states)
-        u_index = {n: k for k, n in enumerate(unknowns)}
-        values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
-        incidence = []
-        for eq in equations:
-            names = {s.name for s in eq.residual.free_symbols if s not in values}
-            extra = sorted(n for n in names if n not in u_index and n != "time")
-            if extra:
-                raise InitializationError(f"{context}: {eq.origin} uses {extra[0]}, which is "
-                                          f"not an unknown of the initialization problem")
-            incidence.append(tuple(sorted(u_index[n] for n in names if n in u_index)))
-        assign = priority_matching(incidence, len(unknowns), range(len(equations)))
-        matched = set(a for a in assign if a >= 0)
-        n_fixed0 = len(dae) + len(user)
-        unmatched = [i for i in range(len(equations)) if i not in matched]
-        hard = [i for i in unmatched if i < n_fixed0]
-        if hard:
-            lines = "\n  ".join(str(equations[i].origin) for i in hard[:10])
-            raise OverDeterminedError(f"{context} is over-determined:\n  {lines}",
-                                      hint="an initial equation may repeat what the model already fixes")
-        missing = [unknowns[j] for j, a in enumerate(assign) if a == -1]
-        if missing:
-            states = [m for m in missing if m in state_set]
-            names = ", ".join(states or missing)
-            raise InitializationError(
-                f"{context}: missing initial values; nothing fixes {names}",
-                hint="give start values with fixed=True, e.g. Component(x=dict(start=0, fixed=True)), "
-                     "or add initial equations")
-        relaxed = tuple((fixed_names[i - n_fixed0], variables[fixed_names[i - n_fixed0]].start)
-                        for i in unmatched)
-        kept = [i for i in range(len(equations)) if i in matched]
-        renumber = {i: k for k, i in enumerate(kept)}
-        kept_eqs = [equations[i] for i in kept]
-        kept_inc = [incidence[i] for i in kept]
-        matching = [0] * len(kept)
-        for j, i in enumerate(assign):
-            matching[renumber[i]] = j
-        blt = sort_blt(kept_inc, matching)
-        algebraic = solve_blocks(kept_eqs, unknowns, blt, self.parameter_values, self._memo["algebraic"])
-        guesses = {n: v.start for n, v in variables.items()}
-        code = generate(algebraic.steps, (), (), unknowns, self.parameter_names, (),
-                        name=context, guesses=guesses, identifiers=self._identifiers,
-                        memo=self._memo["codegen"])
-        _, _, outputs = code.make(self.parameter_vector)
-        system = InitialSystem(key, tuple(kept_eqs), tuple(unknowns), relaxed, blt, algebraic, code,
-                               outputs, _time.perf_counter() - t_start)
+        system = compile_initial_system(mode, self.specialise(key, self.partitioned.initial_equations),
+                                        context, self.cache)
         self.initial_systems[key] = system
         return system
-
-    def _check_fixed_constants(self, aliases: AliasResult) -> None:
-        values = {real_symbol(n): sp.Float(v) for n, v in self.parameter_values.items()}
-        for name, expr, start in aliases.fixed_constants:
-            value = float(sp.sympify(expr).xreplace(values))
-            if abs(value - start) > 1e-10 * max(1.0, abs(value)):
-                raise InitializationError(
-                    f"conflicting initial values: {name} has fixed start {start}, but the model "
-                    f"makes it the constant {expr} = {value}",
-                    hint=f"remove fixed=True from {name} or change its start value")
 
     # -- summary --------------------------------------------------------------
 
@@ -415,7 +202,7 @@ class Translation:
     @property
     def translation_seconds(self) -> float:
         """Seconds spent translating so far: flattening, every system compiled, every initialization system."""
-        return (self.flatten_seconds + sum(sum(s.timings.values()) for s in self.systems.values())
+        return (self.flatten_seconds + sum(s.seconds for s in self.systems.values())
                 + sum(s.seconds for s in self.initial_systems.values()))
 
 
@@ -492,8 +279,6 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         demand = frozenset(outputs)
         unknown = sorted(n for n in demand if n not in known and not is_derivative(n))
         if unknown:
-            import difflib
-
             close = difflib.get_close_matches(unknown[0], sorted(known), n=3)
             raise ModelDefinitionError(f"{flat.name} has no variable {unknown[0]!r}",
                                        hint=f"did you mean {', '.join(close)}?" if close else

@@ -25,53 +25,28 @@ from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
-import sympy as sp
 
 from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
 from ..names import INITIAL_NAME, is_relation, parse, pre_name, relation_name
 from ..compiler.translate import ModeSystem, Translation
 
-__all__ = ["DiscreteEvaluator", "EventOutcome", "alias_plan", "evaluator_for", "mode_values"]
+__all__ = ["DiscreteEvaluator", "EventOutcome", "evaluator_for", "mode_values"]
 
 
 #: From this many watched relations on, they are checked with numpy at once.
 _VECTORISE_FROM = 48
 
 
-def mode_values(translation: Translation, system: ModeSystem, t: float, x) -> dict[str, float]:
+def mode_values(system: ModeSystem, t: float, x) -> dict[str, float]:
     """All continuous variables at ``(t, x)``: unknowns, states and aliases."""
     values = system.values(t, x)
-    plan = alias_plan(translation, system)
-    for name, coeff, source in plan:
+    for name, coeff, source in system.alias_plan:
         if source is None:
             values[name] = coeff
         elif source in values:  # with an output demand, some are not computed
             values[name] = coeff * values[source]
     return values
-
-
-def alias_plan(translation: Translation, system: ModeSystem) -> list[tuple[str, float, str | None]]:
-    """How each alias of a system follows from its values: ``(name, coefficient, source)``.
-
-    ``name = coefficient * source``, or ``name = coefficient`` when source is
-    None (parameters evaluated).  Built once per system.
-    """
-    plan = getattr(system, "_alias_plan", None)
-    if plan is not None:
-        return plan
-    params = {sp.Symbol(n, real=True): sp.Float(v) for n, v in translation.parameter_values.items()}
-    plan = []
-    for name, expr in system.aliases.aliases.items():
-        expr = sp.sympify(expr).xreplace(params)
-        syms = [s for s in expr.free_symbols]
-        if not syms:
-            plan.append((name, float(expr), None))
-        else:
-            (sym,) = syms
-            plan.append((name, float(expr.coeff(sym)), sym.name))
-    object.__setattr__(system, "_alias_plan", plan)
-    return plan
 
 
 #: The evaluators of live translations, one per setting (built once: compiling
@@ -318,7 +293,6 @@ class DiscreteEvaluator:
         first_pre = dict(pre)
         discrete = dict(pre)
         relations = tuple(relations_before)
-        self._fired = fired
         history = []
         passes = 0
         for _outer in range(self.max_iterations):
@@ -326,14 +300,14 @@ class DiscreteEvaluator:
             for _inner in range(self.max_iterations):
                 passes += 1
                 new_discrete, new_relations = self._pass(t, values, discrete, pre, relations,
-                                                         relations_before, initial)
+                                                         relations_before, initial, fired)
                 if new_discrete == discrete and new_relations == relations:
                     break
                 state = (tuple(sorted(new_discrete.items())), new_relations)
                 if state in seen:
                     # The fixed-point iteration cycles: search for a consistent
                     # assignment instead (as OpenModelica's mixed-system solver does).
-                    found = self._search(t, values, pre, new_relations, relations_before, initial,
+                    found = self._search(t, values, pre, new_relations, relations_before, initial, fired,
                                          seen, new_discrete)
                     if found is None:
                         self._fail(t, [dict(d) for d, _ in seen], "the mixed continuous/discrete system")
@@ -346,7 +320,7 @@ class DiscreteEvaluator:
             if discrete == pre:
                 system = self.translation.system(self.key(discrete, pre, relations, initial))
                 x = [values[s] for s in system.states]
-                full = mode_values(self.translation, system, t, x)
+                full = mode_values(system, t, x)
                 changes = tuple((n, first_pre[n], discrete[n]) for n in discrete
                                 if discrete[n] != first_pre[n])
                 return EventOutcome(discrete, relations, system, full, passes, changes)
@@ -360,15 +334,14 @@ class DiscreteEvaluator:
             discrete = self.evaluate_discrete(discrete, pre, relations, initial, relation_free=True)
         self._fail(t, history, "event iteration")
 
-    def _pass(self, t, values, discrete, pre, relations, relations_before, initial):
+    def _pass(self, t, values, discrete, pre, relations, relations_before, initial, fired):
         """Solve the continuous part for a guess, then re-evaluate the discrete part."""
         system = self.translation.system(self.key(discrete, pre, relations, initial))
         x = [values[s] for s in system.states]
-        new_relations = self.relation_values(system, t, x, relations_before,
-                                             fired=getattr(self, "_fired", frozenset()))
+        new_relations = self.relation_values(system, t, x, relations_before, fired=fired)
         return self.evaluate_discrete(discrete, pre, new_relations, initial), new_relations
 
-    def _search(self, t, values, pre, relations, relations_before, initial, cycle, current):
+    def _search(self, t, values, pre, relations, relations_before, initial, fired, cycle, current):
         """The first consistent assignment with fewest flips from the pre values.
 
         Only discrete variables that select continuous equations are searched,
@@ -391,7 +364,7 @@ class DiscreteEvaluator:
                     candidate[n] = not candidate[n]
                 try:
                     result, rels = self._pass(t, values, candidate, pre, relations,
-                                              relations_before, initial)
+                                              relations_before, initial, fired)
                 except SimulationError:
                     continue  # e.g. a singular system in an impossible configuration
                 if all(result[n] == candidate[n] for n in selectors):

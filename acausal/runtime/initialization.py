@@ -80,7 +80,7 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
             f"initialization of {flat.name}: the discrete variables did not settle in "
             f"{evaluator.max_iterations} iterations",
             hint="check the start values of Boolean and Integer variables")
-    values = mode_values(translation, system, start_time, x)
+    values = mode_values(system, start_time, x)
     for name, start in problem.relaxed:
         actual = values[name]
         if abs(actual - start) > 1e-8 * max(1.0, abs(start), abs(actual)):

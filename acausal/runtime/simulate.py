@@ -28,7 +28,7 @@ import scipy.integrate as integrate
 import sympy as sp
 
 from ..errors import ChatteringError, SimulationError, SolverError, StructuralError
-from .events import alias_plan, evaluator_for, mode_values
+from .events import evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
 from ..names import base_name
@@ -139,8 +139,7 @@ class _Run:
     # -- time events ------------------------------------------------------------
 
     def _time_event_roots(self):
-        params = {sp.Symbol(n, real=True): sp.Float(v) for n, v in
-                  self.translation.parameter_values.items()}
+        params = self.translation.cache.parameters.symbols
         roots = []
         for rel in self.relations:
             if rel.is_time_event:
@@ -266,7 +265,7 @@ class _Run:
                 kind = "time"
             # left limit, event iteration, right limit
             self.rows.append((t_e, system, np.array(x_e, dtype=float), self._snapshot(discrete)))
-            values = mode_values(self.translation, system, t_e, x_e)
+            values = mode_values(system, t_e, x_e)
             fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
             outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices)
             self.events.append(Event(t_e, kind, tuple(fired), outcome.changes, outcome.iterations))
@@ -479,7 +478,7 @@ def _fill_plan(translation: Translation, system: ModeSystem, index: dict[str, in
     position = {n: k for k, n in enumerate(own)}
     pairs = [(index[n], k) for k, n in enumerate(own) if n in index]
     aliases = []
-    for name, coeff, source in alias_plan(translation, system):
+    for name, coeff, source in system.alias_plan:
         column = index.get(name)
         if column is None:
             continue
