@@ -1,0 +1,100 @@
+"""What the systems of one model share: parameters, names and per-stage memos.
+
+The discrete states of a hybrid model have most equations in common.  What a
+stage derived from one equation (its specialisation, alias form, time
+derivative, block solution, printed code) is kept here for the next state, so
+that only the first state of a model pays full price.  Everything here is
+valid for one flat model and its parameter values only, like the
+:class:`~acausal.compiler.translate.Translation` that owns it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import sympy as sp
+
+from ..language import parameter_symbols, real_symbol
+from ..names import der_name
+from .algebraic import AlgebraicMemo
+from .alias import AliasMemo
+from .codegen import CodegenMemo, python_identifiers
+from .flatten import FlatModel
+from .structure import StructureMemo
+
+__all__ = ["ParameterTable", "SpecialiseMemo", "ModelCache"]
+
+
+@dataclass(frozen=True)
+class ParameterTable:
+    """The numeric parameters of a flat model, in every form the stages need.
+
+    Attributes
+    ----------
+    names : tuple of str
+        In declaration order: the order of the generated code's ``p`` vector.
+    values : mapping
+        ``name -> value``.
+    vector : tuple of float
+        The values in the order of ``names``.
+    symbols : mapping
+        ``symbol -> sympy Float``, for substitution.
+    zeros : mapping
+        ``symbol -> 0`` for the parameters that are zero: structural zeros.
+    """
+
+    names: tuple[str, ...]
+    values: Mapping[str, float]
+    vector: tuple[float, ...]
+    symbols: Mapping[sp.Symbol, sp.Float] = field(repr=False)
+    zeros: Mapping[sp.Symbol, sp.Integer] = field(repr=False)
+
+    @classmethod
+    def of(cls, flat: FlatModel) -> "ParameterTable":
+        names = tuple(p.name for p in flat.parameters)
+        values = dict(flat.parameter_values)
+        return cls(names, values, tuple(values[n] for n in names), parameter_symbols(values),
+                   {real_symbol(n): sp.Integer(0) for n, v in values.items() if v == 0})
+
+
+@dataclass(eq=False)
+class SpecialiseMemo:
+    """Equations specialised to values of the discrete symbols they contain."""
+
+    used: dict = field(default_factory=dict)  #: residual -> the discrete symbols in it
+    forms: dict = field(default_factory=dict)  #: (residual, their values) -> specialised residual
+
+
+@dataclass(eq=False)
+class ModelCache:
+    """The work the systems of one model share (see the module docstring).
+
+    Attributes
+    ----------
+    parameters : ParameterTable
+    identifiers : mapping
+        One Python identifier per model name, the same in every system's code:
+        parameters, continuous variables and their first and second
+        derivatives (which index reduction may add), named up front so the
+        names do not depend on the order in which discrete states are compiled.
+    specialise, alias, structure, algebraic, codegen
+        The memo of each stage.
+    """
+
+    parameters: ParameterTable
+    identifiers: Mapping[str, str]
+    specialise: SpecialiseMemo = field(default_factory=SpecialiseMemo)
+    alias: AliasMemo = field(default_factory=AliasMemo)
+    structure: StructureMemo = field(default_factory=StructureMemo)
+    algebraic: AlgebraicMemo = field(default_factory=AlgebraicMemo)
+    codegen: CodegenMemo = field(default_factory=CodegenMemo)
+
+    @classmethod
+    def of(cls, flat: FlatModel) -> "ModelCache":
+        parameters = ParameterTable.of(flat)
+        continuous = [v.name for v in flat.variables if not v.is_discrete]
+        identifiers = python_identifiers([*parameters.names, *continuous,
+                                          *(der_name(n) for n in continuous),
+                                          *(der_name(n, 2) for n in continuous)])
+        return cls(parameters, identifiers)

@@ -1,0 +1,259 @@
+"""The mode compiler: the continuous system of one discrete state.
+
+A discrete state fixes the value of every discrete symbol (Boolean and
+Integer variables, their ``pre()`` values, relation indicators,
+``initial()``).  :func:`compile_mode` specialises the model's equations to
+those values and runs the continuous pipeline on them:
+
+``alias`` → ``structure`` → ``blt`` → ``algebraic`` → ``codegen``
+
+Each stage's output stays on the returned :class:`ModeSystem`, and so does
+the *pass log*: ``(pass name, seconds)`` for every pass run, in order, as
+OpenModelica's backend keeps its module list.  ``acausal explain`` and the
+benchmarks read the log instead of timing the stages again.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Any, Iterator, Mapping, Sequence
+
+import sympy as sp
+
+from ..errors import StructuralError
+from ..language import real_symbol
+from ..names import INITIAL_NAME, parse
+from .algebraic import AlgebraicResult, solve_blocks
+from .alias import AliasResult, eliminate_aliases
+from .blt import BLTResult, sort_blt
+from .cache import ModelCache
+from .codegen import GeneratedCode, generate, needed_steps
+from .flatten import FlatEquation, FlatVariable
+from .partition import PartitionedModel
+from .structure import StructuralResult, _incidence, analyse, check_balance
+
+__all__ = ["ModeSystem", "PassLog", "compile_mode", "describe_key"]
+
+
+def describe_key(selectors, key, relation_texts=None) -> str:
+    """Readable form of a discrete state: ``c.mode=0, c.locked=True``.
+
+    Relations that select equations appear as ``(time < step.startTime)=False``.
+    """
+    parts = []
+    relation_texts = relation_texts or {}
+    for sym, value in zip(selectors, key):
+        kind = parse(sym.name).kind
+        if kind == "initial":
+            parts.append(f"{INITIAL_NAME}={value}")
+        elif kind == "relation":
+            parts.append(f"({relation_texts.get(sym.name, sym.name)})={value}")
+        else:
+            parts.append(f"{sym.name}={value}")
+    return ", ".join(parts) or "(continuous)"
+
+
+class PassLog:
+    """``(pass name, seconds)`` of every pass run, in order."""
+
+    def __init__(self) -> None:
+        self.entries: list[tuple[str, float]] = []
+
+    @contextmanager
+    def run(self, name: str) -> Iterator[None]:
+        """Time the pass ``name`` (a pass that raises is not logged)."""
+        t0 = _time.perf_counter()
+        yield
+        self.entries.append((name, _time.perf_counter() - t0))
+
+
+#: ``(name, coefficient, source)``: ``name = coefficient * source``, or
+#: ``name = coefficient`` when source is None.
+AliasPlan = tuple[tuple[str, float, "str | None"], ...]
+
+
+@dataclass(frozen=True)
+class ModeSystem:
+    """The compiled continuous system of one discrete state.
+
+    Attributes
+    ----------
+    key : tuple
+        Values of :attr:`PartitionedModel.selectors`, in that order.
+    description : str
+        The key in words.
+    equations : tuple of FlatEquation
+        The equations specialised to the key.
+    aliases, structure, blt, algebraic, code
+        The outputs of the stages, in pipeline order.
+    passes : tuple of (str, float)
+        The pass log: every pass run for this system and its seconds.
+    derivatives, crossings, outputs : callable
+        The compiled functions (see :class:`~acausal.compiler.codegen.GeneratedCode`).
+    states, unknowns : tuple of str
+        States integrated and unknowns computed: all of them, or with an
+        output demand only those the demanded outputs, their states and the
+        watched relations need.
+    alias_plan : tuple
+        How each alias follows from the computed values:
+        ``(name, coefficient, source)`` with ``name = coefficient * source``,
+        or ``name = coefficient`` when source is None.
+    shares : tuple or None
+        The discrete state whose compiled system this one shares, when both
+        specialise to the same equations (None: compiled for this state).
+    """
+
+    key: tuple
+    description: str
+    equations: tuple[FlatEquation, ...]
+    aliases: AliasResult
+    structure: StructuralResult
+    blt: BLTResult
+    algebraic: AlgebraicResult
+    code: GeneratedCode
+    passes: tuple[tuple[str, float], ...]
+    derivatives: Any = field(repr=False, compare=False)
+    crossings: Any = field(repr=False, compare=False)
+    outputs: Any = field(repr=False, compare=False)
+    states: tuple[str, ...] = ()
+    unknowns: tuple[str, ...] = ()
+    alias_plan: AliasPlan = field(default=(), repr=False)
+    shares: tuple | None = None
+
+    @property
+    def timings(self) -> dict[str, float]:
+        """Seconds per pass (the pass log as a dict)."""
+        return dict(self.passes)
+
+    @property
+    def seconds(self) -> float:
+        """Seconds spent compiling this system (0 if it shares another's)."""
+        return sum(s for _, s in self.passes)
+
+    def values(self, t: float, x) -> dict[str, float]:
+        """Continuous variables and derivatives at ``(t, x)`` (aliases: see :attr:`alias_plan`)."""
+        out = dict(zip(self.states, map(float, x)))
+        out.update(zip(self.unknowns, self.outputs(t, x)))
+        return out
+
+
+def compile_mode(key: tuple, description: str, context: str, equations: tuple[FlatEquation, ...],
+                 passes: PassLog, partitioned: PartitionedModel,
+                 continuous: Mapping[str, FlatVariable], cache: ModelCache,
+                 demand: frozenset[str] | None = None) -> ModeSystem:
+    """Run the continuous pipeline on the specialised ``equations`` of state ``key``.
+
+    Parameters
+    ----------
+    key, description : the discrete state and its description
+    context : str
+        How messages name the system (model and state).
+    equations : tuple of FlatEquation
+        The model's equations specialised to ``key``.
+    passes : PassLog
+        The log so far (specialisation); the passes run here are added.
+    partitioned : PartitionedModel
+        For the relations, whose crossing functions every system computes.
+    continuous : mapping
+        The continuous variables of the flat model.
+    cache : ModelCache
+        The work shared with the model's other systems.
+    demand : frozenset of str, optional
+        Compute only what these outputs (and the events) need.
+
+    Raises
+    ------
+    StructuralError
+        If the equations cannot be solved as posed.
+    """
+    parameters = cache.parameters
+    with passes.run("alias"):
+        aliases = eliminate_aliases(equations, continuous, set(parameters.values), memo=cache.alias)
+    with passes.run("structure"):
+        try:
+            structure = analyse(aliases.equations, aliases.variables, parameters.values, context,
+                                cache.structure)
+        except StructuralError:
+            # Alias elimination may have absorbed the culprit (an extra `w = 0`):
+            # check the equations as written, so the message names them all.
+            check_balance(equations, [_incidence(e.residual, parameters.symbols) for e in equations],
+                          list(continuous), context)
+            raise
+    with passes.run("blt"):
+        blt = sort_blt(structure.incidence, structure.matching)
+    with passes.run("algebraic"):
+        algebraic = solve_blocks(structure.equations, structure.unknowns, blt, parameters.values,
+                                 cache.algebraic)
+    with passes.run("codegen"):
+        crossings = crossing_expressions(partitioned, aliases)
+        steps, states, derivs, unknowns = demanded(algebraic.steps, structure, aliases, crossings, demand)
+        guesses = {n: v.start for n, v in aliases.variables.items()}
+        code = generate(steps, states, derivs, unknowns, parameters.names, crossings,
+                        name=context, guesses=guesses, identifiers=cache.identifiers,
+                        memo=cache.codegen)
+        derivatives, crossing_fn, outputs = code.make(parameters.vector)
+        plan = alias_plan(aliases, parameters.symbols)
+    return ModeSystem(key, description, equations, aliases, structure, blt, algebraic, code,
+                      tuple(passes.entries), derivatives, crossing_fn, outputs, tuple(states),
+                      tuple(unknowns), plan)
+
+
+def alias_plan(aliases: AliasResult, parameter_symbols: Mapping[sp.Symbol, sp.Float]) -> AliasPlan:
+    """How each alias follows from the system's values (see :attr:`ModeSystem.alias_plan`)."""
+    plan = []
+    for name, expr in aliases.aliases.items():
+        expr = sp.sympify(expr).xreplace(parameter_symbols)
+        symbols = list(expr.free_symbols)
+        if not symbols:
+            plan.append((name, float(expr), None))
+        else:
+            (symbol,) = symbols
+            plan.append((name, float(expr.coeff(symbol)), symbol.name))
+    return tuple(plan)
+
+
+def crossing_expressions(partitioned: PartitionedModel, aliases: AliasResult) -> list[sp.Expr]:
+    """Both sides of every relation, aliases replaced: the crossing functions' values."""
+    substitution = {real_symbol(n): e for n, e in aliases.aliases.items()}
+    out = []
+    for r in partitioned.relations:
+        out += [sp.sympify(r.lhs).xreplace(substitution), sp.sympify(r.rhs).xreplace(substitution)]
+    return out
+
+
+def demanded(steps: Sequence, structure: StructuralResult, aliases: AliasResult,
+             crossings: Sequence[sp.Expr], demand: frozenset[str] | None):
+    """The steps, states and unknowns the output demand needs (all without one).
+
+    Closure: the demanded names, then every state a needed step reads, then
+    the steps that state's derivative needs, until nothing is added.
+    Relations are always computable (events must still be found).
+    """
+    all_states = list(structure.states)
+    if demand is None:
+        return list(steps), all_states, list(structure.derivatives), list(structure.unknowns)
+    targets = set()
+    for name in demand:
+        expr = aliases.aliases.get(name)
+        targets |= {s.name for s in expr.free_symbols} if expr is not None else {name}
+    for g in crossings:
+        targets |= {s.name for s in g.free_symbols}
+    derivative_of = dict(zip(structure.states, structure.derivatives))
+    needed_states: set[str] = set()
+    while True:
+        wanted = targets | {derivative_of[s] for s in needed_states}
+        chosen = needed_steps(steps, wanted)
+        reads = set(wanted)
+        for k in chosen:
+            reads |= steps[k].reads()
+        new_states = {s for s in all_states if s in reads} - needed_states
+        if not new_states:
+            break
+        needed_states |= new_states
+    kept_states = [s for s in all_states if s in needed_states]
+    kept_steps = [steps[k] for k in chosen]
+    defined = {n for step in kept_steps for n in step.defines}
+    kept_unknowns = [u for u in structure.unknowns if u in defined]
+    return kept_steps, kept_states, [derivative_of[s] for s in kept_states], kept_unknowns
