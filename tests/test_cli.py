@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from acausal.tools.cli import main
-from acausal.tools.compare import reference_dir
+from acausal.tools.compare import bundled_reference_dir, reference_dir
 
 REPO = Path(__file__).resolve().parents[1]
 FIRST = REPO / "examples" / "first.py"
@@ -36,9 +36,10 @@ def write_model(folder: Path, name: str, source: str) -> Path:
 
 def needs_reference(modelica_class: str) -> None:
     folder = reference_dir() / modelica_class
-    if not folder.is_dir():
+    # the bundled copy holds the examples' references: skip only for a folder chosen by the environment
+    if reference_dir() != bundled_reference_dir() and not folder.is_dir():
         pytest.skip(f"no reference results for {modelica_class} in {reference_dir()} "
-                    f"(set ACAUSAL_REFERENCE_DIR)")
+                    f"(ACAUSAL_REFERENCE_DIR; unset it to use the bundled copy)")
 
 
 @pytest.fixture
@@ -184,6 +185,33 @@ def test_compare_missing_reference(in_tmp, capsys):
     assert main(["compare", str(path), "--reference-dir", str(in_tmp)]) == 2
     err = capsys.readouterr().err
     assert "Modelica.Nowhere.Decay" in err and "Traceback" not in err
+
+
+def test_compare_uses_the_bundled_references_by_default(in_tmp, capsys, monkeypatch):
+    """Without ACAUSAL_REFERENCE_DIR the examples compare against the copy that ships with acausal."""
+    monkeypatch.delenv("ACAUSAL_REFERENCE_DIR", raising=False)
+    assert main(["compare", str(TWO_MASSES)]) == 0
+    assert "2 of 2 signals passed" in capsys.readouterr().out
+
+
+def test_compare_class_not_bundled_says_how_to_get_it(in_tmp, capsys, monkeypatch):
+    monkeypatch.delenv("ACAUSAL_REFERENCE_DIR", raising=False)
+    path = write_model(in_tmp, "unbundled.py", """
+        from acausal import Eq, Model, Variable, der
+
+
+        class Decay(Model):
+            modelica_class = "Modelica.Nowhere.Decay"
+            x = Variable(start=1.0, fixed=True)
+
+            def equations(self):
+                return [Eq(der(self.x), -self.x)]
+        """)
+    assert main(["compare", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "Modelica.Nowhere.Decay" in err and "Traceback" not in err
+    assert str(bundled_reference_dir()) in err
+    assert "ACAUSAL_REFERENCE_DIR" in err and "--reference-dir" in err
 
 
 # ---------------------------------------------------------------------------

@@ -7,6 +7,7 @@ expected bounds can be written down without floating-point doubt.
 
 from __future__ import annotations
 
+import gzip
 import math
 from pathlib import Path
 from types import MappingProxyType
@@ -29,6 +30,23 @@ from acausal.tools.compare import (
 from acausal.errors import ReferenceDataError
 
 FIRST = "Modelica.Mechanics.Rotational.Examples.First"
+
+REPO = Path(__file__).resolve().parents[1]
+
+#: The references that ship with acausal (library/reference/msl-4.1.0 in the repository).
+BUNDLED = REPO / "library" / "reference" / "msl-4.1.0"
+
+#: The classes whose references ship: those of the five bundled examples.
+BUNDLED_CLASSES = (
+    "Modelica.Mechanics.Rotational.Examples.CoupledClutches",
+    "Modelica.Mechanics.Rotational.Examples.First",
+    "Modelica.Mechanics.Rotational.Examples.Friction",
+    "Modelica.Thermal.HeatTransfer.Examples.TwoMasses",
+    "ModelicaTest.Rotational.TestFriction",
+)
+
+#: The team's full copy of MAP-LIB_ReferenceResults v4.1.0, beside the checkout (may be absent).
+SHARED = Path(__file__).resolve().parents[2] / "shared" / "reference" / "msl-4.1.0"
 
 
 # ---------------------------------------------------------------------------
@@ -73,8 +91,22 @@ def test_reference_dir_prefers_override_then_environment(monkeypatch, tmp_path):
     assert reference_dir() == tmp_path / "from-env"
 
     monkeypatch.delenv("ACAUSAL_REFERENCE_DIR")
-    expected = Path(compare.__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0"
-    assert reference_dir() == expected
+    assert reference_dir() == BUNDLED
+    assert compare.bundled_reference_dir() == BUNDLED
+
+    monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", "")  # set but empty: as if unset
+    assert reference_dir() == BUNDLED
+
+
+def test_reference_dir_default_does_not_import_the_libraries():
+    """Finding the bundled folder must not load the component libraries."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from acausal.tools.compare import bundled_reference_dir; "
+            "print(bundled_reference_dir()); print('acausal.library' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.split("\n")[:2] == [str(BUNDLED), "False"]
 
 
 # ---------------------------------------------------------------------------
@@ -372,10 +404,11 @@ def test_plot_signal_writes_a_png(tmp_path):
 @pytest.fixture(scope="module")
 def first() -> Reference:
     folder = reference_dir()
-    if not (folder / FIRST).is_dir():
+    # the bundled copy is always there; a folder chosen with ACAUSAL_REFERENCE_DIR may lack the class
+    if folder != BUNDLED and not (folder / FIRST).is_dir():
         pytest.skip(
-            f"MSL reference results not found at {folder}; set ACAUSAL_REFERENCE_DIR to a "
-            "folder holding modelica/MAP-LIB_ReferenceResults (branch v4.1.0)"
+            f"MSL reference results not found at {folder} (ACAUSAL_REFERENCE_DIR); unset it to "
+            "use the bundled copy, or point it at modelica/MAP-LIB_ReferenceResults (branch v4.1.0)"
         )
     return load_reference(FIRST)
 
@@ -486,11 +519,138 @@ def test_nested_map_lib_layout_is_found(tmp_path):
     import shutil
 
     source = reference_dir() / "Modelica.Mechanics.Rotational.Examples.First"
-    if not source.is_dir():
-        pytest.skip(f"MSL reference results not found at {reference_dir()}")
+    if reference_dir() != BUNDLED and not source.is_dir():
+        pytest.skip(f"MSL reference results not found at {reference_dir()} (ACAUSAL_REFERENCE_DIR)")
     nested = tmp_path.joinpath("Modelica", "Mechanics", "Rotational", "Examples", "First")
     shutil.copytree(source, nested)
     flat = load_reference("Modelica.Mechanics.Rotational.Examples.First")
     deep = load_reference("Modelica.Mechanics.Rotational.Examples.First", tmp_path)
     assert deep.compared == flat.compared
     np.testing.assert_array_equal(deep.time, flat.time)
+
+
+# ---------------------------------------------------------------------------
+# The references bundled with acausal
+# ---------------------------------------------------------------------------
+
+
+def test_bundled_folder_holds_exactly_the_examples_references():
+    assert sorted(p.name for p in BUNDLED.iterdir()) == sorted(BUNDLED_CLASSES)
+    for modelica_class in BUNDLED_CLASSES:
+        name = modelica_class.rsplit(".", 1)[-1]
+        assert sorted(p.name for p in (BUNDLED / modelica_class).iterdir()) == sorted(
+            [f"{name}.csv.gz", "comparisonSignals.txt", "creation.txt"])
+    assert (BUNDLED.parent / "LICENSE").is_file()
+    assert "Modelica Association" in (BUNDLED.parent / "LICENSE").read_text()
+    assert "MAP-LIB_ReferenceResults" in (BUNDLED.parent / "README.md").read_text()
+
+
+def test_bundled_archives_are_reproducible():
+    """``gzip -9n``: no file name and no time stamp in the header, so the bytes depend on the data only."""
+    for path in BUNDLED.rglob("*.gz"):
+        header = path.read_bytes()[:10]
+        assert header[:3] == b"\x1f\x8b\x08", path
+        assert header[3] & 0x08 == 0, f"{path} stores a file name"
+        assert header[4:8] == b"\0\0\0\0", f"{path} stores a time stamp"
+
+
+def test_bundled_files_are_the_team_copy_unchanged():
+    """Every bundled file, decompressed, is byte-identical to MAP-LIB_ReferenceResults (the shared copy)."""
+    if not SHARED.is_dir():
+        pytest.skip(f"the full reference copy {SHARED} is absent; nothing to compare the bundled files with")
+    files = sorted(p for p in BUNDLED.rglob("*") if p.is_file())
+    assert len(files) == 3 * len(BUNDLED_CLASSES)
+    for path in files:
+        relative = path.relative_to(BUNDLED)
+        if path.suffix == ".gz":
+            data, original = gzip.decompress(path.read_bytes()), SHARED / relative.with_suffix("")
+        else:
+            data, original = path.read_bytes(), SHARED / relative
+        assert data == original.read_bytes(), f"{path} differs from {original}"
+
+
+@pytest.mark.parametrize("modelica_class", BUNDLED_CLASSES)
+def test_bundled_references_load(modelica_class):
+    ref = load_reference(modelica_class, BUNDLED)
+    assert ref.path == BUNDLED / modelica_class
+    assert ref.tolerance == 1e-6
+    assert set(ref.compared) <= set(ref.signals)
+    assert ref.time[0] == ref.start_time and ref.time[-1] == ref.stop_time
+
+
+def test_class_not_bundled_names_the_bundled_folder_and_the_environment(monkeypatch):
+    monkeypatch.delenv("ACAUSAL_REFERENCE_DIR", raising=False)
+    with pytest.raises(ReferenceDataError) as error:
+        load_reference("Modelica.Mechanics.Rotational.Examples.Backlash")
+    message = str(error.value)
+    assert str(BUNDLED) in message
+    assert "bundled" in message
+    assert "ACAUSAL_REFERENCE_DIR" in message and "--reference-dir" in message
+    assert "MAP-LIB_ReferenceResults" in message
+    assert FIRST in message  # the classes that are there
+    assert isinstance(error.value, ValueError)
+
+
+def test_class_missing_from_the_environment_folder_names_it(tmp_path, monkeypatch):
+    monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path))
+    with pytest.raises(ReferenceDataError) as error:
+        load_reference(FIRST)
+    message = str(error.value)
+    assert str(tmp_path / FIRST) in message
+    assert "ACAUSAL_REFERENCE_DIR" in message
+    assert "bundled" not in message
+
+
+def test_csv_gz_and_csv_load_the_same(tmp_path):
+    plain = write_folder(tmp_path / "plain")
+    packed = write_folder(tmp_path / "packed")
+    csv_path = packed / "Model.csv"
+    (packed / "Model.csv.gz").write_bytes(gzip.compress(csv_path.read_bytes()))
+    csv_path.unlink()
+    a = load_reference("Pkg.Model", tmp_path / "plain")
+    b = load_reference("Pkg.Model", tmp_path / "packed")
+    assert b.path == packed and a.path == plain
+    assert a.compared == b.compared
+    np.testing.assert_array_equal(a.time, b.time)
+    assert a.signals.keys() == b.signals.keys()
+    for name in a.signals:
+        np.testing.assert_array_equal(a.signals[name], b.signals[name])
+
+
+def test_real_csv_gz_and_csv_load_the_same(tmp_path):
+    """The bundled First.csv.gz and the same file decompressed give the same reference."""
+    import shutil
+
+    folder = tmp_path / FIRST
+    shutil.copytree(BUNDLED / FIRST, folder)
+    (folder / "First.csv").write_bytes(gzip.decompress((folder / "First.csv.gz").read_bytes()))
+    (folder / "First.csv.gz").unlink()
+    a = load_reference(FIRST, tmp_path)
+    b = load_reference(FIRST, BUNDLED)
+    assert (a.compared, a.start_time, a.stop_time, a.interval, a.tolerance) == (
+        b.compared, b.start_time, b.stop_time, b.interval, b.tolerance)
+    np.testing.assert_array_equal(a.time, b.time)
+    assert a.signals.keys() == b.signals.keys()
+    for name in a.signals:
+        np.testing.assert_array_equal(a.signals[name], b.signals[name])
+
+
+def test_plain_csv_is_preferred_to_csv_gz(tmp_path):
+    folder = write_folder(tmp_path)
+    other = GOOD_CSV.replace("1,1.5,2", "1,1.5,3")
+    (folder / "Model.csv.gz").write_bytes(gzip.compress(other.encode()))
+    np.testing.assert_array_equal(load_reference("Pkg.Model", tmp_path).signals["a.v"], [1, 1, 2, 2])
+    (folder / "Model.csv").unlink()
+    np.testing.assert_array_equal(load_reference("Pkg.Model", tmp_path).signals["a.v"], [1, 1, 2, 3])
+
+
+def test_broken_csv_gz(tmp_path):
+    folder = write_folder(tmp_path)
+    (folder / "Model.csv.gz").write_bytes(gzip.compress(GOOD_CSV.encode())[:-12])  # truncated
+    (folder / "Model.csv").unlink()
+    with pytest.raises(ReferenceDataError) as error:
+        load_reference("Pkg.Model", tmp_path)
+    assert "Model.csv.gz" in str(error.value) and "hint:" in str(error.value)
+    (folder / "Model.csv.gz").write_bytes(GOOD_CSV.encode())  # not compressed at all
+    with pytest.raises(ReferenceDataError, match="Model.csv.gz"):
+        load_reference("Pkg.Model", tmp_path)

@@ -214,8 +214,8 @@ def _parser() -> argparse.ArgumentParser:
     cmp_.add_argument("models", metavar="MODEL", nargs="+",
                       help="FILE.py or FILE.py:ClassName (with modelica_class); several may be given")
     cmp_.add_argument("--reference-dir", metavar="DIR",
-                      help="folder of reference results (default: ACAUSAL_REFERENCE_DIR or "
-                           "shared/reference/msl-4.1.0 beside the checkout)")
+                      help="folder of reference results (default: ACAUSAL_REFERENCE_DIR, else "
+                           "the references bundled with acausal for its examples)")
     cmp_.add_argument("--plot", metavar="DIR", help="write one PNG per compared signal into DIR")
     cmp_.add_argument("--method", type=_method, default="RK45", metavar="M",
                       help=f"integration method: {', '.join(METHODS)} (default RK45)")

@@ -57,8 +57,15 @@ Reference data
 The reference results come from github.com/modelica/MAP-LIB_ReferenceResults
 (branch v4.1.0).  :func:`reference_dir` says where they are looked for: one
 folder per Modelica class, for instance
-``Modelica.Mechanics.Rotational.Examples.First/`` holding ``First.csv``,
-``comparisonSignals.txt`` and ``creation.txt``.
+``Modelica.Mechanics.Rotational.Examples.First/`` holding ``First.csv`` (or
+``First.csv.gz``), ``comparisonSignals.txt`` and ``creation.txt``; the nested
+layout of a MAP-LIB checkout (``Modelica/Mechanics/.../First/``) works too.
+
+The references of the five bundled examples ship with acausal (in
+``acausal.library``, folder ``reference/msl-4.1.0``, gzip-compressed; see its
+README.md and LICENSE) and are used by default.  For other classes point
+``ACAUSAL_REFERENCE_DIR`` (or ``--reference-dir``, or the ``directory``
+argument) at a full MAP-LIB_ReferenceResults checkout.
 
 Examples
 --------
@@ -70,6 +77,8 @@ Examples
 from __future__ import annotations
 
 import csv
+import gzip
+import importlib.util
 import math
 import os
 import re
@@ -91,6 +100,7 @@ __all__ = [
     "SignalComparison",
     "Comparison",
     "reference_dir",
+    "bundled_reference_dir",
     "load_reference",
     "tube_size",
     "tube",
@@ -114,6 +124,11 @@ _SOURCE_HINT = (
     "(branch v4.1.0); put the class's folder there or set the environment variable "
     f"{_ENV_VAR} to the folder that holds them"
 )
+_BUNDLED_HINT = (
+    "only the references of the bundled examples ship with acausal; for other classes "
+    "use a checkout of github.com/modelica/MAP-LIB_ReferenceResults (branch v4.1.0): "
+    f"set the environment variable {_ENV_VAR} to its folder or pass --reference-dir"
+)
 
 CheckAt = Literal["result", "reference", "both"]
 
@@ -135,17 +150,30 @@ def reference_dir(override: str | Path | None = None) -> Path:
     -------
     Path
         ``override`` if given, else the environment variable
-        ``ACAUSAL_REFERENCE_DIR`` if set, else ``shared/reference/msl-4.1.0``
-        beside the repository checkout.  The folder need not exist.
+        ``ACAUSAL_REFERENCE_DIR`` if set (and not empty), else the folder
+        bundled with acausal (:func:`bundled_reference_dir`), which holds the
+        references of the five bundled examples only.  The folder need not exist.
     """
     if override is not None:
         return Path(override)
     from_env = os.environ.get(_ENV_VAR)
     if from_env:
         return Path(from_env)
-    # compare.py is <checkout>/acausal/tools/compare.py, so parents[3] is the folder
-    # that holds the checkout (and the shared data beside it).
-    return Path(__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0"
+    return bundled_reference_dir()
+
+
+def bundled_reference_dir() -> Path:
+    """The reference results that ship with acausal: ``reference/msl-4.1.0`` in ``acausal.library``.
+
+    Found without importing ``acausal.library`` (which would load the component
+    libraries); in this repository it is ``library/reference/msl-4.1.0``.
+    """
+    spec = importlib.util.find_spec("acausal.library")
+    if spec is not None and spec.submodule_search_locations:
+        package = Path(next(iter(spec.submodule_search_locations)))
+    else:  # not found as a package: fall back to the repository layout
+        package = Path(__file__).resolve().parents[2] / "library"
+    return package / "reference" / "msl-4.1.0"
 
 
 # ---------------------------------------------------------------------------
@@ -197,7 +225,11 @@ def load_reference(modelica_class: str, directory: str | Path | None = None) -> 
     modelica_class : str
         Full class name, which is also the name of its folder.
     directory : str or Path, optional
-        Folder holding the class folders; see :func:`reference_dir`.
+        Folder holding the class folders; see :func:`reference_dir` (default:
+        ``ACAUSAL_REFERENCE_DIR``, else the references bundled with acausal).
+        A class folder is named by the dotted class name, or nested by its
+        parts as in a MAP-LIB_ReferenceResults checkout.  The results are read
+        from ``<Name>.csv`` or, when that is absent, ``<Name>.csv.gz``.
 
     Returns
     -------
@@ -207,7 +239,8 @@ def load_reference(modelica_class: str, directory: str | Path | None = None) -> 
     ------
     ReferenceDataError
         If the folder or one of its files is missing or malformed, or a
-        compared signal is not in the CSV file.
+        compared signal is not in the CSV file.  The message says which folder
+        was searched.
     """
     root = reference_dir(directory)
     if not modelica_class or any(sep in modelica_class for sep in ("/", "\\")) or modelica_class.startswith("."):
@@ -221,10 +254,15 @@ def load_reference(modelica_class: str, directory: str | Path | None = None) -> 
         # a MAP-LIB_ReferenceResults checkout nests the class path in folders
         folder = nested
     if not folder.is_dir():
+        bundled = root == bundled_reference_dir()
+        where = (f"the references bundled with acausal ({root})" if bundled
+                 else f"{root} (from {_source_of(directory)})")
+        looked = (f"folder {folder} does not exist" if nested == folder
+                  else f"neither folder {folder} nor {nested} exists")
         raise ReferenceDataError(
-            f"no reference results for {modelica_class}: folder {folder} does not exist"
+            f"no reference results for {modelica_class} in {where}: {looked}"
             + _available_classes(root),
-            hint=_SOURCE_HINT,
+            hint=_BUNDLED_HINT if bundled else _SOURCE_HINT,
         )
 
     csv_path = _find_csv(folder, modelica_class)
@@ -252,6 +290,11 @@ def load_reference(modelica_class: str, directory: str | Path | None = None) -> 
     )
 
 
+def _source_of(directory: str | Path | None) -> str:
+    """Which setting chose the reference folder (for error messages)."""
+    return "--reference-dir or the directory argument" if directory is not None else f"${_ENV_VAR}"
+
+
 def _available_classes(root: Path) -> str:
     """A sentence listing the classes present under ``root`` (for error messages)."""
     if not root.is_dir():
@@ -263,15 +306,21 @@ def _available_classes(root: Path) -> str:
 
 
 def _find_csv(folder: Path, modelica_class: str) -> Path:
-    """The CSV file of a class folder: ``<LastNamePart>.csv``, else the only CSV there."""
+    """The CSV file of a class folder.
+
+    ``<LastNamePart>.csv``, else ``<LastNamePart>.csv.gz``, else the only
+    ``*.csv`` there, else the only ``*.csv.gz``.
+    """
     expected = folder / f"{modelica_class.rsplit('.', 1)[-1]}.csv"
-    if expected.is_file():
-        return expected
-    candidates = sorted(folder.glob("*.csv"))
+    compressed = expected.with_name(expected.name + ".gz")
+    for path in (expected, compressed):
+        if path.is_file():
+            return path
+    candidates = sorted(folder.glob("*.csv")) or sorted(folder.glob("*.csv.gz"))
     if len(candidates) == 1:
         return candidates[0]
     raise ReferenceDataError(
-        f"reference results file {expected} not found"
+        f"reference results file {expected} (or {compressed.name}) not found"
         + (f" (and {folder} holds several CSV files)" if candidates else ""),
         hint=_SOURCE_HINT,
     )
@@ -283,13 +332,22 @@ def _read_csv(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     The first non-comment line holds the (possibly quoted) column names, one
     of which must be ``time``; every further non-empty line holds one number
     per column.  Lines starting with ``#`` are comments, as in csv-compare.
+    A ``.gz`` file is decompressed while it is read.
     """
-    with path.open(newline="", encoding="utf-8-sig") as stream:
-        lines = [
-            (number, row)
-            for number, row in enumerate(csv.reader(stream), start=1)
-            if row and not row[0].lstrip().startswith("#") and any(cell.strip() for cell in row)
-        ]
+    compressed = path.name.endswith(".gz")
+    try:
+        with (gzip.open(path, "rt", newline="", encoding="utf-8-sig") if compressed
+              else path.open(newline="", encoding="utf-8-sig")) as stream:
+            lines = [
+                (number, row)
+                for number, row in enumerate(csv.reader(stream), start=1)
+                if row and not row[0].lstrip().startswith("#") and any(cell.strip() for cell in row)
+            ]
+    except (gzip.BadGzipFile, EOFError) as error:
+        raise ReferenceDataError(
+            f"{path} cannot be decompressed: {error}",
+            hint="the file may be truncated or not gzip-compressed; copy it again",
+        ) from None
     if not lines:
         raise ReferenceDataError(f"{path} is empty", hint="the file should start with a header line")
 
