@@ -266,7 +266,7 @@ class CaseTranslation:
 
     case: str
     flatten_seconds: float = math.nan
-    translate_seconds: float = math.nan  #: flatten + compiled modes (ModeSystem.timings)
+    translate_seconds: float = math.nan  #: flatten + compiled modes (their pass logs)
     first_simulate_seconds: float = math.nan  #: wall time of the first simulate (compiles)
     modes: int = 0
     initial_systems: int = 0
@@ -287,7 +287,7 @@ class CaseRun:
 def _stage_sums(translation) -> dict:
     sums: dict = {}
     for system in translation.systems.values():
-        for stage, seconds in system.timings.items():
+        for stage, seconds in system.passes:
             sums[stage] = sums.get(stage, 0.0) + seconds
     return sums
 
@@ -469,12 +469,10 @@ def _fresh_translate(model: Model, outputs=None):
 
 
 def _evaluator(translation):
-    """The discrete evaluator ``simulate`` uses (cached on the translation when it can be)."""
-    if hasattr(translation, "evaluator"):
-        return translation.evaluator(1e-10, 20)
-    from ..runtime.events import DiscreteEvaluator
+    """The discrete evaluator ``simulate`` uses (built once per translation)."""
+    from ..runtime.events import evaluator_for
 
-    return DiscreteEvaluator(translation)
+    return evaluator_for(translation)
 
 
 def _rss_mb() -> float:
@@ -526,7 +524,7 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     system = _first_system(translation)
     for stage in STAGES:
         point[stage] = system.timings.get(stage, math.nan)
-    point["translation"] = point["flatten"] + sum(system.timings.values())
+    point["translation"] = point["flatten"] + system.seconds
     point["states"] = len(system.structure.states)
     point["equations"] = len(system.equations)
     point["derivative_steps"] = system.code.n_derivative_steps

@@ -144,6 +144,7 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     _write_matching(writer, main)
     _write_blt(writer, main)
     _write_code(writer, translation, main)
+    _write_passes(writer, translation, main)
     if partitioned.is_hybrid:
         _write_hybrid(writer, translation, main, visited, names)
     for note in notes:
@@ -433,6 +434,27 @@ def _write_code(w: _Writer, translation: Translation, main: ModeSystem) -> None:
         w.line(f"  p{k} = {name}")
     w.line()
     w.lines += ["    " + line if line else "" for line in main.code.source.rstrip("\n").split("\n")]
+    w.line()
+
+
+def _write_passes(w: _Writer, translation: Translation, main: ModeSystem) -> None:
+    w.section("Pass log")
+    w.paragraph("Every compiled system keeps the passes that built it, in order, with the time "
+                "each took (flattening and partitioning are done once for the whole model).")
+    w.line(f"  {'flatten + partition (once)':<28} {1e3 * translation.flatten_seconds:9.2f} ms")
+    for name, seconds in main.passes:
+        w.line(f"  {name:<28} {1e3 * seconds:9.2f} ms")
+    if main.shares is not None:
+        twin = translation.systems[main.shares]
+        w.line("  (equal equations to a state compiled before: specialising was all; that state's "
+               "passes:)")
+        for name, seconds in twin.passes:
+            w.line(f"    {name:<26} {1e3 * seconds:9.2f} ms")
+    initial = translation.initial_systems.get(main.key)
+    if initial is not None:
+        w.line("  initialization problem:")
+        for name, seconds in initial.passes:
+            w.line(f"    {name:<26} {1e3 * seconds:9.2f} ms")
     w.line()
 
 
