@@ -14,27 +14,31 @@ written out because hybrid models need what ``solve_ivp`` does not offer:
   whose system is compiled on first visit;
 * a failure (solver, event iteration, chattering) ends the run with a
   result that keeps everything computed so far, and the reason.
+
+The loop is here; locating events is in :mod:`acausal.runtime.crossings`
+(pure helpers), keeping rows and assembling the result's columns in
+:mod:`acausal.runtime.recorder`.
 """
 
 from __future__ import annotations
 
-import math
 import time as _time
 from collections import deque
 from typing import Sequence
 
 import numpy as np
 import scipy.integrate as integrate
-import sympy as sp
 
+from ..compiler.translate import ModeSystem, Translation, translate
 from ..errors import ChatteringError, SimulationError, SolverError, StructuralError
+from ..language import Component
+from ..names import base_name
+from .crossings import locate_flip, next_time_event, sample_times, time_event_roots
 from .events import evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
-from ..names import base_name
-from ..language import Component, time as time_symbol
+from .recorder import Recorder
 from .result import Event, SimulationResult
-from ..compiler.translate import ModeSystem, Translation, translate
 
 __all__ = ["simulate", "METHODS"]
 
@@ -118,6 +122,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
 
 
 class _Run:
+    """One simulation run: the loop over segments and events (state in attributes)."""
+
     def __init__(self, translation: Translation, method, rtol, atol, max_step, relation_epsilon,
                  max_event_iterations, chattering_events) -> None:
         self.translation = translation
@@ -128,46 +134,22 @@ class _Run:
         self.atol = atol
         self.max_step = np.inf if max_step is None else max_step
         self.chattering_events = chattering_events
-        self.rows: list[tuple] = []  # (t, system, x, discrete)
         self.events: list[Event] = []
         self.modes: list[str] = []
         self.notes: list[str] = []
         self.nfev = 0
         self.steps = 0
-        self._time_roots = self._time_event_roots()
-
-    # -- time events ------------------------------------------------------------
-
-    def _time_event_roots(self):
-        params = self.translation.cache.parameters.symbols
-        roots = []
-        for rel in self.relations:
-            if rel.is_time_event:
-                g = sp.sympify(rel.g).xreplace(params)
-                slope = float(sp.diff(g, time_symbol))
-                offset = float(g.xreplace({time_symbol: 0}))
-                roots.append((rel.index, -offset / slope if slope else math.inf))
-        return roots
+        self._time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
 
     def _next_time_event(self, t: float, relations) -> float:
-        best = math.inf
-        for index, root in self._time_roots:
-            rel = self.relations[index]
-            if root > t or (root == t and rel.holds(0.0) != relations[index]):
-                best = min(best, root)
-        return best
+        return next_time_event(t, self._time_roots, self.relations, relations)
 
     # -- main loop ----------------------------------------------------------------
 
     def execute(self, t0: float, t1: float, interval: float, t_setup: float) -> SimulationResult:
         error = None
         message = "The simulation reached the stop time."
-        grid = t0 + interval * np.arange(int(math.floor((t1 - t0) / interval * (1 + 1e-12))) + 1)
-        if grid[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
-            grid = np.append(grid, t1)
-        self.grid = grid
-        self.interval = interval
-        self.next_grid = 0
+        self.recorder = Recorder(t0, t1, interval)
         self.wall_start = _time.perf_counter()
         try:
             state = initialize(self.translation, self.evaluator, t0)
@@ -181,7 +163,7 @@ class _Run:
             except StructuralError as exc:
                 # a discrete state reached during the run cannot be solved: stop
                 # with the reason, keeping what was computed
-                t_fail = self.rows[-1][0] if self.rows else t0
+                t_fail = self.recorder.last_time if self.recorder.rows else t0
                 raise SolverError(f"at t = {t_fail:.12g} the model entered a discrete state it "
                                   f"cannot solve: {exc.message}", hint=exc.hint,
                                   components=exc.components) from exc
@@ -195,34 +177,26 @@ class _Run:
             message = str(error)
         return self._result(t_setup, message, error)
 
-    def _snapshot(self, discrete: dict) -> dict:
-        """A copy of the discrete values for an output row, shared by the rows
-        that have the same values (a large model has thousands of them)."""
-        last = self.rows[-1][3] if self.rows else None
-        if last is not None and last == discrete:
-            return last
-        return dict(discrete)
-
     def _record_mode(self, system: ModeSystem) -> None:
         if system.description not in self.modes:
             self.modes.append(system.description)
 
     def _integrate(self, t: float, t1: float, outcome) -> None:
+        recorder = self.recorder
         system = outcome.system
         discrete = outcome.discrete
         relations = outcome.relations
         values = outcome.values
         self._record_mode(system)
         x = np.array([values[s] for s in system.states], dtype=float)
-        self.rows.append((t, system, x.copy(), self._snapshot(discrete)))
-        while self.next_grid < len(self.grid) and self.grid[self.next_grid] <= t:
-            self.next_grid += 1
+        recorder.add(t, system, x, discrete)
+        recorder.skip_grid_through(t, round_off=False)
         recent = deque(maxlen=self.chattering_events)
         while t < t1:
             t_bound = min(t1, self._next_time_event(t, relations))
             if not system.states:
-                self._emit_grid_until(t_bound, inclusive=False, system=system, x_at=lambda s: x,
-                                      discrete=discrete)
+                recorder.emit_grid_until(t_bound, inclusive=False, system=system, x_at=lambda s: x,
+                                         discrete=discrete)
                 t_new, x_new, event_at = t_bound, x, None
             else:
                 t_new, x_new, event_at = self._segment(system, t, x, t_bound, discrete, relations)
@@ -230,32 +204,10 @@ class _Run:
                 t_e, x_e, fired = event_at
                 kind = "state"
                 recent.append((t_e, fired, tuple(sorted(discrete.items()))))
-                # Chattering: many state events in a row, ping-ponging between at
-                # most two discrete states, within a vanishing window (a millionth
-                # of the span, or a microsecond) — far below any physical period.
-                window = max(1e-6 * (t1 - self.grid[0]), 1e-6)
-                if len(recent) == recent.maxlen and recent[-1][0] - recent[0][0] <= window \
-                        and len({d for _, _, d in recent}) <= 2:
-                    counts: dict = {}
-                    for _, names, _ in recent:
-                        for n in names:
-                            counts[n] = counts.get(n, 0) + 1
-                    worst = max(counts, key=counts.get)
-                    states = list(recent)
-                    changing = sorted({n for (_, _, a), (_, _, b) in zip(states, states[1:])
-                                       for (n, va), (_, vb) in zip(a, b) if va != vb})
-                    owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
-                    own = self.translation.flat.hints_for("chattering", owners)
-                    raise ChatteringError(
-                        f"chattering: {len(recent)} state events between t = {recent[0][0]:.12g} "
-                        f"and {recent[-1][0]:.12g}; the crossing firing most is {worst}",
-                        hint="; ".join(("the model switches back and forth without time passing; "
-                                        "check the relation named (a threshold that its own "
-                                        "switching crosses)", *own)),
-                        components=owners)
+                self._check_chattering(recent, t1)
             elif t_new >= t1 and not any(root == t_new for _, root in self._time_roots
                                          if self._next_time_event(t, relations) == t_new):
-                self.rows.append((t_new, system, np.array(x_new, dtype=float), self._snapshot(discrete)))
+                recorder.add(t_new, system, x_new, discrete)
                 return
             else:
                 # a time event (also one exactly at the stop time: it is processed,
@@ -264,7 +216,7 @@ class _Run:
                 fired = tuple(self.relations[i].text for i, root in self._time_roots if root == t_e)
                 kind = "time"
             # left limit, event iteration, right limit
-            self.rows.append((t_e, system, np.array(x_e, dtype=float), self._snapshot(discrete)))
+            recorder.add(t_e, system, x_e, discrete)
             values = mode_values(system, t_e, x_e)
             fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
             outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices)
@@ -272,29 +224,44 @@ class _Run:
             system, discrete, relations = outcome.system, outcome.discrete, outcome.relations
             self._record_mode(system)
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
-            self.rows.append((t_e, system, x.copy(), self._snapshot(discrete)))
+            recorder.add(t_e, system, x, discrete)
             t = t_e
             if t >= t1:
                 return
             # a grid point at the event time is represented by the two event rows
-            while self.next_grid < len(self.grid) and self.grid[self.next_grid] <= t_e * (1 + 1e-14):
-                self.next_grid += 1
+            recorder.skip_grid_through(t_e)
 
-    def _emit_grid_until(self, t_end: float, inclusive: bool, system, x_at, discrete) -> None:
-        grid = self.grid
-        while self.next_grid < len(grid) and (grid[self.next_grid] < t_end or
-                                              (inclusive and grid[self.next_grid] <= t_end)):
-            tg = grid[self.next_grid]
-            if not (self.rows and self.rows[-1][0] == tg):
-                self.rows.append((float(tg), system, np.array(x_at(tg), dtype=float),
-                                  self._snapshot(discrete)))
-            self.next_grid += 1
+    def _check_chattering(self, recent: deque, t1: float) -> None:
+        """Chattering: many state events in a row, ping-ponging between at most
+        two discrete states, within a vanishing window (a millionth of the
+        span, or a microsecond) — far below any physical period."""
+        window = max(1e-6 * (t1 - self.recorder.grid[0]), 1e-6)
+        if not (len(recent) == recent.maxlen and recent[-1][0] - recent[0][0] <= window
+                and len({d for _, _, d in recent}) <= 2):
+            return
+        counts: dict = {}
+        for _, names, _ in recent:
+            for n in names:
+                counts[n] = counts.get(n, 0) + 1
+        worst = max(counts, key=counts.get)
+        states = list(recent)
+        changing = sorted({n for (_, _, a), (_, _, b) in zip(states, states[1:])
+                           for (n, va), (_, vb) in zip(a, b) if va != vb})
+        owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
+        own = self.translation.flat.hints_for("chattering", owners)
+        raise ChatteringError(
+            f"chattering: {len(recent)} state events between t = {recent[0][0]:.12g} "
+            f"and {recent[-1][0]:.12g}; the crossing firing most is {worst}",
+            hint="; ".join(("the model switches back and forth without time passing; check the "
+                            "relation named (a threshold that its own switching crosses)", *own)),
+            components=owners)
 
     def _segment(self, system: ModeSystem, t: float, x, t_bound: float, discrete, relations):
         """Integrate one mode until t_bound or the first crossing.
 
         Returns ``(t_end, x_end, event)``, event = ``(t_e, x_e, fired names)`` or None.
         """
+        recorder = self.recorder
         nominal = np.array([self.translation.continuous[base_name(s)].nominal for s in system.states])
         atol = self.rtol * nominal if self.atol is None else self.atol
 
@@ -313,144 +280,57 @@ class _Run:
             t_old = solver.t
             message = solver.step()
             self.steps += 1
-            if (self.max_steps is not None and self.steps > self.max_steps) or (
-                    self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout):
-                self.nfev += solver.nfev  # count this segment's evaluations before stopping
-            if self.max_steps is not None and self.steps > self.max_steps:
-                raise SolverError(f"{self.method} used its budget of {self.max_steps} steps by "
-                                  f"t = {solver.t:.12g}",
-                                  hint="the model may be stiff: try an implicit method (Radau, BDF)")
-            if self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout:
-                raise SolverError(f"the simulation used its time budget of {self.timeout:g} s by "
-                                  f"t = {solver.t:.12g}",
-                                  hint="the model may be stiff: try an implicit method (Radau, BDF)")
+            self._check_budgets(solver)
             if solver.status == "failed":
                 self.nfev += solver.nfev
                 raise SolverError(f"{self.method} failed at t = {solver.t:.12g}: {message}",
                                   hint="try a smaller tolerance, an implicit method (Radau, BDF) "
                                        "or a max_step")
             t_new = solver.t
-            dense = solver.dense_output() if (watched or self.next_grid < len(self.grid)) else None
+            dense = solver.dense_output() if (watched or recorder.grid_left) else None
             event = None
             if watched and t_new > t_old:
-                # at least 4 samples a step, and no coarser than the output grid:
-                # while a model is stuck its steps grow long, and a drive that
-                # crosses a threshold and returns within one step must not be missed
-                n = min(max(4, int(math.ceil((t_new - t_old) / self.interval))), 2000)
-                samples = np.linspace(t_old, t_new, n + 1)[1:]
-                # the output-grid points inside the step are samples too: no output
-                # row can then show a relation at odds with its discrete state
-                lo_i = np.searchsorted(self.grid, t_old, side="right")
-                hi_i = np.searchsorted(self.grid, t_new, side="left")
-                if hi_i > lo_i:
-                    samples = np.union1d(samples, self.grid[lo_i:hi_i])
-                lo = t_old
-                # the dense output at all samples in one call (the step end: its own value)
-                inside = samples[samples < t_new]
-                states_at = dense(inside).T if len(inside) else ()
-                for i, s in enumerate(samples):
-                    xs = states_at[i] if s < t_new else solver.y
-                    hit = flipped(s, xs)
-                    if hit:
-                        # the bisection starts from the very state that flipped (the dense
-                        # output evaluated alone can differ in the last bit)
-                        event = self._bisect(lo, s, dense, flipped, xs)
-                        break
-                    lo = s
+                samples = sample_times(t_old, t_new, recorder.interval, recorder.grid)
+                event = locate_flip(t_old, samples, dense, solver.y, flipped)
             if event is not None:
                 t_e, x_e, fired = event
-                self._emit_grid_until(t_e, inclusive=False, system=system, x_at=dense, discrete=discrete)
+                recorder.emit_grid_until(t_e, inclusive=False, system=system, x_at=dense,
+                                         discrete=discrete)
                 self.nfev += solver.nfev
                 names = tuple(self.relations[k].text for k in fired)
                 return t_e, x_e, (t_e, x_e, names)
+
             def x_at(s, dense=dense, y=solver.y.copy(), t_new=t_new):
                 # a grid point at the step end (up to round-off) takes the step's value
                 if dense is None or abs(s - t_new) <= 1e-12 * max(1.0, abs(t_new)):
                     return y
                 return dense(s)
 
-            self._emit_grid_until(t_new, inclusive=t_new < t_bound, system=system, x_at=x_at,
-                                  discrete=discrete)
+            recorder.emit_grid_until(t_new, inclusive=t_new < t_bound, system=system, x_at=x_at,
+                                     discrete=discrete)
             if solver.status == "finished":
                 self.nfev += solver.nfev
                 return t_new, solver.y.copy(), None
 
-    def _fill(self, block: np.ndarray, index: dict[str, int], rows, system: ModeSystem,
-              discrete: dict, plans: dict) -> None:
-        """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
-
-        ``plans`` keeps each system's :func:`_fill_plan` for its next stretch.
-        """
-        if system.key not in plans:
-            plans[system.key] = _fill_plan(self.translation, system, index)
-        targets, sources, aliases = plans[system.key]
-        n_states = len(system.states)
-        values = np.full((len(rows), n_states + len(system.unknowns)), np.nan)
-        for r, (t, _, x, _) in enumerate(rows):
-            values[r, :n_states] = x
-            try:
-                values[r, n_states:] = system.outputs(t, x)
-            except (SimulationError, ArithmeticError, ValueError):
-                # the states are still known, and so are their aliases and the
-                # constants; the unknowns of this row stay NaN
-                pass
-        block[:, targets] = values[:, sources]
-        for column, coeff, source in aliases:
-            block[:, column] = coeff if source < 0 else coeff * values[:, source]
-        for name, value in discrete.items():
-            block[:, index[name]] = float(value)
-
-    @staticmethod
-    def _bisect(lo: float, hi: float, dense, flipped, x_hi):
-        """Narrow [lo, hi] (not flipped at lo, flipped at hi with state ``x_hi``) to the flip instant."""
-        hit = flipped(hi, x_hi)
-        tol = 4 * np.finfo(float).eps * max(1.0, abs(hi))
-        for _ in range(200):
-            if hi - lo <= tol:
-                break
-            mid = 0.5 * (lo + hi)
-            if mid <= lo or mid >= hi:
-                break
-            x_mid = dense(mid)
-            now = flipped(mid, x_mid)
-            if now:
-                hi, x_hi, hit = mid, x_mid, now
-            else:
-                lo = mid
-        return hi, np.array(x_hi, dtype=float), hit
+    def _check_budgets(self, solver) -> None:
+        over_steps = self.max_steps is not None and self.steps > self.max_steps
+        over_time = self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout
+        if not (over_steps or over_time):
+            return
+        self.nfev += solver.nfev  # count this segment's evaluations before stopping
+        if over_steps:
+            raise SolverError(f"{self.method} used its budget of {self.max_steps} steps by "
+                              f"t = {solver.t:.12g}",
+                              hint="the model may be stiff: try an implicit method (Radau, BDF)")
+        raise SolverError(f"the simulation used its time budget of {self.timeout:g} s by "
+                          f"t = {solver.t:.12g}",
+                          hint="the model may be stiff: try an implicit method (Radau, BDF)")
 
     # -- result ------------------------------------------------------------------------
 
     def _result(self, t_setup: float, message: str, error) -> SimulationResult:
         translation = self.translation
-        flat = translation.flat
-        continuous = [v.name for v in flat.variables if not v.is_discrete]
-        discrete_names = list(translation.partitioned.discrete_variables)
-        derivative_names = []
-        for system in translation.systems.values():
-            for d in system.structure.derivatives:
-                if d not in derivative_names:
-                    derivative_names.append(d)
-        names = continuous + derivative_names + discrete_names
-        if translation.demand is not None:
-            names = [n for n in names if n in translation.demand] + discrete_names
-        index = {n: k for k, n in enumerate(names)}
-        data = np.full((len(self.rows), len(names)), np.nan)
-        times = np.array([row[0] for row in self.rows], dtype=float)
-        # Rows come in stretches with one system and one set of discrete
-        # values (between events): each stretch is filled column by column.
-        start, plans = 0, {}
-        while start < len(self.rows):
-            _, system, _, discrete = self.rows[start]
-            stop = start + 1
-            while stop < len(self.rows) and self.rows[stop][1] is system and self.rows[stop][3] is discrete:
-                stop += 1
-            self._fill(data[start:stop], index, self.rows[start:stop], system, discrete, plans)
-            start = stop
-        columns = {n: data[:, k] for n, k in index.items()}
-        for p in flat.parameters:
-            if translation.demand is None or p.name in translation.demand:
-                columns[p.name] = np.full(len(times), p.value)
+        times, columns = self.recorder.columns(translation)
         stats = {
             "steps": self.steps,
             "rhs_evaluations": self.nfev,
@@ -463,29 +343,4 @@ class _Run:
         }
         return SimulationResult(times, columns, 0 if error is None else -1, message, tuple(self.events),
                                 tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
-                                error, flat.name)
-
-
-def _fill_plan(translation: Translation, system: ModeSystem, index: dict[str, int]):
-    """Where a system's values go in the result: ``(targets, sources, aliases)``.
-
-    The system's values are its states then its unknowns; ``targets`` are
-    their result columns and ``sources`` their positions (for those the
-    result keeps); ``aliases`` are ``(column, coefficient, position or -1)``
-    with -1 for a constant.
-    """
-    own = list(system.states) + list(system.unknowns)
-    position = {n: k for k, n in enumerate(own)}
-    pairs = [(index[n], k) for k, n in enumerate(own) if n in index]
-    aliases = []
-    for name, coeff, source in system.alias_plan:
-        column = index.get(name)
-        if column is None:
-            continue
-        if source is None:
-            aliases.append((column, coeff, -1))
-        elif source in position:  # with an output demand, some are not computed
-            aliases.append((column, coeff, position[source]))
-    return (np.array([c for c, _ in pairs], dtype=int), np.array([k for _, k in pairs], dtype=int),
-            aliases)
-
+                                error, translation.flat.name)
