@@ -53,6 +53,7 @@ __all__ = [
     "StructureMemo",
     "StructuralResult",
     "analyse",
+    "pantelides",
     "augmenting_path",
     "priority_matching",
     "maximum_matching",
@@ -375,6 +376,69 @@ class StructureMemo:
             raise ValueError("analyse: this memo belongs to other parameter values")
 
 
+def pantelides(G: list[list[int]], A: list[int], add_derivative: Callable[[int], int],
+               differentiate_equation: Callable[[int], list[int]]) -> list[int]:
+    """Pantelides' index reduction on plain index lists.
+
+    Parameters
+    ----------
+    G : list of list of int
+        ``G[i]``: the variables of equation ``i``.  Extended in place with the
+        differentiated equations.
+    A : list of int
+        ``A[j]``: the index of ``der(v_j)``, or -1.  Extended in place (by
+        ``add_derivative``) as derivatives are added.
+    add_derivative : callable
+        ``add_derivative(j)`` adds ``der(v_j)`` (appending to ``A`` and setting
+        ``A[j]``) and returns its index.
+    differentiate_equation : callable
+        ``differentiate_equation(i)`` adds the time derivative of equation
+        ``i`` and returns its incidence (adding the variables it has).  The
+        symbolic differentiation is the caller's: this function only sees
+        index lists.
+
+    Returns
+    -------
+    list of int
+        ``B[i]``: the index of the derivative of equation ``i``, or -1.
+
+    References
+    ----------
+    .. [1] C. C. Pantelides, "The consistent initialization of
+       differential-algebraic systems", SIAM J. Sci. Stat. Comput. 9(2),
+       pp. 213-231, 1988.
+    """
+    B: list[int] = [-1] * len(G)
+    assign: list[int] = [-1] * len(A)
+
+    def highest(j: int) -> bool:
+        return A[j] == -1
+
+    for k in range(len(G)):
+        i = k
+        while True:
+            visited_eqs: set[int] = set()
+            visited_vars: set[int] = set()
+            assign.extend([-1] * (len(A) - len(assign)))
+            if augmenting_path(i, G, assign, highest, visited_eqs, visited_vars):
+                break
+            # differentiate the coloured part (step 3b): new variables, then new equations
+            for j in sorted(visited_vars):
+                if A[j] == -1:
+                    add_derivative(j)
+            assign.extend([-1] * (len(A) - len(assign)))
+            for l in sorted(visited_eqs):
+                B[l] = len(G)
+                G.append(differentiate_equation(l))
+                B.append(-1)
+            assign.extend([-1] * (len(A) - len(assign)))
+            for j in sorted(visited_vars):
+                if assign[j] != -1:
+                    assign[A[j]] = B[assign[j]]
+            i = B[i]
+    return B
+
+
 def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable],
             parameter_values: dict[str, float], context: str = "the model",
             memo: "StructureMemo | None" = None) -> StructuralResult:
@@ -429,49 +493,27 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
     check_balance(eqs, incidence_names, families, context)
 
     G: list[list[int]] = [sorted(index[n] for n in names) for names in incidence_names]
-    B: list[int] = [-1] * len(eqs)
     parent_eq: list[int] = [-1] * len(eqs)
-    assign: list[int] = [-1] * len(V)
 
-    def highest(j: int) -> bool:
-        return A[j] == -1
+    def add_derivative(j: int) -> int:
+        return add_var(der_name(V[j]))
 
-    n_original = len(eqs)
-    for k in range(n_original):
-        i = k
-        while True:
-            visited_eqs: set[int] = set()
-            visited_vars: set[int] = set()
-            if len(assign) < len(V):
-                assign.extend([-1] * (len(V) - len(assign)))
-            if augmenting_path(i, G, assign, highest, visited_eqs, visited_vars):
-                break
-            # Differentiate the coloured part (Pantelides, step 3b)
-            for j in sorted(visited_vars):
-                if A[j] == -1:
-                    add_var(der_name(V[j]))
-            assign.extend([-1] * (len(V) - len(assign)))
-            for l in sorted(visited_eqs):
-                derivative = derivative_of.get(eqs[l].residual)
-                if derivative is None:
-                    derivative = derivative_of[eqs[l].residual] = differentiate(eqs[l].residual,
-                                                                                parameters)
-                origin = eqs[l].origin
-                new_origin = Origin(origin.component, origin.component_class, origin.declared_in,
-                                    origin.index, functools.partial(_derivative_text, origin))
-                B[l] = len(eqs)
-                eqs.append(FlatEquation(derivative, new_origin))
-                parent_eq.append(l)
-                B.append(-1)
-                names = _incidence(derivative, values)
-                for name in sorted(names, key=lambda n: (derivative_order(n), n)):
-                    add_var(name)
-                G.append(sorted(index[n] for n in names))
-            assign.extend([-1] * (len(V) - len(assign)))
-            for j in sorted(visited_vars):
-                if assign[j] != -1:
-                    assign[A[j]] = B[assign[j]]
-            i = B[i]
+    def differentiate_equation(l: int) -> list[int]:
+        # the time derivative of equation l becomes a new equation; its incidence
+        derivative = derivative_of.get(eqs[l].residual)
+        if derivative is None:
+            derivative = derivative_of[eqs[l].residual] = differentiate(eqs[l].residual, parameters)
+        origin = eqs[l].origin
+        new_origin = Origin(origin.component, origin.component_class, origin.declared_in,
+                            origin.index, functools.partial(_derivative_text, origin))
+        eqs.append(FlatEquation(derivative, new_origin))
+        parent_eq.append(l)
+        names = _incidence(derivative, values)
+        for name in sorted(names, key=lambda n: (derivative_order(n), n)):
+            add_var(name)
+        return sorted(index[n] for n in names)
+
+    B = pantelides(G, A, add_derivative, differentiate_equation)
 
     dummies = _select_dummy_derivatives(eqs, G, A, V, B, parent_eq, variables, order_of, context)
 
