@@ -20,7 +20,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Callable, Sequence
 
 import sympy as sp
 
@@ -28,7 +28,7 @@ from .blt import BLTResult
 from .flatten import FlatEquation
 from ..language import parameter_symbols, real_symbol
 
-__all__ = ["Assign", "LinearSolve", "NewtonSolve", "AlgebraicResult", "AlgebraicMemo", "solve_blocks"]
+__all__ = ["Assign", "LinearSolve", "NewtonSolve", "AlgebraicResult", "AlgebraicMemo", "solve_blocks", "tear"]
 
 
 @dataclass(frozen=True)
@@ -200,39 +200,84 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
     return AlgebraicResult(tuple(steps), torn, linear, nonlinear)
 
 
-def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
-    """Greedy tearing: solve what can be solved causally, tear the rest."""
-    symbols = {n: real_symbol(n) for n in names}
-    unknown = set(names)
-    remaining = list(range(len(eqs)))
-    inner: list[Assign] = []
-    tears: list[str] = []
-    occurs = [{s.name for s in e.residual.free_symbols} & unknown for e in eqs]
+def tear(incidence: Sequence[set[int]], n_unknowns: int,
+         solvable: Callable[[int, int], bool]) -> tuple[list[tuple[int, int]], list[int], list[int]] | None:
+    """Greedy tearing of one block, on index lists.
+
+    Equations with a single unknown left that they can be solved for are
+    solved, in turn; when none is left, the unknown occurring in most of the
+    remaining equations is *torn* (guessed; ties: the first in block order).
+
+    Parameters
+    ----------
+    incidence : sequence of set of int
+        ``incidence[i]``: the block's unknowns equation ``i`` contains.
+    n_unknowns : int
+    solvable : callable
+        ``solvable(i, j)``: whether equation ``i`` can be solved for unknown
+        ``j`` (the symbolic work is the caller's).
+
+    Returns
+    -------
+    (solved, tears, residuals) or None
+        ``solved``: ``(equation, unknown)`` pairs in solution order;
+        ``tears``: the torn unknowns; ``residuals``: the equations left, one
+        per torn unknown.  None when tearing does not balance.
+
+    References
+    ----------
+    .. [1] H. Elmqvist and M. Otter, "Methods for tearing systems of equations
+       in object-oriented modeling", Proc. ESM'94, 326-332, 1994.
+    """
+    unknown = set(range(n_unknowns))
+    remaining = list(range(len(incidence)))
+    solved: list[tuple[int, int]] = []
+    tears: list[int] = []
     while remaining and unknown:
         progress = False
         for i in list(remaining):
-            free = occurs[i] & unknown
+            free = incidence[i] & unknown
             if len(free) != 1:
                 continue
-            (name,) = free
-            expr = _solve_for(eqs[i].residual, symbols[name], values)
-            if expr is None:
+            (j,) = free
+            if not solvable(i, j):
                 continue
-            inner.append(Assign(name, expr, eqs[i].origin))
-            unknown.discard(name)
+            solved.append((i, j))
+            unknown.discard(j)
             remaining.remove(i)
             progress = True
         if progress:
             continue
-        # tear the unknown occurring in most remaining equations (ties: block order)
-        counts = {n: sum(n in occurs[i] for i in remaining) for n in unknown}
-        choice = max(sorted(unknown, key=names.index), key=lambda n: counts[n])
+        counts = {j: sum(j in incidence[i] for i in remaining) for j in unknown}
+        choice = max(sorted(unknown), key=lambda j: counts[j])
         tears.append(choice)
         unknown.discard(choice)
-    residual_eqs = remaining
-    if unknown or len(residual_eqs) != len(tears):
+    if unknown or len(remaining) != len(tears):
+        return None
+    return solved, tears, remaining
+
+
+def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
+    """The solution step of a block of several equations: tear, then solve."""
+    symbols = {n: real_symbol(n) for n in names}
+    position = {n: j for j, n in enumerate(names)}
+    incidence = [{position[s.name] for s in e.residual.free_symbols if s.name in position} for e in eqs]
+    solutions: dict[tuple[int, int], sp.Expr] = {}
+
+    def solvable(i: int, j: int) -> bool:
+        expr = _solve_for(eqs[i].residual, symbols[names[j]], values)
+        if expr is not None:
+            solutions[(i, j)] = expr
+        return expr is not None
+
+    plan = tear(incidence, len(names), solvable)
+    if plan is None:
         # tearing failed to balance: solve the whole block simultaneously
         tears, inner, residual_eqs = list(names), [], list(range(len(eqs)))
+    else:
+        solved, torn, residual_eqs = plan
+        inner = [Assign(names[j], solutions[(i, j)], eqs[i].origin) for i, j in solved]
+        tears = [names[j] for j in torn]
     origins = tuple(str(e.origin) for e in eqs)
     # Express the residuals in the tearing unknowns only
     substitution: dict = {}
