@@ -135,7 +135,7 @@ def _solve_for(residual: sp.Expr, var: sp.Symbol, values: dict) -> sp.Expr | Non
         if coeff.has(var):
             return None
     numeric = coeff.xreplace(values)
-    if numeric.is_number and numeric == 0:
+    if numeric.is_zero:
         return None
     rest = residual.xreplace({var: sp.Integer(0)})
     if coeff == 1:
