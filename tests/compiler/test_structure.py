@@ -1,9 +1,11 @@
-"""Unit tests of the structural stages on small hand-made systems.
+"""Unit tests of the structure stage on small hand-made systems.
 
-Every expected value here is derived by hand from the definition of the
-stage: matchings and BLT blocks from the incidence pattern, aliases from the
-equations, states and dummy derivatives from Pantelides' algorithm and the
-dummy-derivative rules, motion of a gear train from Newton's law.
+Matching, the balance check, index reduction (Pantelides, dummy derivatives),
+state selection and differentiation.  Every expected value here is derived
+by hand from the definition of the stage: matchings from the incidence
+pattern, states and dummy derivatives from Pantelides' algorithm and the
+dummy-derivative rules, motion of a gear train from Newton's law.  (BLT
+sorting is tested in test_blt.py, alias elimination in test_alias.py.)
 """
 
 from __future__ import annotations
@@ -13,10 +15,7 @@ import pytest
 import sympy as sp
 
 from acausal import Model, StateSelect, simulate, time
-from acausal.compiler.alias import eliminate_aliases
-from acausal.compiler.blt import sort_blt
 from acausal.errors import (
-    InitializationError,
     OverDeterminedError,
     StructurallySingularError,
     UnderDeterminedError,
@@ -150,128 +149,6 @@ def test_check_balance_classifies_the_three_failures():
     with pytest.raises(StructurallySingularError) as info:
         check_balance(eqs, inc, ["x", "y"])
     assert "eq0" in str(info.value) and "eq1" in str(info.value) and "y" in str(info.value)
-
-
-# --------------------------------------------------------------------------
-# sort_blt
-
-
-def test_sort_blt_chain_gives_singletons_in_dependency_order():
-    """e2 solves v0 from nothing, e1 solves v1 from v0, e0 solves v2 from v1: order e2, e1, e0."""
-    incidence = [[1, 2], [0, 1], [0]]
-    matching = [2, 1, 0]
-    blt = sort_blt(incidence, matching)
-    assert [b.equations for b in blt.blocks] == [(2,), (1,), (0,)]
-    assert [b.unknowns for b in blt.blocks] == [(0,), (1,), (2,)]
-    assert blt.largest_block == 1
-
-
-def test_sort_blt_two_cycle_is_one_block_after_its_input_and_before_its_consumer():
-    """e0 (v1) and e1 (v2) need each other; they read v0 from e2 and feed e3: blocks e2 | e0,e1 | e3."""
-    incidence = [[0, 1, 2], [1, 2], [0], [1, 3]]
-    matching = [1, 2, 0, 3]
-    blt = sort_blt(incidence, matching)
-    assert [b.equations for b in blt.blocks] == [(2,), (0, 1), (3,)]
-    assert blt.blocks[1].unknowns == (1, 2)
-    assert blt.largest_block == 2
-    assert blt.equation_order == (2, 0, 1, 3)
-    assert blt.unknown_order == (0, 1, 2, 3)
-
-
-def test_sort_blt_is_deterministic_and_breaks_ties_by_equation_index():
-    """Independent equations come in index order, and repeated calls give the identical result."""
-    incidence = [[3], [2], [1], [0, 3]]
-    matching = [3, 2, 1, 0]
-    first = sort_blt(incidence, matching)
-    # e3 depends on e0 (v3); e1 and e2 are free: ties broken by the smallest index
-    assert first.equation_order == (0, 1, 2, 3)
-    for _ in range(5):
-        assert sort_blt(incidence, matching) == first
-
-
-# --------------------------------------------------------------------------
-# eliminate_aliases
-
-
-def _alias_system(**attributes):
-    """a = b, b = -c, d = 5 and two equations that are not aliases (one uses der(a), one der(d))."""
-    a, b, c, d, x, y = (S(n) for n in "abcdxy")
-    equations = (
-        equation(a - b, 0, "a = b"),
-        equation(b + c, 1, "b = -c"),
-        equation(d - 5, 2, "d = 5"),
-        equation(S("der(a)") - x, 3, "der(a) = x"),
-        equation(y - x * time - S("der(d)"), 4, "y = x*time + der(d)"),
-    )
-    variables = {n: var(n, **attributes.get(n, {})) for n in "abcdxy"}
-    return equations, variables
-
-
-def test_eliminate_aliases_signs_and_constants():
-    """With c preferred as state: a = -c, b = -c, d = 5; two equations left, three eliminated."""
-    equations, variables = _alias_system(c=dict(state_select=StateSelect.prefer))
-    result = eliminate_aliases(equations, variables, set())
-    c = S("c")
-    assert result.aliases == {"a": -c, "b": -c, "d": 5}
-    assert set(result.variables) == {"c", "x", "y"}
-    assert len(result.equations) == 2
-    assert [e.origin.index for e in result.eliminated] == [0, 1, 2]
-
-
-def test_eliminate_aliases_representative_has_the_highest_state_select():
-    """Preferring a instead makes a the representative: b = a, c = -a."""
-    equations, variables = _alias_system(a=dict(state_select=StateSelect.prefer))
-    result = eliminate_aliases(equations, variables, set())
-    a = S("a")
-    assert result.aliases["b"] == a
-    assert result.aliases["c"] == -a
-    assert "a" in result.variables and "c" not in result.variables
-    assert result.variables["a"].state_select == StateSelect.prefer
-
-
-def test_eliminate_aliases_rewrites_derivatives_with_the_sign():
-    """der(a) becomes -der(c) when a = -c, and der(d) of the constant d becomes 0."""
-    equations, variables = _alias_system(c=dict(state_select=StateSelect.prefer))
-    result = eliminate_aliases(equations, variables, set())
-    x, y = S("x"), S("y")
-    residuals = {e.origin.index: e.residual for e in result.equations}
-    assert sp.simplify(residuals[3] - (-S("der(c)") - x)) == 0
-    assert sp.simplify(residuals[4] - (y - x * time)) == 0
-
-
-def test_eliminate_aliases_merges_fixed_start_with_sign():
-    """a fixed at 2 and a = -c: the representative c gets the fixed start -2."""
-    equations, variables = _alias_system(a=dict(start=2.0, fixed=True),
-                                         c=dict(state_select=StateSelect.prefer))
-    result = eliminate_aliases(equations, variables, set())
-    merged = result.variables["c"]
-    assert merged.fixed and merged.start == -2.0
-
-
-def test_eliminate_aliases_consistent_fixed_starts_are_accepted():
-    """a = 1 (fixed) and c = -1 (fixed) agree through a = -c: no error."""
-    equations, variables = _alias_system(a=dict(start=1.0, fixed=True), c=dict(start=-1.0, fixed=True))
-    result = eliminate_aliases(equations, variables, set())
-    (rep,) = [n for n in "abc" if n in result.variables]
-    assert result.variables[rep].fixed
-    assert result.variables[rep].start == {"a": 1.0, "b": 1.0, "c": -1.0}[rep]
-
-
-def test_eliminate_aliases_conflicting_fixed_starts_raise():
-    """a fixed at 1 and b fixed at 2 with a = b cannot both hold: InitializationError naming both."""
-    equations, variables = _alias_system(a=dict(start=1.0, fixed=True), b=dict(start=2.0, fixed=True))
-    with pytest.raises(InitializationError) as info:
-        eliminate_aliases(equations, variables, set())
-    message = str(info.value)
-    assert "a" in message and "b" in message and info.value.hint
-
-
-def test_eliminate_aliases_keep_prevents_elimination():
-    """A variable in ``keep`` is never eliminated: with a and b kept, a = b stays an equation."""
-    equations, variables = _alias_system()
-    result = eliminate_aliases(equations, variables, set(), keep=frozenset({"a", "b"}))
-    assert "a" not in result.aliases and "b" not in result.aliases
-    assert any(e.origin.index == 0 for e in result.equations)
 
 
 # --------------------------------------------------------------------------
@@ -415,3 +292,40 @@ def test_time_derivative_cancels_as_the_partial_derivatives_do():
     x, y = sp.Symbol("x", real=True), sp.Symbol("y", real=True)
     derivative = differentiate(x * (y + 2) - x * y, set())
     assert derivative == 2 * sp.Symbol("der(x)", real=True)
+
+
+def test_pantelides_on_index_lists_differentiates_the_constraint_once():
+    from acausal.compiler.structure import pantelides
+
+    # variables: 0 = x, 1 = der(x), 2 = y;  e0: der(x) + y = 0, e1: x = sin(t).
+    # e1 holds only x, which is not a highest derivative: e1 must be differentiated
+    # once (e2: der(x) = cos(t)); then e0 takes y and e2 der(x).
+    G = [[1, 2], [0]]
+    A = [1, -1, -1]
+    differentiated = []
+
+    def add_derivative(j):
+        A.append(-1)
+        A[j] = len(A) - 1
+        return A[j]
+
+    def differentiate_equation(i):
+        differentiated.append(i)
+        return [A[j] if A[j] != -1 else add_derivative(j) for j in G[i]]
+
+    B = pantelides(G, A, add_derivative, differentiate_equation)
+    assert differentiated == [1]
+    assert B == [-1, 2, -1]
+    assert G[2] == [1]  # the derivative of e1 holds der(x)
+    assert len(A) == 3  # no new variable was needed
+
+
+def test_pantelides_leaves_an_index_one_system_alone():
+    from acausal.compiler.structure import pantelides
+
+    # e0: der(x) = -x, e1: y = 2x  (variables 0 = x, 1 = der(x), 2 = y)
+    G = [[0, 1], [0, 2]]
+    A = [1, -1, -1]
+    B = pantelides(G, A, lambda j: pytest.fail("no derivative needed"),
+                   lambda i: pytest.fail("no equation to differentiate"))
+    assert B == [-1, -1]
