@@ -363,3 +363,43 @@ def test_no_domain_words_in_engine_strings():
             f"use domain words ({', '.join(DOMAIN_WORDS)}); the engine's messages must speak of "
             "variables, equations and components, not of what the model libraries model:\n"
             + "\n".join(offenders), pytrace=False)
+
+
+# -- the docs describe the folders as they are ------------------------------------------
+
+
+def _layout_rows() -> dict[str, str]:
+    """README's layout table: the first cell's paths -> the row."""
+    readme = (PACKAGE_DIR.parent / "README.md").read_text()
+    section = readme.split("## Layout", 1)[1].split("\n## ", 1)[0]
+    rows = {}
+    for line in section.splitlines():
+        if line.startswith("| `"):
+            first = line.split("|")[1]
+            for path in re.findall(r"`([^`]+)`", first):
+                rows[path.rstrip("/")] = line
+    return rows
+
+
+def test_readme_layout_names_every_layer_and_module():
+    rows = _layout_rows()
+    repo = PACKAGE_DIR.parent
+    top = sorted(p.name for p in repo.iterdir()
+                 if p.is_dir() and not p.name.startswith(".") and p.name not in ("build", "dist")
+                 and not p.name.endswith(".egg-info") and p.name != "__pycache__")
+    missing_top = [name for name in top if not any(r == name or r.startswith(name + "/") for r in rows)]
+    assert not missing_top, f"README layout misses the folders {missing_top}"
+    for layer in ("compiler", "runtime", "tools"):
+        row = rows.get(f"acausal/{layer}")
+        assert row is not None, f"README layout has no row for acausal/{layer}/"
+        modules = sorted(p.stem for p in (PACKAGE_DIR / layer).glob("*.py") if p.stem != "__init__")
+        unnamed = [m for m in modules if f"`{m}`" not in row]
+        assert not unnamed, f"README layout row of acausal/{layer}/ does not name {unnamed}"
+
+
+def test_architecture_doc_names_every_engine_module():
+    doc = (PACKAGE_DIR.parent / "docs" / "architecture.md").read_text()
+    missing = [f"{layer}/{p.name}" for layer in ("compiler", "runtime")
+               for p in sorted((PACKAGE_DIR / layer).glob("*.py")) if p.stem != "__init__"
+               and f"{layer}/{p.name}" not in doc]
+    assert not missing, f"docs/architecture.md does not mention {missing}"
