@@ -14,7 +14,7 @@ import pytest
 from acausal.tools.cli import main
 from acausal.tools.compare import bundled_reference_dir, reference_dir
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 FIRST = REPO / "examples" / "first.py"
 TWO_MASSES = REPO / "examples" / "two_masses.py"
 

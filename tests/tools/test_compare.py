@@ -31,7 +31,7 @@ from acausal.errors import ReferenceDataError
 
 FIRST = "Modelica.Mechanics.Rotational.Examples.First"
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 #: The references that ship with acausal (library/reference/msl-4.1.0 in the repository).
 BUNDLED = REPO / "library" / "reference" / "msl-4.1.0"
@@ -46,7 +46,7 @@ BUNDLED_CLASSES = (
 )
 
 #: The team's full copy of MAP-LIB_ReferenceResults v4.1.0, beside the checkout (may be absent).
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "reference" / "msl-4.1.0"
+SHARED = Path(__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0"
 
 
 # ---------------------------------------------------------------------------
