@@ -62,15 +62,7 @@ class LinearSolve:
         return self.tears + tuple(a.variable for a in self.inner)
 
     def reads(self) -> set[str]:
-        names = set()
-        for row in self.A:
-            for e in row:
-                names |= {s.name for s in e.free_symbols}
-        for e in self.b:
-            names |= {s.name for s in e.free_symbols}
-        for a in self.inner:
-            names |= a.reads()
-        return names - set(self.defines)
+        return _reads([e for row in self.A for e in row] + list(self.b), self.inner, self.defines)
 
 
 @dataclass(frozen=True)
@@ -87,12 +79,17 @@ class NewtonSolve:
         return self.tears + tuple(a.variable for a in self.inner)
 
     def reads(self) -> set[str]:
-        names = set()
-        for e in self.residuals:
-            names |= {s.name for s in e.free_symbols}
-        for a in self.inner:
-            names |= a.reads()
-        return names - set(self.defines)
+        return _reads(self.residuals, self.inner, self.defines)
+
+
+def _reads(expressions, inner: Sequence[Assign], defines: Sequence[str]) -> set[str]:
+    """The names a torn block reads: its expressions' and its inner assignments', less its own."""
+    names = set()
+    for e in expressions:
+        names |= {s.name for s in e.free_symbols}
+    for a in inner:
+        names |= a.reads()
+    return names - set(defines)
 
 
 @dataclass(frozen=True)
