@@ -49,14 +49,30 @@ def _identifier(name: str) -> str:
     return text
 
 
-def validate_table(table: Any, name: str = "table") -> np.ndarray:
+def validate_table(table: Any, name: str = "table", *, value_min: float | None = None,
+                   value_hint: str | None = None) -> np.ndarray:
     """Check a CombiTable1D table and return it as a read-only float array.
+
+    Parameters
+    ----------
+    table : array_like, shape (n, 2)
+        Rows ``[x, y]``.
+    name : str
+        How the error messages name the table (e.g. the dotted path of the
+        parameter that holds it).
+    value_min : float, optional
+        Lower bound of the second column (``y >= value_min`` in every row);
+        ``None`` (the default) leaves the values unbounded.
+    value_hint : str, optional
+        Hint of the error raised when a value is below ``value_min`` (why the
+        bound holds); a generic one by default.
 
     Raises
     ------
     ParameterError
-        If the table is empty, not ``n x 2``, contains non-finite values, or
-        its first column is not strictly increasing.
+        If the table is empty, not ``n x 2``, contains non-finite values, its
+        first column is not strictly increasing, or a value of its second
+        column is below ``value_min``.  Rows are counted from 1.
     """
     example = "e.g. [[0, 1]] or [[0, 0.5], [1, 0.4]]"
     try:
@@ -80,6 +96,14 @@ def validate_table(table: Any, name: str = "table") -> np.ndarray:
             f"table {name}: the first column must be strictly increasing, but row {row + 1} "
             f"(x = {data[row, 0]:g}) does not exceed row {row} (x = {data[row - 1, 0]:g})",
             hint="sort the rows by x and remove repeated x values")
+    if value_min is not None:
+        below = data[:, 1] < value_min
+        if np.any(below):
+            row = int(np.argmax(below))
+            raise ParameterError(
+                f"table {name}: the second column must be >= {value_min:g}, but row {row + 1} "
+                f"(x = {data[row, 0]:g}) has y = {data[row, 1]:g}",
+                hint=value_hint or f"every value of the second column must be at least {value_min:g}")
     data.setflags(write=False)
     return data
 

@@ -55,10 +55,19 @@ def _where(component: Component) -> str:
     return component.path or type(component).__name__
 
 
+#: What the second column of each friction table holds (for the error hint).
+_TABLE_QUANTITY = {"tau_pos": "friction torque", "mu_pos": "friction coefficient"}
+
+
 def _check_table(component: Component, name: str) -> None:
-    """tau_pos/mu_pos: a valid CombiTable1D table whose first column (w) starts at w >= 0."""
+    """tau_pos/mu_pos: a valid CombiTable1D table whose first column (w) starts at w >= 0
+    and whose second column (the friction torque or coefficient) is >= 0."""
     where = f"{_where(component)}.{name}"
-    data = validate_table(getattr(component, name), where)
+    quantity = _TABLE_QUANTITY.get(name, "friction characteristic")
+    data = validate_table(getattr(component, name), where, value_min=0.0,
+                          value_hint=f"a {quantity} must not be negative: it would drive the motion "
+                                     f"it opposes (the MSL assumes {name}[:, 2] >= 0; 0 means no "
+                                     f"friction at that speed)")
     if data[0, 0] < 0:
         raise ParameterError(f"table {where}: the first column (relative speed w >= 0) starts at "
                              f"{data[0, 0]:g} < 0",
