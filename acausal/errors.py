@@ -31,6 +31,8 @@ __all__ = [
     "EventIterationError",
     "ChatteringError",
     "SolverError",
+    "SettingError",
+    "SimulationInterrupted",
     "ReferenceDataError",
 ]
 
@@ -144,6 +146,38 @@ class ChatteringError(SimulationError):
 
 class SolverError(SimulationError):
     """The numerical integrator or an algebraic solve failed."""
+
+
+class SettingError(AcausalError, ValueError):
+    """A setting of a run (times, interval, tolerances, budgets) is out of range."""
+
+
+class SimulationInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a simulation: the run stopped, and what it computed is kept.
+
+    A :class:`KeyboardInterrupt` (so it still ends a loop of runs and is not
+    caught by ``except Exception``) that carries the partial result: status
+    -2, everything computed up to the interrupt.
+
+    Attributes
+    ----------
+    message : str
+    hint : str or None
+    result : acausal.runtime.result.SimulationResult or None
+    """
+
+    def __init__(self, message: str, hint: str | None = None, result=None) -> None:
+        self.message = message
+        self.hint = hint
+        self.components: tuple[str, ...] = ()
+        self.result = result
+        super().__init__(message)
+
+    def with_result(self, result) -> "SimulationInterrupted":
+        """The same interrupt carrying the partial ``result``."""
+        new = SimulationInterrupted(self.message, self.hint, result)
+        new.__cause__, new.__context__ = self.__cause__, self.__context__
+        return new
 
 
 class ReferenceDataError(AcausalError, ValueError):

@@ -8,7 +8,8 @@ visited, its initialization problem by
 :func:`~acausal.compiler.initial.compile_initial_system`; both are cached on
 the :class:`Translation`, with the work they share in its
 :class:`~acausal.compiler.cache.ModelCache`.  Translations of models seen
-before in this process are reused (:func:`model_signature`).
+before in this process are reused when their flat models are the same
+(:func:`flat_signature`).
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from .initial import InitialSystem, compile_initial_system
 from .modes import ModeSystem, PassLog, compile_mode, describe_key
 from .partition import PartitionedModel, partition
 
-__all__ = ["ModeSystem", "InitialSystem", "Translation", "translate", "model_signature", "describe_key"]
+__all__ = ["ModeSystem", "InitialSystem", "Translation", "translate", "flat_signature", "describe_key"]
 
 
 def _value_of(value) -> Any:
@@ -206,29 +207,37 @@ class Translation:
                 + sum(s.seconds for s in self.initial_systems.values()))
 
 
-#: Translations of recently seen models, by model signature (see model_signature).
+#: Translations of recently translated flat models, by :func:`flat_signature` and output demand.
 _CACHE: "OrderedDict[tuple, Translation]" = OrderedDict()
 CACHE_SIZE = 16
 
 
-def model_signature(model: Component) -> tuple:
-    """What makes two model instances translate identically.
+def flat_signature(flat: FlatModel) -> tuple:
+    """Everything a translation is computed from: two flat models with the same
+    signature get the same compiled systems.
 
-    The class of every component, its place in the tree, its modifiers
-    (parameter values included), its connections, and the experiment.  Two
-    instances with the same signature get the same equations, so the
-    compiled systems of one serve the other.
+    The signature is taken from the flat model, not from the Python objects
+    that built it: a component's ``equations()`` may read anything (an
+    instance attribute, a global, a class attribute changed between runs),
+    and whatever it read is in the equations it returned.  Equations count
+    by their residuals (sympy compares table functions by their class, so a
+    table's data is part of it), variables by all their attributes,
+    parameters by their values; origins by where they come from (their text
+    follows from the residual).
     """
-    parts = []
-    for component in model.walk():
-        modifiers = tuple(sorted((k, _freeze(v)) for k, v in component._modifiers.items()))
-        attributes = tuple(sorted((k, _freeze(v)) for k, v in component._attribute_modifiers.items()))
-        connections = tuple((_end(a), _end(b)) for a, b in component._connections)
-        klass = type(component)
-        # the class object itself (not its id): the cache then keeps it alive, so a
-        # class created later can never be mistaken for it
-        parts.append((component.path, klass, modifiers, attributes, connections))
-    return (tuple(parts), getattr(model, "experiment", None))
+    def origin(o) -> tuple:
+        return (o.component, o.component_class, o.declared_in, o.index)
+
+    return (
+        flat.name, flat.modelica_class, flat.experiment,
+        tuple((p.name, p.value) for p in flat.parameters),
+        _freeze(flat.structural_parameters),
+        tuple(tuple(_freeze(getattr(v, f.name)) for f in dataclasses.fields(v)) for v in flat.variables),
+        tuple((eq.residual, origin(eq.origin)) for eq in flat.equations),
+        tuple((eq.variable, eq.rhs, origin(eq.origin)) for eq in flat.discrete_equations),
+        tuple((eq.residual, origin(eq.origin)) for eq in flat.initial_equations),
+        _freeze(flat.hints),
+    )
 
 
 def _freeze(value):
@@ -243,10 +252,6 @@ def _freeze(value):
     return (type(value).__name__, repr(value))
 
 
-def _end(end):
-    return getattr(end, "path", None) or getattr(end, "name", repr(end))
-
-
 def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True) -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
@@ -256,34 +261,41 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         Compute only these variables (and what they and the events need):
         states and equations that cannot influence them are left out.
     cache : bool
-        Reuse the translation (and every system compiled so far) of an
-        identical model translated before in this process.
+        Reuse the translation (and every system compiled so far) of a model
+        translated before in this process whose flat model is the same (see
+        :func:`flat_signature`).  The model is always flattened: what its
+        components' equations read cannot be known otherwise.
     """
+    t0 = _time.perf_counter()
+    flat = flatten(model)
+    demand = _demand(flat, outputs)
+    key = None
     if cache:
-        key = (model_signature(model), None if outputs is None else frozenset(outputs))
+        key = (flat_signature(flat), demand)
         found = _CACHE.get(key)
         if found is not None:
             _CACHE.move_to_end(key)
             return found
-        translation = translate(model, outputs, cache=False)
+    partitioned = partition(flat)
+    translation = Translation(flat, partitioned, _time.perf_counter() - t0, demand)
+    if key is not None:
         _CACHE[key] = translation
         while len(_CACHE) > CACHE_SIZE:
             _CACHE.popitem(last=False)
-        return translation
-    t0 = _time.perf_counter()
-    flat = flatten(model)
-    partitioned = partition(flat)
-    demand = None
-    if outputs is not None:
-        known = {v.name for v in flat.variables} | {p.name for p in flat.parameters}
-        demand = frozenset(outputs)
-        unknown = sorted(n for n in demand if n not in known and not is_derivative(n))
-        if unknown:
-            close = difflib.get_close_matches(unknown[0], sorted(known), n=3)
-            raise ModelDefinitionError(f"{flat.name} has no variable {unknown[0]!r}",
-                                       hint=f"did you mean {', '.join(close)}?" if close else
-                                       "outputs are dotted variable names, e.g. component.variable")
-        demand = frozenset(n for n in demand if n in known and n not in flat.parameter_values
-                           or is_derivative(n))
-    return Translation(flat, partitioned, _time.perf_counter() - t0, demand)
+    return translation
 
+
+def _demand(flat: FlatModel, outputs: Iterable[str] | None) -> frozenset[str] | None:
+    """The outputs asked for, checked against the model's names (None: everything)."""
+    if outputs is None:
+        return None
+    known = {v.name for v in flat.variables} | {p.name for p in flat.parameters}
+    demand = frozenset(outputs)
+    unknown = sorted(n for n in demand if n not in known and not is_derivative(n))
+    if unknown:
+        close = difflib.get_close_matches(unknown[0], sorted(known), n=3)
+        raise ModelDefinitionError(f"{flat.name} has no variable {unknown[0]!r}",
+                                   hint=f"did you mean {', '.join(close)}?" if close else
+                                   "outputs are dotted variable names, e.g. component.variable")
+    return frozenset(n for n in demand if n in known and n not in flat.parameter_values
+                     or is_derivative(n))

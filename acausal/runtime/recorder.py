@@ -68,11 +68,16 @@ class Recorder:
             self.next_grid += 1
 
     def emit_grid_until(self, t_end: float, inclusive: bool, system: ModeSystem, x_at: Callable,
-                        discrete: dict) -> None:
-        """Rows at the output points before ``t_end`` (or up to it), states from ``x_at(t)``."""
+                        discrete: dict, check: Callable[[], None] | None = None) -> None:
+        """Rows at the output points before ``t_end`` (or up to it), states from ``x_at(t)``.
+
+        ``check`` (optional) is called before each row: a budget that can stop the run.
+        """
         grid = self.grid
         while self.next_grid < len(grid) and (grid[self.next_grid] < t_end or
                                               (inclusive and grid[self.next_grid] <= t_end)):
+            if check is not None:
+                check()
             tg = grid[self.next_grid]
             if not (self.rows and self.rows[-1][0] == tg):
                 self.add(tg, system, x_at(tg), discrete)
@@ -88,9 +93,15 @@ class Recorder:
 
     # -- the result's columns ----------------------------------------------------------
 
-    def columns(self, translation: Translation) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """The result's time and columns: every variable by name (only the demanded
-        ones with an output demand), derivatives, discrete values and parameters."""
+    def columns(self, translation: Translation) -> tuple[np.ndarray, dict[str, np.ndarray], tuple | None]:
+        """The result's time and columns, and the first row whose values are not finite.
+
+        Columns: every variable by name (only the demanded ones with an
+        output demand), derivatives, discrete values and parameters.  The
+        third item is ``(row, names, reason)`` for the first row where a value
+        of the system in force could not be computed or is not finite (None
+        if there is none).
+        """
         flat = translation.flat
         continuous = [v.name for v in flat.variables if not v.is_discrete]
         discrete_names = list(translation.partitioned.discrete_variables)
@@ -108,7 +119,7 @@ class Recorder:
         times = np.array([row[0] for row in rows], dtype=float)
         # Rows come in stretches with one system and one set of discrete
         # values (between events): each stretch is filled column by column.
-        start, plans = 0, {}
+        start, plans, bad = 0, {}, None
         while start < len(rows):
             _, system, _, discrete = rows[start]
             stop = start + 1
@@ -116,34 +127,50 @@ class Recorder:
                 stop += 1
             if system.key not in plans:
                 plans[system.key] = fill_plan(system, index)
-            _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key])
+            found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key])
+            if found is not None and bad is None:
+                bad = (start + found[0], found[1], found[2])
             start = stop
         columns = {n: data[:, k] for n, k in index.items()}
         for p in flat.parameters:
             if translation.demand is None or p.name in translation.demand:
                 columns[p.name] = np.full(len(times), p.value)
-        return times, columns
+        return times, columns, bad
 
 
 def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, discrete: dict,
-          plan) -> None:
-    """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``."""
+          plan) -> tuple[int, list[str], str] | None:
+    """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
+
+    Returns ``(row, names, reason)`` for the first row whose values could not
+    all be computed or are not finite, else None.
+    """
     targets, sources, aliases = plan
     n_states = len(system.states)
     values = np.full((len(rows), n_states + len(system.unknowns)), np.nan)
+    failed = None
     for r, (t, _, x, _) in enumerate(rows):
         values[r, :n_states] = x
         try:
             values[r, n_states:] = system.outputs(t, x)
-        except (SimulationError, ArithmeticError, ValueError):
+        except (SimulationError, ArithmeticError, ValueError) as exc:
             # the states are still known, and so are their aliases and the
             # constants; the unknowns of this row stay NaN
-            pass
+            if failed is None:
+                failed = (r, [f"the values of {system.description}"], f"{type(exc).__name__}: {exc}")
+    finite = np.isfinite(values)
+    if not finite.all():
+        r = int(np.argmax(~finite.all(axis=1)))
+        if failed is None or r < failed[0]:
+            own = list(system.states) + list(system.unknowns)
+            names = [own[k] for k in np.flatnonzero(~finite[r])]
+            failed = (r, names, ", ".join(f"{n} = {values[r, own.index(n)]}" for n in names[:4]))
     block[:, targets] = values[:, sources]
     for column, coeff, source in aliases:
         block[:, column] = coeff if source < 0 else coeff * values[:, source]
     for name, value in discrete.items():
         block[:, index[name]] = float(value)
+    return failed
 
 
 def fill_plan(system: ModeSystem, index: dict[str, int]):

@@ -10,7 +10,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import SimulationError
+from ..errors import SimulationError, SimulationInterrupted
 
 __all__ = ["Event", "SimulationResult"]
 
@@ -59,7 +59,8 @@ class SimulationResult:
     time : ndarray
         Output times; an event time appears twice (left and right limit).
     status : int
-        0 for success, -1 for a run that stopped early.
+        0 for success, -1 for a run that stopped early (an error), -2 for a run
+        interrupted (Ctrl-C).
     message : str
     events : tuple of Event
     modes : tuple of str
@@ -92,7 +93,7 @@ class SimulationResult:
     @cached_property
     def error(self) -> Exception | None:
         """The error that stopped the run, with this result attached (None on success)."""
-        if isinstance(self.stop_error, SimulationError):
+        if isinstance(self.stop_error, (SimulationError, SimulationInterrupted)):
             return self.stop_error.with_result(self)
         return self.stop_error
 

@@ -22,6 +22,7 @@ The loop is here; locating events is in :mod:`acausal.runtime.crossings`
 
 from __future__ import annotations
 
+import math
 import time as _time
 from collections import deque
 from typing import Sequence
@@ -30,9 +31,10 @@ import numpy as np
 import scipy.integrate as integrate
 
 from ..compiler.translate import ModeSystem, Translation, translate
-from ..errors import ChatteringError, SimulationError, SolverError, StructuralError
+from ..errors import (ChatteringError, SettingError, SimulationError, SimulationInterrupted, SolverError,
+                      StructuralError)
 from ..language import Component
-from ..names import base_name
+from ..names import base_name, der_name
 from .crossings import locate_flip, next_time_event, sample_times, time_event_roots
 from .events import evaluator_for, mode_values
 from .initialization import initialize
@@ -40,7 +42,11 @@ from .integrators import RK4, Euler
 from .recorder import Recorder
 from .result import Event, SimulationResult
 
-__all__ = ["simulate", "METHODS"]
+__all__ = ["simulate", "METHODS", "MAX_OUTPUT_POINTS"]
+
+#: Most output points a run may write (rows are kept in memory; a finer
+#: interval is refused before anything is allocated).
+MAX_OUTPUT_POINTS = 10_000_000
 
 METHODS = {
     "RK45": integrate.RK45,
@@ -58,7 +64,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              rtol: float | None = None, atol: float | None = None, max_step: float | None = None,
              relation_epsilon: float = 1e-10, max_event_iterations: int = 20,
              chattering_events: int = 100, outputs: Sequence[str] | None = None,
-             max_steps: int | None = None, timeout: float | None = None) -> SimulationResult:
+             max_steps: int | None = None, timeout: float | None = None,
+             cache: bool = True) -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -68,13 +75,18 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         reuse compiled systems.
     start_time, stop_time, interval : float, optional
         Default to the model's experiment annotation (interval: 500 points).
+        At most :data:`MAX_OUTPUT_POINTS` output points.
     method : {'RK45', 'DOP853', 'Radau', 'BDF', 'LSODA', 'Euler', 'RK4'}
         The last two have a fixed step, ``max_step``.
     rtol, atol : float, optional
-        ``rtol`` defaults to the experiment's tolerance or 1e-6; ``atol`` to
-        ``rtol`` times each state's nominal value.
+        ``rtol`` (0 < rtol < 1) defaults to the experiment's tolerance or
+        1e-6; ``atol`` (>= 0) to ``rtol`` times each state's nominal value.
+    max_step : float, optional
+        Largest step (> 0); the step of the fixed-step methods.
     relation_epsilon : float
-        Relative hysteresis of relations (see :mod:`acausal.partition`).
+        Relative hysteresis of relations (see :mod:`acausal.compiler.partition`).
+    max_event_iterations : int
+        Passes of event iteration before it is declared not converging.
     chattering_events : int
         That many state events in a row within a vanishing time window stop
         the run with a :class:`~acausal.errors.ChatteringError`.
@@ -83,42 +95,123 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         influence them (nor the events) are left out of the right-hand side,
         and the result holds only these columns (and the discrete ones).
     max_steps, timeout : optional
-        Budgets of integrator steps and wall-clock seconds; a run that
-        exceeds one stops with a :class:`~acausal.errors.SolverError` and
-        keeps what it computed.
+        Budgets of integrator steps and wall-clock seconds, checked wherever
+        time goes (steps, output points, compiling discrete states, event
+        iteration); a run that exceeds one stops with a
+        :class:`~acausal.errors.SolverError` that says where the time went,
+        and keeps what it computed.
+    cache : bool
+        Reuse the compiled systems of an identical flat model translated
+        before in this process (see :func:`~acausal.compiler.translate.translate`).
 
     Returns
     -------
     SimulationResult
         ``status`` 0 on success; -1 with ``message`` and ``error`` set, and
-        everything computed so far, when the run stopped early.
+        everything computed so far, when the run stopped early.  A value that
+        is not finite (a state, a derivative, a relation's side or an output)
+        stops the run with an error naming it and the time.
+
+    Raises
+    ------
+    SettingError
+        For a setting out of range (before anything is computed).
+    SimulationInterrupted
+        On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` is the partial
+        result, status -2.
     """
     if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+        raise SettingError(f"unknown method {method!r}", hint=f"choose one of {', '.join(METHODS)}")
     t_setup = _time.perf_counter()
     if isinstance(model, Translation):
         if outputs is not None and model.demand != frozenset(outputs):
             raise ValueError("outputs must be given to translate() when simulating a Translation")
         translation = model
     else:
-        translation = translate(model, outputs)
+        translation = translate(model, outputs, cache=cache)
     flatten_seconds = _time.perf_counter() - t_setup
     experiment = translation.flat.experiment
-    t0 = experiment.start_time if start_time is None else float(start_time)
-    t1 = experiment.stop_time if stop_time is None else float(stop_time)
+    t0 = experiment.start_time if start_time is None else start_time
+    t1 = experiment.stop_time if stop_time is None else stop_time
+    t0, t1 = _finite_time("start time", t0), _finite_time("stop time", t1)
     if not t1 > t0:
-        raise ValueError(f"stop time {t1} must be after start time {t0}")
+        raise SettingError(f"stop time {t1:g} must be after start time {t0:g}")
     if interval is None:
         interval = experiment.interval or (t1 - t0) / 500
     if rtol is None:
         rtol = experiment.tolerance or 1e-6
-    run = _Run(translation, method, rtol, atol, max_step, relation_epsilon, max_event_iterations,
+    _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_epsilon,
+                    max_event_iterations, chattering_events, max_steps, timeout)
+    run = _Run(translation, method, float(rtol), atol, max_step, relation_epsilon, max_event_iterations,
                chattering_events)
     run.max_steps, run.timeout = max_steps, timeout
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
-    return run.execute(t0, t1, interval, t_setup)
+    return run.execute(t0, t1, float(interval), t_setup)
+
+
+def _finite_time(what: str, value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise SettingError(f"{what} must be a number, not {value!r}") from None
+    if not math.isfinite(value):
+        raise SettingError(f"{what} must be finite, not {value}")
+    return value
+
+
+def _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_epsilon,
+                    max_event_iterations, chattering_events, max_steps, timeout) -> None:
+    """Every setting in range, before anything is allocated or integrated."""
+    def number(what, value, low=None, high=None, *, strict_low=True, allow_inf=False, hint=None):
+        try:
+            value = float(value)
+        except (TypeError, ValueError):
+            raise SettingError(f"{what} must be a number, not {value!r}") from None
+        bad = math.isnan(value) or (math.isinf(value) and not allow_inf)
+        bad = bad or (low is not None and (value <= low if strict_low else value < low))
+        bad = bad or (high is not None and value >= high)
+        if bad:
+            limits = []
+            if low is not None:
+                limits.append(f"{'>' if strict_low else '>='} {low:g}")
+            if high is not None:
+                limits.append(f"< {high:g}")
+            raise SettingError(f"{what} = {value} is out of range; it must be "
+                               f"{'finite and ' if not allow_inf else ''}{' and '.join(limits)}", hint=hint)
+        return value
+
+    def count(what, value, low):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise SettingError(f"{what} = {value!r} must be an integer >= {low}")
+
+    interval = number("interval", interval, 0.0, hint="the output interval, e.g. (stop - start) / 500")
+    points = (t1 - t0) / interval + 1
+    if points > MAX_OUTPUT_POINTS:
+        raise SettingError(f"interval {interval:g} over [{t0:g}, {t1:g}] would write {points:.3g} output "
+                           f"points (at most {MAX_OUTPUT_POINTS:,})",
+                           hint="choose a coarser interval; events are located exactly whatever "
+                                "the interval")
+    number("rtol", rtol, 0.0, 1.0, hint="a relative tolerance such as 1e-6")
+    if atol is not None:
+        values = np.atleast_1d(np.asarray(atol, dtype=float)) if not isinstance(atol, str) else None
+        if values is None or not np.all(np.isfinite(values)) or np.any(values < 0):
+            raise SettingError(f"atol = {atol!r} must be finite and >= 0 (a number or one per state)")
+    if max_step is not None:
+        number("max_step", max_step, 0.0, allow_inf=method not in ("Euler", "RK4"),
+               hint="the largest step, or the step of Euler and RK4")
+    number("relation_epsilon", relation_epsilon, 0.0, strict_low=False)
+    count("max_event_iterations", max_event_iterations, 1)
+    count("chattering_events", chattering_events, 2)
+    if max_steps is not None:
+        count("max_steps", max_steps, 1)
+    if timeout is not None:
+        number("timeout", timeout, 0.0, allow_inf=True)
+
+
+class _Budget(Exception):
+    """A budget ran out (internal: turned into a SolverError saying where the time went)."""
 
 
 class _Run:
@@ -139,6 +232,10 @@ class _Run:
         self.notes: list[str] = []
         self.nfev = 0
         self.steps = 0
+        self.max_steps: int | None = None
+        self.timeout: float | None = None
+        # where the wall time goes, for a budget's message
+        self.seconds = {"output": 0.0, "events": 0.0}
         self._time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
 
     def _next_time_event(self, t: float, relations) -> float:
@@ -148,9 +245,12 @@ class _Run:
 
     def execute(self, t0: float, t1: float, interval: float, t_setup: float) -> SimulationResult:
         error = None
+        status = -1
         message = "The simulation reached the stop time."
         self.recorder = Recorder(t0, t1, interval)
         self.wall_start = _time.perf_counter()
+        self.compiled_before_run = self.translation.translation_seconds
+        self.t = t0
         try:
             state = initialize(self.translation, self.evaluator, t0)
             self.notes.extend(state.notes)
@@ -167,15 +267,25 @@ class _Run:
                 raise SolverError(f"at t = {t_fail:.12g} the model entered a discrete state it "
                                   f"cannot solve: {exc.message}", hint=exc.hint,
                                   components=exc.components) from exc
+        except _Budget as exc:
+            error = self._budget_error(str(exc))
         except SimulationError as exc:
             error = exc
-            message = str(exc)
+        except KeyboardInterrupt:
+            t_now = self.recorder.last_time if self.recorder.rows else t0
+            error = SimulationInterrupted(f"interrupted at t = {t_now:.12g} (Ctrl-C); the result "
+                                          f"holds what was computed until then")
+            status = -2
         except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             if isinstance(exc, SimulationError) or type(exc).__module__.startswith("acausal"):
                 raise
             error = SolverError(f"the simulation stopped: {type(exc).__name__}: {exc}")
+        if error is not None:
             message = str(error)
-        return self._result(t_setup, message, error)
+        result = self._result(t_setup, message, error, status)
+        if isinstance(error, SimulationInterrupted):
+            raise result.error
+        return result
 
     def _record_mode(self, system: ModeSystem) -> None:
         if system.description not in self.modes:
@@ -193,10 +303,11 @@ class _Run:
         recorder.skip_grid_through(t, round_off=False)
         recent = deque(maxlen=self.chattering_events)
         while t < t1:
+            self.t = t
+            self._check_budgets()
             t_bound = min(t1, self._next_time_event(t, relations))
             if not system.states:
-                recorder.emit_grid_until(t_bound, inclusive=False, system=system, x_at=lambda s: x,
-                                         discrete=discrete)
+                self._emit(t_bound, False, system, lambda s: x, discrete)
                 t_new, x_new, event_at = t_bound, x, None
             else:
                 t_new, x_new, event_at = self._segment(system, t, x, t_bound, discrete, relations)
@@ -217,19 +328,33 @@ class _Run:
                 kind = "time"
             # left limit, event iteration, right limit
             recorder.add(t_e, system, x_e, discrete)
+            self.t = t_e
+            started = _time.perf_counter()
+            compiled = self.translation.translation_seconds
             values = mode_values(system, t_e, x_e)
             fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
             outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices)
+            # (compiling a newly visited state is counted apart, from the pass logs)
+            self.seconds["events"] += (_time.perf_counter() - started
+                                       - (self.translation.translation_seconds - compiled))
             self.events.append(Event(t_e, kind, tuple(fired), outcome.changes, outcome.iterations))
             system, discrete, relations = outcome.system, outcome.discrete, outcome.relations
             self._record_mode(system)
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
+            _check_finite(t_e, system.states, x, "the states after the event")
             recorder.add(t_e, system, x, discrete)
             t = t_e
             if t >= t1:
                 return
             # a grid point at the event time is represented by the two event rows
             recorder.skip_grid_through(t_e)
+
+    def _emit(self, t_end: float, inclusive: bool, system: ModeSystem, x_at, discrete) -> None:
+        """Output points up to ``t_end`` (timed, and within the budgets)."""
+        started = _time.perf_counter()
+        self.recorder.emit_grid_until(t_end, inclusive, system, x_at, discrete,
+                                      check=self._check_budgets if self.timeout is not None else None)
+        self.seconds["output"] += _time.perf_counter() - started
 
     def _check_chattering(self, recent: deque, t1: float) -> None:
         """Chattering: many state events in a row, ping-ponging between at most
@@ -264,20 +389,28 @@ class _Run:
         recorder = self.recorder
         nominal = np.array([self.translation.continuous[base_name(s)].nominal for s in system.states])
         atol = self.rtol * nominal if self.atol is None else self.atol
+        # A derivative that is not finite at the start would give the solver a
+        # NaN first step, and some of scipy's solvers then never return.
+        _check_finite(t, system.states, x, "the states")
+        derivative_names = [der_name(s) for s in system.states]
+        _check_finite(t, derivative_names, system.derivatives(t, x), "the derivatives")
+        evaluator = self.evaluator
+        watched = evaluator.relevant_relations(discrete, relations)
+        if watched:
+            _check_crossings(t, system, x, watched, self.relations)
 
         def fun(tt, xx):
             return np.array(system.derivatives(tt, xx), dtype=float)
 
         solver = METHODS[self.method](fun, t, x, t_bound, rtol=self.rtol, atol=atol,
                                       max_step=self.max_step)
-        watched = self.evaluator.relevant_relations(discrete, relations)
-        evaluator = self.evaluator
 
         def flipped(tt, xx):
             return evaluator.flipped_relations(system, tt, xx, relations, watched)
 
         while True:
             t_old = solver.t
+            self.t = t_old
             message = solver.step()
             self.steps += 1
             self._check_budgets(solver)
@@ -287,15 +420,27 @@ class _Run:
                                   hint="try a smaller tolerance, an implicit method (Radau, BDF) "
                                        "or a max_step")
             t_new = solver.t
+            # an accepted step: finite states and derivatives, and time moving on
+            _check_finite(t_new, system.states, solver.y, "the states")
+            f_new = getattr(solver, "f", None)
+            _check_finite(t_new, derivative_names, fun(t_new, solver.y) if f_new is None else f_new,
+                          "the derivatives")
+            if not (solver.step_size is None or math.isfinite(solver.step_size)) or (
+                    t_new <= t_old and solver.status == "running"):
+                self.nfev += solver.nfev
+                raise SolverError(f"{self.method} makes no progress at t = {t_new:.12g} (step size "
+                                  f"{solver.step_size})",
+                                  hint="try a smaller tolerance, an implicit method (Radau, BDF) "
+                                       "or a max_step")
             dense = solver.dense_output() if (watched or recorder.grid_left) else None
             event = None
             if watched and t_new > t_old:
+                _check_crossings(t_new, system, solver.y, watched, self.relations)
                 samples = sample_times(t_old, t_new, recorder.interval, recorder.grid)
                 event = locate_flip(t_old, samples, dense, solver.y, flipped)
             if event is not None:
                 t_e, x_e, fired = event
-                recorder.emit_grid_until(t_e, inclusive=False, system=system, x_at=dense,
-                                         discrete=discrete)
+                self._emit(t_e, False, system, dense, discrete)
                 self.nfev += solver.nfev
                 names = tuple(self.relations[k].text for k in fired)
                 return t_e, x_e, (t_e, x_e, names)
@@ -306,31 +451,66 @@ class _Run:
                     return y
                 return dense(s)
 
-            recorder.emit_grid_until(t_new, inclusive=t_new < t_bound, system=system, x_at=x_at,
-                                     discrete=discrete)
+            self._emit(t_new, t_new < t_bound, system, x_at, discrete)
             if solver.status == "finished":
                 self.nfev += solver.nfev
                 return t_new, solver.y.copy(), None
 
-    def _check_budgets(self, solver) -> None:
+    # -- budgets --------------------------------------------------------------------
+
+    def _check_budgets(self, solver=None) -> None:
         over_steps = self.max_steps is not None and self.steps > self.max_steps
         over_time = self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout
         if not (over_steps or over_time):
             return
-        self.nfev += solver.nfev  # count this segment's evaluations before stopping
+        if solver is not None:
+            self.nfev += solver.nfev  # count this segment's evaluations before stopping
         if over_steps:
-            raise SolverError(f"{self.method} used its budget of {self.max_steps} steps by "
-                              f"t = {solver.t:.12g}",
-                              hint="the model may be stiff: try an implicit method (Radau, BDF)")
-        raise SolverError(f"the simulation used its time budget of {self.timeout:g} s by "
-                          f"t = {solver.t:.12g}",
-                          hint="the model may be stiff: try an implicit method (Radau, BDF)")
+            raise _Budget(f"{self.method} used its budget of {self.max_steps} steps")
+        raise _Budget(f"the simulation used its time budget of {self.timeout:g} s")
+
+    def _budget_error(self, what: str) -> SolverError:
+        """Where the time went, and a hint fitting the biggest share."""
+        wall = _time.perf_counter() - self.wall_start
+        compiling = self.translation.translation_seconds - self.compiled_before_run
+        shares = {
+            "compiling discrete states": compiling,
+            "writing output points": self.seconds["output"],
+            "event iteration": self.seconds["events"],
+        }
+        shares["integrating"] = max(wall - sum(shares.values()), 0.0)
+        counts = {"compiling discrete states": f"{len(self.translation.systems)} states compiled",
+                  "writing output points": f"{len(self.recorder.rows)} rows",
+                  "event iteration": f"{len(self.events)} events",
+                  "integrating": f"{self.steps} steps"}
+        hints = {"compiling discrete states": "many discrete states are visited; a model whose "
+                                              "elements switch independently compiles one system "
+                                              "per combination",
+                 "writing output points": "choose a coarser interval",
+                 "event iteration": "events come thick and fast; check the relations that fire",
+                 "integrating": "the model may be stiff: try an implicit method (Radau, BDF)"}
+        order = sorted(shares, key=shares.get, reverse=True)
+        where = ", ".join(f"{shares[k]:.3g} s {k} ({counts[k]})" for k in order)
+        return SolverError(f"{what} by t = {self.t:.12g}; the time went into: {where}",
+                           hint=hints[order[0]])
 
     # -- result ------------------------------------------------------------------------
 
-    def _result(self, t_setup: float, message: str, error) -> SimulationResult:
+    def _result(self, t_setup: float, message: str, error, status: int = -1) -> SimulationResult:
         translation = self.translation
-        times, columns = self.recorder.columns(translation)
+        times, columns, bad = self.recorder.columns(translation)
+        if bad is not None and error is None:
+            # an output that is not finite stops the run there: the rows after it go
+            row, names, reason = bad
+            keep = row + 1
+            times = times[:keep]
+            columns = {n: c[:keep] for n, c in columns.items()}
+            error = SolverError(f"at t = {times[-1]:.12g} {', '.join(names[:8])} "
+                                f"{'is' if len(names) == 1 else 'are'} not finite ({reason})",
+                                hint="the equations computing it leave their domain here (a square "
+                                     "root or logarithm of a negative value, a division by zero)",
+                                components=tuple(dict.fromkeys(n.rpartition('.')[0] for n in names)))
+            message = str(error)
         stats = {
             "steps": self.steps,
             "rhs_evaluations": self.nfev,
@@ -341,6 +521,32 @@ class _Run:
             "method": self.method,
             "rtol": self.rtol,
         }
-        return SimulationResult(times, columns, 0 if error is None else -1, message, tuple(self.events),
+        return SimulationResult(times, columns, 0 if error is None else status, message, tuple(self.events),
                                 tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
                                 error, translation.flat.name)
+
+
+def _check_finite(t: float, names, values, what: str) -> None:
+    """Stop the run when some of ``values`` (named ``names``) are not finite."""
+    values = np.asarray(values, dtype=float)
+    if values.size and not np.all(np.isfinite(values)):
+        bad = [(n, v) for n, v in zip(names, values.tolist()) if not math.isfinite(v)]
+        raise SolverError(f"at t = {t:.12g} {what} are not finite: "
+                          f"{', '.join(f'{n} = {v}' for n, v in bad[:8])}",
+                          hint="a parameter, a start value or an equation gives an infinite or "
+                               "undefined value (NaN) here",
+                          components=tuple(dict.fromkeys(base_name(n).rpartition(".")[0] for n, _ in bad)))
+
+
+def _check_crossings(t: float, system: ModeSystem, x, watched, relations) -> None:
+    """The sides of the watched relations must be finite: NaN makes every relation false."""
+    raw = np.asarray(system.crossings(t, x), dtype=float)
+    if np.all(np.isfinite(raw)):
+        return
+    bad = [relations[k].text for k in watched
+           if not (math.isfinite(raw[2 * k]) and math.isfinite(raw[2 * k + 1]))]
+    if bad:
+        raise SolverError(f"at t = {t:.12g} the relation{'s' if len(bad) > 1 else ''} "
+                          f"{'; '.join(bad[:5])} cannot be decided: a side is not finite",
+                          hint="a parameter, a start value or an equation gives an infinite or "
+                               "undefined value (NaN) here")
