@@ -120,6 +120,7 @@ class Recorder:
         # Rows come in stretches with one system and one set of discrete
         # values (between events): each stretch is filled column by column.
         start, plans, bad = 0, {}, None
+        names_of = {ident: name for name, ident in translation.cache.identifiers.items()}
         while start < len(rows):
             _, system, _, discrete = rows[start]
             stop = start + 1
@@ -127,7 +128,8 @@ class Recorder:
                 stop += 1
             if system.key not in plans:
                 plans[system.key] = fill_plan(system, index)
-            found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key])
+            found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key],
+                          names_of)
             if found is not None and bad is None:
                 bad = (start + found[0], found[1], found[2])
             start = stop
@@ -139,7 +141,7 @@ class Recorder:
 
 
 def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, discrete: dict,
-          plan) -> tuple[int, list[str], str] | None:
+          plan, names_of: dict[str, str]) -> tuple[int, list[str], str] | None:
     """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
 
     Returns ``(row, names, reason)`` for the first row whose values could not
@@ -157,7 +159,8 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
             # the states are still known, and so are their aliases and the
             # constants; the unknowns of this row stay NaN
             if failed is None:
-                failed = (r, [f"the values of {system.description}"], f"{type(exc).__name__}: {exc}")
+                name, line = _failing_line(exc, system, names_of)
+                failed = (r, [name], f"{type(exc).__name__}: {exc}" + (f", in: {line}" if line else ""))
     finite = np.isfinite(values)
     if not finite.all():
         r = int(np.argmax(~finite.all(axis=1)))
@@ -171,6 +174,22 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
     for name, value in discrete.items():
         block[:, index[name]] = float(value)
     return failed
+
+
+def _failing_line(exc: BaseException, system: ModeSystem, names_of: dict[str, str]) -> tuple[str, str]:
+    """The variable whose line of generated code raised ``exc``, and that line."""
+    frame = exc.__traceback__
+    lineno = None
+    while frame is not None:
+        if frame.tb_frame.f_code.co_filename.startswith("<acausal"):
+            lineno = frame.tb_lineno
+        frame = frame.tb_next
+    if lineno is None:
+        return "a value", ""
+    lines = system.code.source.splitlines()
+    line = lines[lineno - 1].strip() if 0 < lineno <= len(lines) else ""
+    target = line.split("=", 1)[0].strip() if "=" in line else ""
+    return names_of.get(target, target or "a value"), line
 
 
 def fill_plan(system: ModeSystem, index: dict[str, int]):

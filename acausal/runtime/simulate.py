@@ -352,9 +352,11 @@ class _Run:
     def _emit(self, t_end: float, inclusive: bool, system: ModeSystem, x_at, discrete) -> None:
         """Output points up to ``t_end`` (timed, and within the budgets)."""
         started = _time.perf_counter()
-        self.recorder.emit_grid_until(t_end, inclusive, system, x_at, discrete,
-                                      check=self._check_budgets if self.timeout is not None else None)
-        self.seconds["output"] += _time.perf_counter() - started
+        try:
+            self.recorder.emit_grid_until(t_end, inclusive, system, x_at, discrete,
+                                          check=self._check_budgets if self.timeout is not None else None)
+        finally:
+            self.seconds["output"] += _time.perf_counter() - started
 
     def _check_chattering(self, recent: deque, t1: float) -> None:
         """Chattering: many state events in a row, ping-ponging between at most
