@@ -69,8 +69,15 @@ class AcausalError(Exception):
                 setattr(new, name, value)
         for name, value in fields.items():
             setattr(new, name, value)
-        new.__cause__, new.__context__ = self.__cause__, self.__context__
+        _same_chain(new, self)
         return new
+
+
+def _same_chain(new: BaseException, old: BaseException) -> None:
+    """``new`` tells the same story as ``old``: cause, context and traceback."""
+    new.__cause__, new.__context__ = old.__cause__, old.__context__
+    new.__suppress_context__ = old.__suppress_context__
+    new.__traceback__ = old.__traceback__
 
 
 class ModelDefinitionError(AcausalError, ValueError):
@@ -122,7 +129,7 @@ class SimulationError(AcausalError, RuntimeError):
 
     Attributes
     ----------
-    result : acausal.result.SimulationResult or None
+    result : acausal.runtime.result.SimulationResult or None
         Everything computed up to the failure.
     """
 
@@ -176,7 +183,7 @@ class SimulationInterrupted(KeyboardInterrupt):
     def with_result(self, result) -> "SimulationInterrupted":
         """The same interrupt carrying the partial ``result``."""
         new = SimulationInterrupted(self.message, self.hint, result)
-        new.__cause__, new.__context__ = self.__cause__, self.__context__
+        _same_chain(new, self)
         return new
 
 

@@ -1,10 +1,10 @@
 """Connectors and partial models shared by the component libraries.
 
 Mirrors the ``Interfaces`` packages of the Modelica Standard Library:
-:mod:`components.rotational` (flanges and rotational partials),
-:mod:`components.thermal` (heat ports and conditional heat ports),
-:mod:`components.blocks` (signal block partials) and
-:mod:`components.friction` (the friction state machine).
+:mod:`acausal.components.rotational` (flanges and rotational partials),
+:mod:`acausal.components.thermal` (heat ports and conditional heat ports),
+:mod:`acausal.components.blocks` (signal block partials) and
+:mod:`acausal.components.friction` (the friction state machine).
 """
 
 from .blocks import SI2SO, SISO, SO, SignalSource

@@ -1,8 +1,8 @@
 """Component libraries reproducing parts of the Modelica Standard Library.
 
-* :mod:`library.rotational`: Modelica.Mechanics.Rotational
-* :mod:`library.thermal`: Modelica.Thermal.HeatTransfer
-* :mod:`library.blocks`: Modelica.Blocks (sources and math)
+* :mod:`acausal.library.rotational`: Modelica.Mechanics.Rotational
+* :mod:`acausal.library.thermal`: Modelica.Thermal.HeatTransfer
+* :mod:`acausal.library.blocks`: Modelica.Blocks (sources and math)
 
 The connectors and partial models they share live in :mod:`components`.
 """

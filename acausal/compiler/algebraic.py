@@ -1,4 +1,4 @@
-"""Stage 6: algebraic loops — how each BLT block is solved.
+"""Stage 7: algebraic loops — how each BLT block is solved.
 
 * A block of one equation linear in its unknown becomes an assignment.
 * A larger block is *torn* (Elmqvist & Otter 1994): a few tearing unknowns

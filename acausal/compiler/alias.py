@@ -1,4 +1,4 @@
-"""Stage 3: alias elimination.
+"""Stage 4: alias elimination.
 
 Connections produce many equations of the forms ``a = b``, ``a = -b`` and
 ``a = constant``.  Each set of variables joined by such equations keeps one

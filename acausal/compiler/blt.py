@@ -1,4 +1,4 @@
-"""Stage 5: block lower triangular (BLT) sorting.
+"""Stage 6: block lower triangular (BLT) sorting.
 
 With every equation matched to the unknown it solves, equation ``i`` depends
 on equation ``k`` when it uses the unknown ``k`` solves.  The strongly

@@ -1,4 +1,4 @@
-"""Stage 7: generate straight-line Python code from the solution steps.
+"""Stage 8: generate straight-line Python code from the solution steps.
 
 For one system the generator writes a factory ``make(p)`` that binds the
 parameter values and returns functions of ``(t, x)``:

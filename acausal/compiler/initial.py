@@ -1,4 +1,4 @@
-"""The initialization problem of one discrete state, compiled.
+"""Stage 9: the initialization problem of one discrete state, compiled.
 
 The initialization problem is the system's equations (those index reduction
 differentiated included) plus the initial equations plus one equation

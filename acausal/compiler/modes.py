@@ -1,4 +1,4 @@
-"""The mode compiler: the continuous system of one discrete state.
+"""The mode compiler: stages 3-8 for one discrete state (its continuous system).
 
 A discrete state fixes the value of every discrete symbol (Boolean and
 Integer variables, their ``pre()`` values, relation indicators,
@@ -129,7 +129,8 @@ class ModeSystem:
 
     @property
     def seconds(self) -> float:
-        """Seconds spent compiling this system (0 if it shares another's)."""
+        """Seconds spent building this system (for a state that shares another's
+        system: only its specialisation)."""
         return sum(s for _, s in self.passes)
 
     def values(self, t: float, x) -> dict[str, float]:

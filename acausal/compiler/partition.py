@@ -14,6 +14,7 @@ later stages build their own continuous system, lazily.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import networkx as nx
@@ -44,6 +45,8 @@ class Relation:
     op: str
     text: str
     is_time_event: bool  #: g depends on time and parameters only
+    #: the components whose equations contain the relation (for their hints)
+    components: tuple[str, ...] = ()
 
     def holds(self, g_value: float) -> bool:
         """The exact value of the relation for ``g = g_value``."""
@@ -117,6 +120,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
     parameters = flat.parameter_values
     continuous = {n for n, v in variables.items() if not v.is_discrete}
     relations: dict[tuple, Relation] = {}
+    owners: dict[tuple, dict[str, None]] = {}
 
     def is_continuous_symbol(sym: sp.Symbol) -> bool:
         name = sym.name
@@ -139,6 +143,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
                 op = {sp.StrictGreaterThan: ">", sp.GreaterThan: ">=", sp.StrictLessThan: "<",
                       sp.LessThan: "<="}[type(node)]
                 key = (sp.srepr(g), op)
+                owners.setdefault(key, {})[origin.component] = None
                 if key not in relations:
                     index = len(relations)
                     # a time event needs the crossing time in closed form: g linear in time
@@ -160,6 +165,9 @@ def partition(flat: FlatModel) -> PartitionedModel:
                               for e in flat.initial_equations)
     discrete = tuple(DiscreteEquation(e.variable, replace_relations(e.rhs, e.origin), e.origin)
                      for e in flat.discrete_equations)
+
+    relations = {key: dataclasses.replace(rel, components=tuple(c for c in owners[key] if c))
+                 for key, rel in relations.items()}
 
     discrete_names = tuple(n for n, v in variables.items() if v.is_discrete)
     defined = {}

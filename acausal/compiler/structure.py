@@ -1,4 +1,4 @@
-"""Stage 4: structural analysis — balance, matching, index reduction, states.
+"""Stage 5: structural analysis — balance, matching, index reduction, states.
 
 The equations left after alias elimination are analysed as a bipartite
 graph of equations and unknowns:

@@ -58,6 +58,10 @@ class Translation:
         ``key -> InitialSystem``, likewise.
     flatten_seconds : float
         Seconds spent flattening and partitioning.
+    extras : dict
+        Objects the later layers build once per translation and keep with it
+        (the runtime's discrete evaluators): they live exactly as long as the
+        translation.
     """
 
     def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float,
@@ -70,6 +74,7 @@ class Translation:
         self.systems: dict[tuple, ModeSystem] = {}
         self.initial_systems: dict[tuple, InitialSystem] = {}
         self.flatten_seconds = flatten_seconds
+        self.extras: dict = {}
         self._by_equations: dict[tuple, ModeSystem] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
 

@@ -1,4 +1,4 @@
-"""Stage 8: the discrete part at events — Modelica's event iteration.
+"""Stage 11: the discrete part at events — Modelica's event iteration.
 
 At an event instant, with the ``pre()`` values held fixed, the continuous
 equations (of the discrete state the current guess selects) and the
@@ -9,7 +9,7 @@ Mattsson 1999; Dymola and OpenModelica do the same).
 
 Relations are evaluated with the continuous values at the event, with a
 small hysteresis against their value before it (see
-:meth:`acausal.partition.Relation.shifted`).
+:meth:`acausal.compiler.partition.Relation.shifted`).
 
 References
 ----------
@@ -20,7 +20,6 @@ References
 from __future__ import annotations
 
 import itertools
-import weakref
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -49,15 +48,11 @@ def mode_values(system: ModeSystem, t: float, x) -> dict[str, float]:
     return values
 
 
-#: The evaluators of live translations, one per setting (built once: compiling
-#: the discrete equations is a few milliseconds a model).
-_EVALUATORS: "weakref.WeakKeyDictionary[Translation, dict]" = weakref.WeakKeyDictionary()
-
-
 def evaluator_for(translation: Translation, relation_epsilon: float = 1e-10,
                   max_iterations: int = 20) -> "DiscreteEvaluator":
-    """The discrete-part evaluator of ``translation`` (built once per setting)."""
-    cache = _EVALUATORS.setdefault(translation, {})
+    """The discrete-part evaluator of ``translation``, built once per setting and kept
+    with the translation (compiling the discrete equations is a few milliseconds)."""
+    cache = translation.extras.setdefault("evaluators", {})
     key = (relation_epsilon, max_iterations)
     if key not in cache:
         cache[key] = DiscreteEvaluator(translation, relation_epsilon, max_iterations)

@@ -1,4 +1,4 @@
-"""Stage 9: initialization — consistent values at the start time.
+"""Stage 10: initialization — consistent values at the start time.
 
 The initialization problem is the model's equations (including those index
 reduction differentiated) plus one equation ``v = start`` for every variable
@@ -61,6 +61,7 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
     notes: list[str] = []
     values = None
+    history = [dict(discrete)]
     for _ in range(evaluator.max_iterations):
         pre = {**discrete, **fixed_pre}
         key = evaluator.key(discrete, pre, relations, True)
@@ -75,11 +76,16 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         if new_discrete == discrete and new_relations == relations:
             break
         discrete, relations = new_discrete, new_relations
+        history.append(dict(discrete))
     else:
+        changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})
+        owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
+        own = flat.hints_for("event_iteration", owners)
         raise InitializationError(
             f"initialization of {flat.name}: the discrete variables did not settle in "
-            f"{evaluator.max_iterations} iterations",
-            hint="check the start values of Boolean and Integer variables")
+            f"{evaluator.max_iterations} iterations; still changing: {', '.join(changing) or 'unknown'}",
+            hint="; ".join(("check the start values of the Boolean and Integer variables named and "
+                            "the conditions that set them", *own)), components=owners)
     values = mode_values(system, start_time, x)
     for name, start in problem.relaxed:
         actual = values[name]

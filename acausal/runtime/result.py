@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 from dataclasses import dataclass, field
-from functools import cached_property
 from pathlib import Path
 from typing import Sequence
 
@@ -73,8 +72,10 @@ class SimulationResult:
     notes : tuple of str
         Warnings, e.g. fixed start values relaxed as redundant.
     error : Exception or None
-        The error that stopped the run; a :class:`~acausal.errors.SimulationError`
-        carries this result as its ``result`` (given at its construction).
+        The error that stopped the run.  A :class:`~acausal.errors.SimulationError`
+        (or :class:`~acausal.errors.SimulationInterrupted`) given here is
+        replaced, at construction, by a copy built with this result as its
+        ``result``: ``result.error.result is result``.
     """
 
     time: np.ndarray
@@ -86,16 +87,13 @@ class SimulationResult:
     compiled_modes: int = 0
     stats: dict = field(default_factory=dict)
     notes: tuple = ()
-    #: the exception that stopped the run, as it was raised (see :attr:`error`)
-    stop_error: Exception | None = field(default=None, repr=False)
+    error: BaseException | None = None
     model_name: str = ""
 
-    @cached_property
-    def error(self) -> Exception | None:
-        """The error that stopped the run, with this result attached (None on success)."""
-        if isinstance(self.stop_error, (SimulationError, SimulationInterrupted)):
-            return self.stop_error.with_result(self)
-        return self.stop_error
+    def __post_init__(self) -> None:
+        # the error travels with the partial result: its copy is built with it
+        if isinstance(self.error, (SimulationError, SimulationInterrupted)) and self.error.result is not self:
+            object.__setattr__(self, "error", self.error.with_result(self))
 
     @property
     def success(self) -> bool:

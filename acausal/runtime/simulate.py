@@ -1,4 +1,4 @@
-"""Stage 10: simulation — integrate between events, handle events, record.
+"""Stage 12: simulation — integrate between events, handle events, record.
 
 A thin driver over scipy's ODE solvers (as ``scipy.integrate.solve_ivp`` is),
 written out because hybrid models need what ``solve_ivp`` does not offer:
@@ -374,7 +374,9 @@ class _Run:
         states = list(recent)
         changing = sorted({n for (_, _, a), (_, _, b) in zip(states, states[1:])
                            for (n, va), (_, vb) in zip(a, b) if va != vb})
-        owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
+        fired = {text for _, names, _ in recent for text in names}
+        owners = tuple(dict.fromkeys([*(c for r in self.relations if r.text in fired for c in r.components),
+                                      *(n.rpartition(".")[0] for n in changing)]))
         own = self.translation.flat.hints_for("chattering", owners)
         raise ChatteringError(
             f"chattering: {len(recent)} state events between t = {recent[0][0]:.12g} "

@@ -325,7 +325,7 @@ class BearingFriction(_HousingFriction, _TableFriction, PartialElementaryTwoFlan
     sliding friction torque is ``tau_pos`` (an n x 2 table of w >= 0 against
     torque, interpolated linearly with LastTwoPoints extrapolation and
     mirrored for w < 0), the static limit is ``tau0_max = peak*tau_pos(0)``,
-    and the stuck/sliding logic is :class:`components.friction.PartialFriction`.
+    and the stuck/sliding logic is :class:`acausal.components.friction.PartialFriction`.
     ``lossPower = tau*w`` goes to the optional heat port.
     """
 
@@ -356,7 +356,7 @@ class Clutch(_NormalForceFriction, PartialCompliantWithRelativeStates, PartialFr
     element is free when ``fn <= 0``, the sliding torque is ``mu*cgeo*fn``
     with ``mu`` from the table ``mu_pos`` (w_rel >= 0), the static limit
     ``tau0_max = peak*mu_pos(0)*cgeo*fn``; stuck/sliding logic from
-    :class:`components.friction.PartialFriction`.  As in the MSL, the start of
+    :class:`acausal.components.friction.PartialFriction`.  As in the MSL, the start of
     backward sliding evaluates the table at ``+w_rel`` with sign -1.
     """
 
@@ -377,7 +377,7 @@ class Brake(_HousingFriction, _NormalForceFriction, PartialElementaryTwoFlangesA
     ``fn = fn_max*f_normalized``, free when ``fn <= 0``, sliding torque
     ``mu*cgeo*fn`` with ``mu`` from the table ``mu_pos`` mirrored for w < 0,
     static limit ``tau0_max = peak*mu_pos(0)*cgeo*fn``; stuck/sliding logic
-    from :class:`components.friction.PartialFriction`.
+    from :class:`acausal.components.friction.PartialFriction`.
     """
 
 

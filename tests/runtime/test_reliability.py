@@ -279,3 +279,75 @@ def test_cache_false_translates_anew_and_gives_the_same_result():
 
 def test_a_simulation_error_is_still_a_runtime_error():
     assert issubclass(SolverError, SimulationError) and issubclass(SimulationError, RuntimeError)
+
+
+# -- review findings ---------------------------------------------------------------------------
+
+
+def test_a_simulated_translation_is_freed_with_its_evaluators():
+    import gc
+    import weakref
+
+    from acausal import translate
+
+    refs = []
+    for _ in range(3):
+        translation = translate(Decay(), cache=False)
+        simulate(translation)
+        refs.append(weakref.ref(translation))
+        del translation
+    gc.collect()
+    assert all(r() is None for r in refs)
+
+
+def test_the_error_of_a_result_keeps_its_traceback():
+    result = simulate(InfiniteAfterHalf())
+    frames = []
+    tb = result.error.__traceback__
+    while tb is not None:
+        frames.append(tb.tb_frame.f_code.co_name)
+        tb = tb.tb_next
+    assert "_segment" in frames  # where the run stopped, not only where the copy was made
+
+
+def test_a_component_hint_reaches_chattering_caused_by_a_relation_alone():
+    from acausal import Component
+
+    class Relay(Component):
+        hints = {"chattering": "this relay has no hysteresis"}
+        x = Variable(start=0.0, fixed=True)
+
+        def equations(self):
+            return [Eq(der(self.x), If(self.x > 0, -1000, 1000))]
+
+    class Loop(Model):
+        experiment = Experiment(stop_time=1.0)
+
+        def build(self):
+            self.relay = Relay()
+
+    result = simulate(Loop())
+    assert result.status == -1
+    assert "relay" in result.error.components
+    assert "no hysteresis" in result.error.hint
+
+
+def test_discrete_variables_that_never_settle_at_initialization_are_named():
+    from acausal import Boolean, Component, pre
+    from acausal.errors import InitializationError
+
+    class FlipFlop(Component):
+        hints = {"event_iteration": "the flip-flop feeds itself back"}
+        a = Boolean(start=False)
+
+        def equations(self):
+            return [Eq(self.a, sp.Not(pre(self.a)))]
+
+    class Holder(Model):
+        def build(self):
+            self.ff = FlipFlop()
+
+    with pytest.raises(InitializationError) as info:
+        simulate(Holder())
+    assert "ff.a" in info.value.message
+    assert "feeds itself back" in info.value.hint and info.value.components == ("ff",)
