@@ -336,7 +336,8 @@ def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str
 def _components_of(origins, variables=()) -> tuple[str, ...]:
     """The components the origins and variables named belong to, in first-seen order."""
     paths = [o.component for o in origins] + [name.rpartition(".")[0] for name in variables]
-    return tuple(dict.fromkeys(paths))
+    # (the model itself, '', is no component: hints declared on it would apply to every error)
+    return tuple(dict.fromkeys(p for p in paths if p))
 
 
 def _alternating_reach(start, graph, matching):
