@@ -308,19 +308,24 @@ class Parameter(Declaration):
     fixed : bool
         ``False`` makes it an unknown of the initialization problem, fixed by
         an initial equation (Modelica's ``parameter Real p(fixed=false)``).
+    finite : bool
+        ``True`` (the default): flattening rejects a value (or a table entry)
+        that is nan or infinite.  ``False`` for the rare parameter whose
+        equations give ``inf`` a meaning.
     """
 
     kind = "parameter"
 
     def __init__(self, default: Any = None, *, unit: str = "", min: float | None = None,
                  max: float | None = None, structural: bool = False, fixed: bool = True,
-                 description: str = "", condition=None) -> None:
+                 finite: bool = True, description: str = "", condition=None) -> None:
         super().__init__(unit=unit, description=description, condition=condition)
         self.default = default
         self.min = min
         self.max = max
         self.structural = structural
         self.fixed = fixed
+        self.finite = finite
 
     def __get__(self, obj, objtype=None):
         if obj is None:
@@ -339,6 +344,8 @@ class Parameter(Declaration):
             parts.append("structural")
         if self.fixed is not True:
             parts.append(f"fixed={_value_text(self.fixed)}")
+        if self.finite is not True:
+            parts.append(f"finite={_value_text(self.finite)}")
         return "Parameters", ", ".join(parts + self._doc_condition())
 
 
@@ -702,6 +709,14 @@ class Component:
                 raise ModelDefinitionError(
                     f"{type(self).__name__}.{key} is declared as a "
                     f"{self.declarations()[key].kind}; a sub-component cannot use that name")
+            if key in self._children:
+                # Replacing it would leave the first one in the connections made so far.
+                raise ModelDefinitionError(
+                    f"{type(self).__name__}.{key} is already a sub-component "
+                    f"({type(self._children[key]).__name__} {self._path_of(key)}); "
+                    f"assigning a {type(value).__name__} to it again would replace it",
+                    hint=f"give the second one another name (self.{key}2 = ...)",
+                    components=(self._path_of(key),))
             object.__setattr__(value, "_name", key)
             object.__setattr__(value, "_parent", self)
             self._children[key] = value

@@ -9,14 +9,19 @@ chain rule.  Every equation remembers where it came from.
 
 from __future__ import annotations
 
+import math
+import os
+import sysconfig
+import traceback
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import sympy as sp
 
 from ..names import INITIAL_NAME, der_name, pre_name
-from ..errors import ConnectionError_, EquationError, ModelDefinitionError, ParameterError
+from ..errors import AcausalError, ConnectionError_, EquationError, ModelDefinitionError, ParameterError
 from ..language import (
     Boolean,
     BoundConnector,
@@ -298,18 +303,32 @@ class _Flattener:
                 values[name] = 0.0  # found by the initialization problem
                 continue
             resolve(name)
-        # min/max checks
+        # finite and min/max checks (nan compares False: "not value >= min" catches it)
         for component in self.components:
             for key, decl in component.declarations().items():
-                if isinstance(decl, Parameter) and not decl.structural:
-                    path = component._path_of(key)
-                    value = values[path]
-                    if decl.min is not None and value < decl.min:
-                        raise ParameterError(f"parameter {path} = {value} is below its minimum {decl.min}",
-                                             hint=f"{type(component).__name__}.{key} must be >= {decl.min}")
-                    if decl.max is not None and value > decl.max:
-                        raise ParameterError(f"parameter {path} = {value} is above its maximum {decl.max}",
-                                             hint=f"{type(component).__name__}.{key} must be <= {decl.max}")
+                if not isinstance(decl, Parameter):
+                    continue
+                path = component._path_of(key)
+                if decl.structural:
+                    if decl.finite:
+                        _check_finite(path, self.structural[path], component, key)
+                    continue
+                value = values[path]
+                if decl.finite:
+                    _check_finite(path, value, component, key, binding=self.parameters[path][0])
+                not_a_number = math.isnan(value)
+                if decl.min is not None and not value >= decl.min:
+                    raise ParameterError(f"parameter {path} = {value} is "
+                                         f"{'not a number, so not above' if not_a_number else 'below'} "
+                                         f"its minimum {decl.min}",
+                                         hint=f"{type(component).__name__}.{key} must be >= {decl.min}",
+                                         components=(component.path,))
+                if decl.max is not None and not value <= decl.max:
+                    raise ParameterError(f"parameter {path} = {value} is "
+                                         f"{'not a number, so not below' if not_a_number else 'above'} "
+                                         f"its maximum {decl.max}",
+                                         hint=f"{type(component).__name__}.{key} must be <= {decl.max}",
+                                         components=(component.path,))
         return values
 
     def _evaluate_binding(self, name, binding, component, resolve) -> float:
@@ -380,14 +399,18 @@ class _Flattener:
         kind = "boolean" if isinstance(decl, Boolean) else "integer" if isinstance(decl, Integer) \
             else "continuous"
         nominal = attr("nominal")
-        start = attr("start")
+        start = given_start = attr("start")
         if kind == "continuous":
             start = self._number(start, f"{path}.start")
-        else:
+        _check_finite_attribute(path, "start", start, given_start, component, key)
+        if kind != "continuous":
             start = int(bool(start)) if kind == "boolean" else int(start)
+        if nominal is not None:
+            given_nominal, nominal = nominal, abs(self._number(nominal, f"{path}.nominal"))
+            _check_finite_attribute(path, "nominal", nominal, given_nominal, component, key)
         variable = FlatVariable(
             name=path, kind=kind, start=start, fixed=bool(attr("fixed")),
-            nominal=1.0 if nominal is None else abs(self._number(nominal, f"{path}.nominal")) or 1.0,
+            nominal=nominal or 1.0,
             state_select=StateSelect(attr("state_select") if kind == "continuous" else 2),
             unit=decl.unit, component=component.path, causality=decl.causality,
             role=getattr(decl, "connector_role", ""))
@@ -404,7 +427,13 @@ class _Flattener:
                 method = vars(klass).get(method_name)
                 if method is None:
                     continue
-                items = method(component)
+                try:
+                    items = method(component)
+                except AcausalError:
+                    raise
+                except (TypeError, ValueError, AttributeError, ArithmeticError, LookupError,
+                        NameError) as exc:
+                    raise _equations_failed(exc, component, klass, method_name) from exc
                 if items is None:
                     continue
                 if not isinstance(items, (list, tuple)):
@@ -502,8 +531,19 @@ class _Flattener:
                 x = parent[x]
             return x
 
+        in_model = {id(c) for c in self.components}
+
         def element_of(end, owner: Component, statement: str):
             if isinstance(end, BoundConnector):
+                if id(end.owner) not in in_model:
+                    root = _root(end.owner)
+                    name = type(root).__name__
+                    raise ConnectionError_(
+                        f"{statement}: that {name} is not part of the model (created, but never "
+                        f"stored as an attribute)",
+                        hint=f"store the {name} as an attribute and connect that: "
+                             f"self.{name[:1].lower()}{name[1:]} = {name}(...)",
+                        components=(owner.path,))
                 if not end.enabled:
                     raise ConnectionError_(
                         f"{statement}: connector {end.path} is disabled",
@@ -516,7 +556,9 @@ class _Flattener:
                 raise ConnectionError_(f"{statement}: {end.name} is a variable, not a connector",
                                        hint="connect() joins connectors or signal inputs and outputs")
             raise ConnectionError_(f"{statement}: {end!r} is not a connector of this model",
-                                   hint="a disabled conditional connector cannot be connected")
+                                   hint="connect connectors of components stored as attributes "
+                                        "(self.name = ...); a disabled conditional connector cannot "
+                                        "be connected")
 
         # every enabled physical connector is an 'inside' element, connected or not
         for component in self.components:
@@ -532,9 +574,15 @@ class _Flattener:
         connect_text: dict[tuple, str] = {}
         for component in self.components:
             for a, b in component._connections:
-                statement = f"connect({_end_name(a)}, {_end_name(b)}) in {component.path or 'the model'}"
+                statement = (f"connect({_end_name(a, in_model)}, {_end_name(b, in_model)}) "
+                             f"in {component.path or 'the model'}")
                 ea, ba = element_of(a, component, statement)
                 eb, bb = element_of(b, component, statement)
+                if ea == eb:
+                    raise ConnectionError_(f"{statement}: connects {ea[1]} to itself",
+                                           hint="a connection joins two different connectors; "
+                                                "remove it or change one end",
+                                           components=(component.path,))
                 if ea[0] != eb[0]:
                     raise ConnectionError_(f"{statement}: cannot connect a signal to a physical connector")
                 if ea[0] == "signal":
@@ -621,8 +669,12 @@ def _condition(end: BoundConnector) -> str:
     return f"{cond}=True" if isinstance(cond, str) else "its condition"
 
 
-def _end_name(end) -> str:
+def _end_name(end, in_model: set[int] | frozenset[int] = frozenset()) -> str:
+    """How a connect() statement names an end; ``<Class>.path`` for a connector of a
+    component whose id is not in ``in_model`` (not stored in the model)."""
     if isinstance(end, BoundConnector):
+        if in_model and id(end.owner) not in in_model:
+            return f"<{type(_root(end.owner)).__name__}>.{end.path}"
         return end.path
     if isinstance(end, sp.Symbol):
         return end.name
@@ -633,3 +685,99 @@ def _text(item: Any) -> str:
     if isinstance(item, sp.Equality):
         return f"{item.lhs} = {item.rhs}"
     return f"0 = {item}" if isinstance(item, sp.Basic) else repr(item)
+
+
+def _root(component: Component) -> Component:
+    """The top of the tree ``component`` belongs to."""
+    while component._parent is not None:
+        component = component._parent
+    return component
+
+
+def _first_non_finite(value: Any) -> tuple[str, Any] | None:
+    """``(index, entry)`` of the first nan or inf in a number ('' index) or a numeric
+    list/array (``[i][j]``); None if there is none or the value is not numeric."""
+    if isinstance(value, (float, np.floating)):
+        return None if math.isfinite(value) else ("", value)
+    if isinstance(value, (list, tuple, np.ndarray)):
+        try:
+            data = np.asarray(value)
+        except (TypeError, ValueError):  # ragged or not numeric: not a table
+            return None
+        if data.dtype.kind not in "fc":
+            return None
+        bad = np.argwhere(~np.isfinite(data))
+        if bad.size:
+            index = tuple(int(i) for i in bad[0])
+            return "".join(f"[{i}]" for i in index), data[index].item()
+    return None
+
+
+def _check_finite(path: str, value: Any, component: Component, key: str, binding: Any = None) -> None:
+    """ParameterError for a parameter value (or table entry) that is nan or infinite."""
+    found = _first_non_finite(value)
+    if found is None:
+        return
+    index, entry = found
+    where = f"{type(component).__name__}.{key}"
+    if index:
+        message = f"parameter {path} has the non-finite entry {entry} at {key}{index}"
+    elif isinstance(binding, sp.Basic) and not binding.is_number:
+        message = f"parameter {path} = {binding} evaluates to {entry}, not a finite number"
+    else:
+        message = f"parameter {path} = {entry} is not a finite number"
+    raise ParameterError(message,
+                         hint=f"give {where} {'finite entries' if index else 'a finite value'} (a "
+                              f"declaration that accepts nan or inf says Parameter(..., finite=False))",
+                         components=(component.path,))
+
+
+def _check_finite_attribute(path: str, attribute: str, value: Any, given: Any,
+                            component: Component, key: str | None) -> None:
+    """ParameterError for a start or nominal value that is nan or infinite."""
+    if not isinstance(value, (float, np.floating)) or math.isfinite(value):
+        return
+    as_given = f" ({given})" if isinstance(given, sp.Basic) and not given.is_number else ""
+    example = (f"{type(component).__name__}({key}=dict({attribute}=...))" if key
+               else f"a finite {attribute} in the declaration of {path.rpartition('.')[2]}")
+    raise ParameterError(f"{attribute} value of {path} is {value}{as_given}, not a finite number",
+                         hint=f"give it a finite {attribute}: {example}",
+                         components=(component.path,))
+
+
+#: Folders whose frames are not the user's: the standard library, installed packages, the engine.
+_NOT_USER_CODE = tuple(str(Path(p).resolve()) + os.sep for p in {
+    *(sysconfig.get_paths().get(k) for k in ("stdlib", "platstdlib", "purelib", "platlib")),
+    str(Path(__file__).resolve().parents[1])} if p)
+
+
+def _user_frame(exc: BaseException) -> traceback.FrameSummary | None:
+    """The deepest frame of the user's code in the traceback of an exception raised
+    inside a call made by flatten (the first frame below flatten's, if none is)."""
+    frames = traceback.extract_tb(exc.__traceback__)[1:]
+    for frame in reversed(frames):
+        try:
+            filename = str(Path(frame.filename).resolve())
+        except (OSError, ValueError):
+            continue
+        if not filename.startswith(_NOT_USER_CODE) and not frame.filename.startswith("<frozen"):
+            return frame
+    return frames[0] if frames else None
+
+
+def _equations_failed(exc: Exception, component: Component, klass: type, method_name: str) -> EquationError:
+    """The EquationError for an exception raised while calling ``klass.<method_name>``."""
+    name = type(component).__name__
+    of = name if klass.__name__ == name else f"{name}, in {klass.__name__}"
+    frame = _user_frame(exc)
+    at = ""
+    if frame is not None:
+        at = f"\n  at {frame.filename}:{frame.lineno}" + (f": {frame.line}" if frame.line else "")
+    if isinstance(exc, TypeError) and "truth value" in str(exc):
+        hint = ("a Python if/and/or/not on a symbolic condition cannot be decided when the equations "
+                "are collected; write If(condition, a, b) or sympy.And/Or/Not")
+    else:
+        hint = "use sympy functions (sympy.sin, sympy.exp, ...) on symbols, not math/numpy ones"
+    return EquationError(f"{method_name}() of {component.path or 'the model'} ({of}) raised "
+                         f"{type(exc).__name__}: {exc}{at}",
+                         hint=hint, components=(component.path,))
