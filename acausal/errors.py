@@ -105,7 +105,18 @@ class ParameterError(ModelDefinitionError):
 
 
 class StructuralError(AcausalError, ValueError):
-    """The equation system is not solvable as posed."""
+    """The equation system is not solvable as posed.
+
+    Attributes
+    ----------
+    undetermined : tuple of str
+        The variables of the under-determined part, when known.
+    """
+
+    def __init__(self, message: str, hint: str | None = None, components: tuple[str, ...] = (),
+                 undetermined: tuple[str, ...] = ()) -> None:
+        super().__init__(message, hint, components)
+        self.undetermined = tuple(undetermined)
 
 
 class OverDeterminedError(StructuralError):

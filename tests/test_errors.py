@@ -431,3 +431,29 @@ def test_a_component_hint_reaches_a_structural_error_of_a_later_mode():
     assert result.status == -1
     assert "holding torque" in result.error.hint
     assert {"b1", "b2"} & set(result.error.components)
+
+
+def test_a_zero_parameter_that_removes_a_term_is_named_in_the_hint():
+    # J = 0 with a friction element: the inertia's balance loses J*a, and nothing
+    # determines the acceleration; the hint names the parameter
+    from acausal.library.rotational import BearingFriction, ConstantTorque
+
+    class ZeroInertia(Model):
+        J = 0.0
+
+        def build(self):
+            self.src = ConstantTorque(tau_constant=0.5)
+            self.j = Inertia(J=self.J, phi=dict(start=0, fixed=True), w=dict(start=1, fixed=True))
+            self.b = BearingFriction(tau_pos=[[0, 1]])
+            self.connect(self.src.flange, self.j.flange_a)
+            self.connect(self.j.flange_b, self.b.flange_a)
+
+    with pytest.raises(StructurallySingularError) as info:
+        simulate(ZeroInertia())
+    assert "j.J = 0" in info.value.hint
+    assert "b.K_locked" not in info.value.hint  # zero, but it multiplies nothing undetermined
+    # the same model with J > 0 runs
+    class SmallInertia(ZeroInertia):
+        J = 0.1
+
+    assert simulate(SmallInertia(), stop_time=0.5).status == 0

@@ -324,13 +324,13 @@ def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str
             f"{context} is under-determined: {n_eq} equations for {n_var} {unknown_label}\n  {detail}",
             hint="a component may be missing (a fixed reference or a source that determines the "
                  "variables named), or a connector is left unconnected where it should not be",
-            components=components)
+            components=components, undetermined=tuple(under))
     raise StructurallySingularError(
         f"{context} is structurally singular: {n_eq} equations and {n_var} {unknown_label}, but they "
         f"cannot be paired\n  {detail}",
         hint="some equations constrain the same variables while others are left free; check the "
              "connections of the components named",
-        components=components)
+        components=components, undetermined=tuple(under))
 
 
 def _components_of(origins, variables=()) -> tuple[str, ...]:

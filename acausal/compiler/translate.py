@@ -172,17 +172,48 @@ class Translation:
             system = compile_mode(key, description, context, equations, passes, self.partitioned,
                                   self.continuous, self.cache, self.demand)
         except StructuralError as exc:
+            hint = exc.hint
             if self.partitioned.is_hybrid and self.systems:
                 # only this discrete state fails: the components concerned may know why
                 own = self.flat.hints_for("mode", exc.components)
-                hint = "; ".join(own) if own else (
+                hint = "this discrete state only: " + ("; ".join(own) if own else (
                     "its equations do not determine every unknown (or determine some twice); "
-                    "check the discrete variables of the components named")
-                raise exc.with_hint(f"this discrete state only: {hint}") from exc
-            raise
+                    "check the discrete variables of the components named"))
+            zeros = self._zero_suspects(exc)
+            if zeros:
+                hint = f"{hint}; {zeros}"
+            if hint == exc.hint:
+                raise
+            # the same error, with what the components and parameters add (and its traceback)
+            raise exc.with_hint(hint) from None
         self.systems[key] = system
         self._by_equations[signature] = system
         return system
+
+    def _zero_suspects(self, exc: StructuralError) -> str:
+        """Parameters that are zero and multiply an undetermined variable, in words ('' if none).
+
+        A zero parameter is a structural zero: the term it multiplies is
+        gone, and with it maybe the only equation that determined a variable.
+        """
+        zeros = self.cache.parameters.zeros
+        undetermined = set(exc.undetermined)
+        if not zeros or not undetermined:
+            return ""
+        named = set(exc.components)
+        found: list[str] = []
+        for eq in self.flat.equations:
+            if eq.origin.component not in named:
+                continue
+            for z in eq.residual.free_symbols & zeros.keys():
+                multiplied = sp.expand(eq.residual).coeff(z)
+                if any(s.name in undetermined for s in multiplied.free_symbols) and z.name not in found:
+                    found.append(z.name)
+        if not found:
+            return ""
+        return (f"{', '.join(f'{n} = 0' for n in found)} removes the term{'s' if len(found) > 1 else ''} "
+                f"{'they multiply' if len(found) > 1 else 'it multiplies'}, and with it what determined "
+                f"the variables named: give {'them' if len(found) > 1 else 'it'} a non-zero value")
 
     def initial_system(self, key: tuple) -> InitialSystem:
         """The initialization problem of discrete state ``key`` (with initial() true)."""
