@@ -351,3 +351,30 @@ def test_discrete_variables_that_never_settle_at_initialization_are_named():
         simulate(Holder())
     assert "ff.a" in info.value.message
     assert "feeds itself back" in info.value.hint and info.value.components == ("ff",)
+
+
+def test_the_issue_reproducer_a_nan_parameter_neither_hangs_nor_passes_silently():
+    # the reproducer of the issue: p = nan with der(x) = p.  By default a NaN
+    # parameter is refused when the model is flattened; allowed explicitly,
+    # the run stops at once with the derivative named, inside its budgets.
+    done = _run_python("""
+        from acausal import Eq, Model, Parameter, Variable, der, simulate
+        from acausal.errors import ParameterError
+        class M(Model):
+            p = Parameter(float("nan"))
+            x = Variable(start=1.0, fixed=True)
+            def equations(self):
+                return [Eq(der(self.x), self.p)]
+        try:
+            simulate(M(), timeout=2, max_steps=100)
+        except ParameterError as exc:
+            print("refused:", exc.message)
+        class Allowed(M):
+            p = Parameter(float("nan"), finite=False)
+        r = simulate(Allowed(), timeout=2, max_steps=100)
+        print(r.status, r.message.splitlines()[0])
+    """, timeout=60)
+    assert done.returncode == 0, done.stderr
+    refused, stopped = done.stdout.splitlines()[:2]
+    assert refused.startswith("refused:") and "p" in refused
+    assert stopped.startswith("-1 ") and "der(x) = nan" in stopped
