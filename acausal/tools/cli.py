@@ -11,8 +11,10 @@ file defines) or ``FILE.py:ClassName``; it is instantiated without
 arguments.
 
 Exit status: 0 on success; 1 when a simulation fails or a comparison does
-not pass; 2 for usage errors and for models that cannot be loaded or
-translated.
+not pass (or a result cannot be written after the run); 2 for usage errors
+(an output path that cannot be written is one, found before simulating) and
+for models that cannot be loaded or translated; 130 when interrupted
+(Ctrl-C): ``simulate`` still writes the result computed up to then.
 """
 
 from __future__ import annotations
@@ -21,8 +23,10 @@ import argparse
 import gc
 import importlib.util
 import math
+import os
 import re
 import sys
+import time
 import traceback
 from pathlib import Path
 from typing import Sequence
@@ -142,6 +146,147 @@ def _instantiate(cls: type) -> Model:
         raise
     except TypeError as exc:
         raise CommandError(f"cannot create {cls.__name__}() without arguments: {exc}") from exc
+    except Exception as exc:  # noqa: BLE001 - any failure of the user's __init__
+        raise CommandError(f"cannot create {cls.__name__}(): {_describe_failure(exc, cls)}") from exc
+
+
+def _model_code(cls: type, function, *args, **kwargs):
+    """``function(*args, **kwargs)``, which runs the model's own code (``build()``, ``equations()``).
+
+    An exception of that code that is not an acausal error becomes a one-line
+    :class:`CommandError` (exit status 2) naming the class, the exception and
+    where in the user's code it was raised.
+    """
+    try:
+        return function(*args, **kwargs)
+    except AcausalError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - any failure of the user's model code
+        if _user_frame(exc, cls) is None:
+            raise  # not raised in the model's code: an internal error keeps its traceback
+        raise CommandError(f"cannot translate {cls.__name__}: {_describe_failure(exc, cls)}") from exc
+
+
+def _translate(model: Model, outputs=None, cache: bool = True):
+    """``translate(model, outputs)``, with a failure of the model's own code as a CommandError."""
+    from ..compiler.translate import translate
+
+    return _model_code(type(model), translate, model, outputs, cache=cache)
+
+
+def _describe_failure(exc: BaseException, cls: type) -> str:
+    """``RuntimeError: boom (model.py:4, in build)``: on one line, with the user's frame."""
+    text = " ".join(line.strip() for line in str(exc).splitlines() if line.strip())
+    text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+    frame = _user_frame(exc, cls)
+    if frame is not None:
+        text += f" ({_show_path(frame.filename)}:{frame.lineno}, in {frame.name})"
+    return text
+
+
+def _user_frame(exc: BaseException, cls: type):
+    """The innermost frame of ``exc`` in the file that defines ``cls``, else in any file
+    that is neither acausal's nor Python's nor an installed package's (None if none)."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    module_file = getattr(sys.modules.get(cls.__module__), "__file__", None)
+    if module_file:
+        own = [f for f in frames if _resolve(f.filename) == _resolve(module_file)]
+        if own:
+            return own[-1]
+    system = [_resolve(p) for p in {sys.prefix, sys.base_prefix, sys.exec_prefix}]
+    system += _engine_folders()
+    for frame in reversed(frames):
+        if frame.filename.startswith("<"):
+            continue
+        path = _resolve(frame.filename)
+        if not any(path.is_relative_to(folder) for folder in system):
+            return frame
+    return None
+
+
+def _engine_folders() -> list[Path]:
+    """The folders of acausal and of the libraries installed with it."""
+    folders = [Path(__file__).resolve().parents[1]]
+    for name in ("acausal.library", "acausal.components"):
+        try:
+            spec = importlib.util.find_spec(name)
+        except (ImportError, ValueError):
+            continue
+        if spec is not None and spec.submodule_search_locations:
+            folders += [_resolve(p) for p in spec.submodule_search_locations]
+    return folders
+
+
+def _resolve(filename: str) -> Path:
+    try:
+        return Path(filename).resolve()
+    except (OSError, RuntimeError):
+        return Path(filename)
+
+
+def _show_path(filename: str) -> str:
+    """A file name relative to the current directory when it lies below it."""
+    try:
+        return str(_resolve(filename).relative_to(Path.cwd()))
+    except (ValueError, OSError):
+        return filename
+
+
+# ---------------------------------------------------------------------------
+# Output paths: checked before any work is done
+# ---------------------------------------------------------------------------
+
+
+def _unwritable(path: Path, folder: bool) -> str | None:
+    """Why ``path`` (a file to write, or a folder to write into) cannot be written; None if it can.
+
+    Nothing is created.  A missing folder is fine if the nearest existing
+    one above it is a writable folder (the command creates the rest).
+    """
+    if path.exists():
+        if folder:
+            if not path.is_dir():
+                return "it is not a directory"
+            if not os.access(path, os.W_OK | os.X_OK):
+                return "the directory is not writable"
+        else:
+            if path.is_dir():
+                return "it is a directory"
+            if not os.access(path, os.W_OK):
+                return "the file is not writable"
+        return None
+    above = path.parent
+    while not above.exists() and above.parent != above:
+        above = above.parent
+    if not above.exists():
+        return f"{above} does not exist"
+    if not above.is_dir():
+        return f"{above} is not a directory"
+    if not os.access(above, os.W_OK | os.X_OK):
+        return f"the directory {above} is not writable"
+    return None
+
+
+def _check_writable(path: Path, what: str, folder: bool = False) -> None:
+    """Raise a CommandError (exit status 2) if ``path`` cannot be written."""
+    why = _unwritable(path, folder)
+    if why is not None:
+        raise CommandError(f"cannot write {what} {path}: {why}")
+
+
+def _interrupted(result) -> bool:
+    """True for a result whose run was stopped by Ctrl-C (status -2, message "interrupted ...").
+
+    ``simulate()`` raises it attached to a KeyboardInterrupt, or returns it.
+    """
+    return getattr(result, "status", 0) == -2 or (
+        not getattr(result, "success", True)
+        and str(getattr(result, "message", "")).lower().startswith("interrupted"))
+
+
+def _end_time(result) -> str:
+    times = getattr(result, "time", ())
+    return f"t = {float(times[-1]):.6g}" if len(times) else "the start"
 
 
 # ---------------------------------------------------------------------------
@@ -249,11 +394,33 @@ def _simulate(model, **options):
     stop = experiment.stop_time if options.get("stop_time") is None else options["stop_time"]
     if not stop > start:
         raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
-    return simulate(model, **options)
+    # translated here, so that a failure of the model's own code is a model error (status 2)
+    translating = time.perf_counter()
+    translation = _translate(model, options.pop("outputs", None))
+    translating = time.perf_counter() - translating
+    try:
+        result = simulate(translation, **options)
+    except KeyboardInterrupt as exc:  # it may carry the partial result
+        _count_translation(getattr(exc, "result", None), translating)
+        raise
+    _count_translation(result, translating)
+    return result
+
+
+def _count_translation(result, seconds: float) -> None:
+    """Add the translation done before ``simulate()`` to the result's ``translate_seconds``."""
+    stats = getattr(result, "stats", None)
+    if isinstance(stats, dict) and "translate_seconds" in stats:
+        stats["translate_seconds"] += seconds  # as if simulate() had translated the model
 
 
 def _cmd_simulate(args) -> int:
+    if args.out:
+        _check_writable(Path(args.out), "--out")
     cls = load_model_class(args.model)
+    out = Path(args.out) if args.out else Path(f"{cls.__name__}.csv")
+    if not args.out:
+        _check_writable(out, "the result")
     model = _instantiate(cls)
     signals = None
     if args.signals is not None:
@@ -263,7 +430,7 @@ def _cmd_simulate(args) -> int:
     if signals is not None:
         from ..compiler.flatten import flatten
 
-        known = {v.name for v in flatten(model).variables}
+        known = {v.name for v in _model_code(cls, flatten, model).variables}
         missing = [s for s in signals if s not in known]
         if missing:
             result = None
@@ -275,15 +442,31 @@ def _cmd_simulate(args) -> int:
                 hints.append(f"{m}" + (f" (did you mean {', '.join(close)}?)" if close else ""))
             raise CommandError(f"not a variable of {cls.__name__}: {'; '.join(hints)}")
     # with --signals only what those signals need is computed (effects on demand)
-    result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
-                       interval=args.interval, method=args.method, rtol=args.rtol, atol=args.atol,
-                       outputs=signals)
-    out = Path(args.out) if args.out else Path(f"{cls.__name__}.csv")
-    if out.parent != Path(""):
-        out.parent.mkdir(parents=True, exist_ok=True)
-    result.to_csv(out, signals)
+    try:
+        result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
+                           interval=args.interval, method=args.method, rtol=args.rtol,
+                           atol=args.atol, outputs=signals)
+    except KeyboardInterrupt as exc:
+        # Ctrl-C: simulate() may attach the result computed until then
+        result = getattr(exc, "result", None)
+        if result is None:
+            print("acausal simulate: interrupted; nothing written", file=sys.stderr)
+            return 130
+    try:
+        if out.parent != Path(""):
+            out.parent.mkdir(parents=True, exist_ok=True)
+        result.to_csv(out, signals)
+    except OSError as exc:
+        print(result.summary())
+        print(f"acausal simulate: error: cannot write {out}: {exc.strerror or exc}; "
+              f"the result was not saved", file=sys.stderr)
+        return 1
     print(result.summary())
     print(f"wrote {out}")
+    if _interrupted(result):
+        print(f"acausal simulate: interrupted at {_end_time(result)}; {out} holds the result "
+              f"up to then", file=sys.stderr)
+        return 130
     if not result.success:
         print(f"error: the simulation of {cls.__name__} failed: {result.message}\n"
               f"  (the CSV holds the result up to the failure)", file=sys.stderr)
@@ -292,15 +475,25 @@ def _cmd_simulate(args) -> int:
 
 
 def _cmd_compare(args) -> int:
+    if args.plot:
+        _check_writable(Path(args.plot), "the plots into", folder=True)
     statuses = []
     for model in args.models:
         if len(args.models) > 1:
             print(f"== {model}")
-        statuses.append(_compare_one(args, model, len(args.models) > 1))
+        try:
+            statuses.append(_compare_one(args, model, len(args.models) > 1))
+        except KeyboardInterrupt:
+            print(f"acausal compare: interrupted while comparing {model}", file=sys.stderr)
+            statuses.append(130)
+        if statuses[-1] == 130:
+            break
     if len(args.models) > 1:
         passed = sum(s == 0 for s in statuses)
-        print(f"== {passed} of {len(statuses)} models match their reference results")
-    return max(statuses)
+        left = len(args.models) - len(statuses)
+        print(f"== {passed} of {len(args.models)} models match their reference results"
+              + (f" (interrupted; {left} not compared)" if left else ""))
+    return 130 if 130 in statuses else max(statuses)
 
 
 def _compare_one(args, model_spec: str, several: bool) -> int:
@@ -318,21 +511,36 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
     if rtol is None:
         tolerance = getattr(experiment, "tolerance", None)
         rtol = min(COMPARE_RTOL, tolerance) if tolerance else COMPARE_RTOL
-    result = _simulate(model, method=args.method, rtol=rtol)
+    try:
+        result = _simulate(model, method=args.method, rtol=rtol)
+    except KeyboardInterrupt as exc:
+        result = getattr(exc, "result", None)  # Ctrl-C, perhaps with the result until then
+        if result is None:
+            raise
     print(result.summary())
+    if _interrupted(result):
+        print(f"error: the simulation of {cls.__name__} was interrupted at {_end_time(result)}; "
+              f"not compared", file=sys.stderr)
+        return 130
     comparison = compare_signals(reference, result.time, result.columns)
     print(comparison.table())
+    plotted = True
     if args.plot:
         folder = Path(args.plot) / cls.__name__ if several else Path(args.plot)
-        folder.mkdir(parents=True, exist_ok=True)
-        for name in reference.compared:
-            if name not in result:
-                print(f"not plotted (missing from the result): {name}")
-                continue
-            path = folder / f"{_file_safe(name)}.png"
-            plot_signal(reference, name, result.time, result.columns, path)
-            print(f"wrote {path}")
-    ok = comparison.passed and result.success
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            for name in reference.compared:
+                if name not in result:
+                    print(f"not plotted (missing from the result): {name}")
+                    continue
+                path = folder / f"{_file_safe(name)}.png"
+                plot_signal(reference, name, result.time, result.columns, path)
+                print(f"wrote {path}")
+        except OSError as exc:
+            print(f"error: cannot write the plots into {folder}: {exc.strerror or exc}",
+                  file=sys.stderr)
+            plotted = False
+    ok = comparison.passed and result.success and plotted
     if not result.success:
         print(f"error: the simulation of {cls.__name__} failed: {result.message}", file=sys.stderr)
     elif not comparison.passed:
@@ -345,10 +553,20 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
 def _cmd_explain(args) -> int:
     from .explain import explain
 
+    if args.out:
+        _check_writable(Path(args.out), "the pictures into", folder=True)
     cls = load_model_class(args.model)
     model = _instantiate(cls)
     out = Path(args.out) if args.out else Path.cwd()
-    explanation = explain(model, out_dir=out)
+    if not args.out:
+        _check_writable(out, "the pictures into", folder=True)
+    translation = _translate(model, cache=False)
+    try:
+        explanation = explain(translation, out_dir=out)
+    except OSError as exc:
+        print(f"acausal explain: error: cannot write the pictures into {out}: "
+              f"{exc.strerror or exc}", file=sys.stderr)
+        return 1
     print(explanation.text, end="")
     print()
     for path in explanation.pictures:

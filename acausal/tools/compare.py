@@ -82,7 +82,9 @@ import importlib.util
 import math
 import os
 import re
+import stat
 import textwrap
+import zlib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -131,6 +133,17 @@ _BUNDLED_HINT = (
 )
 
 CheckAt = Literal["result", "reference", "both"]
+
+#: Largest reference CSV file read, in bytes (of a ``.csv.gz``: decompressed).
+_MAX_CSV_BYTES = 512 * 2**20
+#: Largest ``comparisonSignals.txt`` or ``creation.txt`` read, in bytes.
+_MAX_TEXT_BYTES = 2**20
+#: Longest line of a reference CSV file, in bytes (a MAP-LIB line holds a few hundred).
+_MAX_LINE_BYTES = 2**20
+#: How far the CSV's first and last time may lie from creation.txt's StartTime and
+#: StopTime, relative to ``max(StopTime - StartTime, |StartTime|, |StopTime|)``.
+_TIME_RANGE_RTOL = 1e-6
+_TEXT_HINT = "a reference file is UTF-8 text as in MAP-LIB_ReferenceResults; download the folder again"
 
 
 # ---------------------------------------------------------------------------
@@ -276,6 +289,7 @@ def load_reference(modelica_class: str, directory: str | Path | None = None) -> 
             hint="the reference folder is inconsistent; download it again",
         )
     settings = _read_creation(folder / "creation.txt")
+    _check_time_range(csv_path, folder / "creation.txt", time, settings)
 
     return Reference(
         modelica_class=modelica_class,
@@ -332,27 +346,40 @@ def _read_csv(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     The first non-comment line holds the (possibly quoted) column names, one
     of which must be ``time``; every further non-empty line holds one number
     per column.  Lines starting with ``#`` are comments, as in csv-compare.
-    A ``.gz`` file is decompressed while it is read.
+    A ``.gz`` file is decompressed while it is read.  The file must be a
+    regular file (a symbolic link to one is fine) of UTF-8 text, at most
+    ``_MAX_CSV_BYTES`` long (decompressed) with lines of at most
+    ``_MAX_LINE_BYTES``.
     """
     compressed = path.name.endswith(".gz")
-    try:
-        with (gzip.open(path, "rt", newline="", encoding="utf-8-sig") if compressed
-              else path.open(newline="", encoding="utf-8-sig")) as stream:
-            lines = [
-                (number, row)
-                for number, row in enumerate(csv.reader(stream), start=1)
-                if row and not row[0].lstrip().startswith("#") and any(cell.strip() for cell in row)
-            ]
-    except (gzip.BadGzipFile, EOFError) as error:
-        raise ReferenceDataError(
-            f"{path} cannot be decompressed: {error}",
-            hint="the file may be truncated or not gzip-compressed; copy it again",
-        ) from None
+    lines = []
+    with _open_regular(path, _MAX_CSV_BYTES) as raw:
+        try:
+            with (gzip.GzipFile(fileobj=raw, mode="rb") if compressed else raw) as stream:
+                reader = csv.reader(_csv_lines(path, stream, compressed))
+                for row in reader:
+                    if row and not row[0].lstrip().startswith("#") and any(cell.strip() for cell in row):
+                        lines.append((reader.line_num, row))
+        except csv.Error as error:
+            raise ReferenceDataError(
+                f"{path}, line {reader.line_num}: {error}",
+                hint="a reference result is a comma-separated file with one short line per time point",
+            ) from None
+        except (gzip.BadGzipFile, EOFError, zlib.error) as error:
+            raise ReferenceDataError(
+                f"{path} cannot be decompressed: {error}",
+                hint="the file may be truncated or not gzip-compressed; copy it again",
+            ) from None
+        except OSError as error:
+            raise ReferenceDataError(f"{path} cannot be read: {error}", hint=_SOURCE_HINT) from None
     if not lines:
         raise ReferenceDataError(f"{path} is empty", hint="the file should start with a header line")
 
     header_line, header = lines[0]
     names = [cell.strip().strip("'\"") for cell in header]
+    spelled = [name for name in names if name.lower() == "time"]
+    if "time" not in names and len(spelled) == 1:
+        names[names.index(spelled[0])] = "time"  # newer Dymola versions write "Time"
     if "" in names:
         raise ReferenceDataError(
             f"{path}, line {header_line}: column {names.index('') + 1} has no name",
@@ -433,12 +460,12 @@ def _parse_numbers(path: Path, names: list[str], rows: list[tuple[int, list[str]
 
 def _read_comparison_signals(path: Path) -> tuple[str, ...]:
     """Read ``comparisonSignals.txt``: ``time`` on the first line, then one name per line."""
-    if not path.is_file():
+    if not path.exists():
         raise ReferenceDataError(
             f"{path} not found; it lists the signals to compare",
             hint=_SOURCE_HINT,
         )
-    names = [line.strip() for line in path.read_text(encoding="utf-8-sig").splitlines()]
+    names = [line.strip() for line in _read_text(path).splitlines()]
     names = [name for name in names if name]
     if names and names[0] == "time":
         names = names[1:]
@@ -460,13 +487,13 @@ def _read_creation(path: Path) -> dict[str, float]:
     The file holds ``Key=value`` lines (comments after ``//``) among other
     text; StartTime and StopTime are required, Interval and Tolerance optional.
     """
-    if not path.is_file():
+    if not path.exists():
         raise ReferenceDataError(
             f"{path} not found; it holds the experiment settings (StartTime, StopTime, ...)",
             hint=_SOURCE_HINT,
         )
     settings: dict[str, float] = {}
-    for number, line in enumerate(path.read_text(encoding="utf-8-sig").splitlines(), start=1):
+    for number, line in enumerate(_read_text(path).splitlines(), start=1):
         match = _SETTING.match(line)
         if match is None:
             continue
@@ -478,6 +505,11 @@ def _read_creation(path: Path) -> dict[str, float]:
                 f"{path}, line {number}: {key} = {text!r} is not a number",
                 hint="expected a line such as 'StopTime=1 // from model'",
             ) from None
+        if not math.isfinite(settings[key]):
+            raise ReferenceDataError(
+                f"{path}, line {number}: {key} = {text!r} is not a finite number",
+                hint="expected a line such as 'StopTime=1 // from model'",
+            )
     missing = [key for key in ("StartTime", "StopTime") if key not in settings]
     if missing:
         raise ReferenceDataError(
@@ -485,6 +517,161 @@ def _read_creation(path: Path) -> dict[str, float]:
             hint="expected lines such as 'StartTime=0' and 'StopTime=1'",
         )
     return settings
+
+
+def _check_time_range(csv_path: Path, creation_path: Path, time: np.ndarray,
+                      settings: Mapping[str, float]) -> None:
+    """The CSV's time column must run from creation.txt's StartTime to its StopTime.
+
+    Within ``_TIME_RANGE_RTOL`` of ``max(StopTime - StartTime, |StartTime|,
+    |StopTime|)`` (as csv-compare's time base, so that times written in single
+    precision still pass); a mismatch means a truncated file, or files of
+    different runs.
+    """
+    start, stop = settings["StartTime"], settings["StopTime"]
+    if not stop > start:
+        raise ReferenceDataError(
+            f"{creation_path}: StopTime = {stop!r} is not after StartTime = {start!r}",
+            hint="creation.txt is malformed; download the folder again",
+        )
+    tolerance = _TIME_RANGE_RTOL * max(stop - start, abs(start), abs(stop))
+    first, last = float(time[0]), float(time[-1])
+    if abs(first - start) > tolerance or abs(last - stop) > tolerance:
+        raise ReferenceDataError(
+            f"{csv_path}: the time column runs from {first!r} to {last!r}, but {creation_path} "
+            f"gives StartTime = {start!r} and StopTime = {stop!r}",
+            hint="the CSV file may be truncated, or the files come from different runs; "
+                 "download the class folder again",
+        )
+
+
+# ---------------------------------------------------------------------------
+# Reading reference files safely
+# ---------------------------------------------------------------------------
+
+
+def _open_regular(path: Path, limit: int):
+    """``path`` opened for reading bytes, if it is a regular file of at most ``limit`` bytes.
+
+    Symbolic links are followed.  A FIFO, a device (``/dev/zero``), a directory
+    or a socket is refused before it is read (a FIFO is opened without
+    blocking, and checked again once open).
+    """
+    try:
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):
+            raise _not_regular(path, info.st_mode)
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    except OSError as error:
+        raise ReferenceDataError(f"{path} cannot be read: {error.strerror or error}",
+                                 hint=_SOURCE_HINT) from None
+    try:
+        info = os.fstat(fd)  # the file opened may not be the one examined
+        if not stat.S_ISREG(info.st_mode):
+            raise _not_regular(path, info.st_mode)
+        if info.st_size > limit:
+            raise ReferenceDataError(
+                f"{path} is {_size(info.st_size)} long; a reference file of this kind may have "
+                f"at most {_size(limit)}",
+                hint="check that the reference folder holds reference results and nothing else",
+            )
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def _not_regular(path: Path, mode: int) -> ReferenceDataError:
+    kinds = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+             (stat.S_ISSOCK, "a socket"))
+    kind = next((text for test, text in kinds if test(mode)), "not a regular file")
+    link = f" (a symbolic link to {os.path.realpath(path)})" if os.path.islink(path) else ""
+    return ReferenceDataError(
+        f"{path}{link} is not a regular file: it is {kind}",
+        hint="a reference file must be a regular file (a symbolic link to one is fine)",
+    )
+
+
+def _size(size: int) -> str:
+    return f"{size / 2**20:.3g} MiB" if size >= 2**20 else f"{size} bytes"
+
+
+def _read_text(path: Path, limit: int | None = None) -> str:
+    """A small text file (``comparisonSignals.txt``, ``creation.txt``), checked and decoded."""
+    limit = _MAX_TEXT_BYTES if limit is None else limit
+    with _open_regular(path, limit) as stream:
+        try:
+            data = stream.read(limit + 1)
+        except OSError as error:
+            raise ReferenceDataError(f"{path} cannot be read: {error}", hint=_SOURCE_HINT) from None
+    if len(data) > limit:
+        raise ReferenceDataError(f"{path} is longer than {_size(limit)}",
+                                 hint="check that the reference folder holds reference results")
+    return _decode(path, data, 1)
+
+
+def _csv_lines(path: Path, stream, compressed: bool):
+    """The lines of a CSV file as text, each checked (length, NUL bytes, UTF-8), with the total size.
+
+    A line broken by a lone carriage return (old Mac files) is split there,
+    as Python's universal newlines would.
+    """
+    total = 0
+    number = 0
+    while True:
+        raw = stream.readline(_MAX_LINE_BYTES + 1)
+        if not raw:
+            return
+        number += 1
+        total += len(raw)
+        if total > _MAX_CSV_BYTES:
+            raise ReferenceDataError(
+                f"{path} holds more than {_size(_MAX_CSV_BYTES)}{' decompressed' if compressed else ''}, "
+                f"more than a reference file may have",
+                hint="check that the reference folder holds reference results and nothing else",
+            )
+        if len(raw) > _MAX_LINE_BYTES:
+            raise ReferenceDataError(
+                f"{path}, line {number}: longer than {_size(_MAX_LINE_BYTES)}",
+                hint="a reference result has one short line per time point; this is not one",
+            )
+        text = _decode(path, raw, number)
+        if "\r" in text.rstrip("\r\n"):
+            pieces = _LINE_BREAK.findall(text)
+            number += len(pieces) - 1
+            yield from pieces
+        else:
+            yield text
+
+
+_LINE_BREAK = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
+
+
+def _decode(path: Path, data: bytes, first_line: int) -> str:
+    """``data`` (lines of ``path`` from ``first_line`` on) as text: UTF-8, a BOM allowed at the start."""
+    if first_line == 1:
+        if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+            raise ReferenceDataError(f"{path} is UTF-16 text, not UTF-8",
+                                     hint="convert it to UTF-8 (e.g. iconv -f UTF-16 -t UTF-8)")
+        if data.startswith(b"\xef\xbb\xbf"):
+            data = data[3:]
+    nul = data.find(b"\0")
+    if nul >= 0:
+        line = first_line + data.count(b"\n", 0, nul)
+        raise ReferenceDataError(
+            f"{path}, line {line}: NUL byte; this is a binary (or UTF-16) file, not UTF-8 text",
+            hint=_TEXT_HINT,
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        line = first_line + data.count(b"\n", 0, error.start)
+        raise ReferenceDataError(
+            f"{path}, line {line}: not UTF-8 text (byte 0x{data[error.start]:02x}); "
+            f"the file may be binary or in another encoding",
+            hint=_TEXT_HINT,
+        ) from None
 
 
 # ---------------------------------------------------------------------------
