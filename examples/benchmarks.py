@@ -46,6 +46,10 @@ module (with ``examples/`` on ``sys.path``) and uses:
     without heat ports) and the words describing it in the table and plot.
 ``COMMAND_TARGETS``
     The examples whose ``acausal compare`` command is timed in a fresh process.
+``soak_case()``
+    ``(name, make)`` of the model the *soak* section simulates again and
+    again in one process (``CoupledClutches``: several discrete states, so
+    every run compiles or reuses more than one system).
 ``EXACT_ERROR_TEXT``
     How the exact cases' *error* is measured, for the bench's table.
 
@@ -298,3 +302,10 @@ SCALING_SIZE_LABEL = "N (units Inertia–BearingFriction–SpringDamper)"
 #: ``(case, example file)``: the ``acausal compare`` commands timed in a fresh process.
 COMMAND_TARGETS = (("First", "examples/first.py"), ("TwoMasses", "examples/two_masses.py"),
                    ("CoupledClutches", "examples/coupled_clutches.py"))
+
+
+def soak_case() -> tuple:
+    """``(name, make)``: the model the soak section simulates many times in one process."""
+    from acausal.tools.bench import example_factory
+
+    return "CoupledClutches", example_factory("coupled_clutches", "CoupledClutches")

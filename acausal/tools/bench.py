@@ -1,6 +1,7 @@
 """Work-precision benchmark: accuracy against cost for every adaptive method.
 
-``acausal bench [--quick] [--out DIR] [--methods M,...] [--rtols R,...]``
+``acausal bench [--quick] [--out DIR] [--methods M,...] [--rtols R,...] [--only SECTION,...]
+[--soak-runs N]``
 (or ``python -m acausal.tools.bench ...``)
 
 This module is the machinery: it translates and simulates, times, compares,
@@ -10,10 +11,12 @@ solutions and the words that describe them -- is defined in
 the examples folder on ``sys.path``.  The suite provides ``cases()`` (the
 work-precision cases as :class:`Case`, in table order), ``QUICK_CASES``,
 ``EXACT_ERROR_TEXT``, ``effects_cases(n_units)``, ``scaling_model(n,
-stop_time)`` with ``SCALING_DESCRIPTION`` and ``SCALING_SIZE_LABEL``, and
-``COMMAND_TARGETS``.
+stop_time)`` with ``SCALING_DESCRIPTION`` and ``SCALING_SIZE_LABEL``,
+``COMMAND_TARGETS`` and ``soak_case()``.
 
-Four sections, each written into ``--out`` (default ``bench-out``) as
+Five sections (``--only`` picks some: ``work-precision``, ``effects``,
+``commands``, ``scaling``, ``soak``; the files of the others are then left
+as they are), each written into ``--out`` (default ``bench-out``) as
 Markdown and CSV, and printed at the end:
 
 1. **Work-precision** (``bench.md``, ``bench.csv``, ``work_precision.png``;
@@ -54,6 +57,15 @@ Markdown and CSV, and printed at the end:
    suite's ``scaling_model`` for growing ``N``; translation stage times and
    a short simulation; the growth exponent ``b`` of ``time = a N^b``.
 
+5. **Soak** (``soak.md``, ``soak.csv``, ``soak.png``; :func:`run_soak`):
+   the suite's ``soak_case()`` simulated 200 times (21 with ``--quick``,
+   ``--soak-runs N``) in this process, a fresh model instance every run,
+   *cached* (``simulate(model)``, the translation cache reusing the compiled
+   systems) and *uncached* (``simulate(model, cache=False)``).  Per run the
+   wall time and the resident set size; a mode is *flat* when the median
+   time of the last 10 runs is within 1.5x of that of runs 2-11 and the RSS
+   grows less than 20 MB per 100 runs after run 10.
+
 The timings measure whole ``simulate`` calls (setup of the discrete
 evaluator, integration, event handling and building the result on the
 output grid) by ``time.perf_counter``.
@@ -83,6 +95,7 @@ __all__ = [
     "ADAPTIVE_METHODS", "QUICK_RTOLS", "FULL_RTOLS", "Case", "RunRecord", "CaseTranslation", "CaseRun",
     "BenchResult", "cases", "get_case", "run_case", "run_effects", "scaling_point", "run_scaling",
     "run_bench", "main", "suite", "reference_case", "example_factory", "fit_power_law",
+    "SECTIONS", "SoakRun", "SoakSummary", "SoakResult", "run_soak", "write_soak",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -100,6 +113,8 @@ SCALING_BUDGET_SECONDS = 180.0
 SLOW_RUN_SECONDS = 5.0
 #: Smallest error shown in the work-precision plots (exact results are clipped to it).
 ERROR_FLOOR = 1e-16
+#: The sections of the bench, as ``acausal bench --only`` names them.
+SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak")
 
 
 def _ensure_path() -> None:
@@ -997,7 +1012,7 @@ def _effects_markdown(records: Sequence[EffectsRecord]) -> str:
              r.max_abs_difference, r.max_rel_difference, r.status) for r in records]
     table = _md_table(("model", "requested output", "rtol", "states kept / total",
                        "derivative steps kept / full", "all steps kept / full", "sim full [s]",
-                       "sim pruned [s]", "speed-up", "max |Δ output|", "max |Δ| / max |y|", "status"), rows)
+                       "sim pruned [s]", "speed-up", "max \\|Δ output\\|", "max \\|Δ\\| / max \\|y\\|", "status"), rows)
     return "\n".join([
         "# Effects on demand", "",
         "`simulate(..., outputs=[one speed])` against the full model: states and equations that cannot "
@@ -1128,6 +1143,341 @@ def _write_dict_csv(path: Path, rows: Sequence[dict]) -> None:
 
 
 # ---------------------------------------------------------------------------
+# Soak
+# ---------------------------------------------------------------------------
+
+#: Runs per mode of the soak section (``--quick`` and full); 21: runs 2-11 and 12-21 are the windows.
+QUICK_SOAK_RUNS = 21
+FULL_SOAK_RUNS = 200
+#: ``gc.collect()`` before the RSS reading of every this many runs (and of the last).
+SOAK_GC_EVERY = 10
+#: Runs in the first and last windows compared, and the run from which the RSS growth is fitted.
+SOAK_WINDOW = 10
+#: A mode is flat when last-window median / first-window median <= this ...
+SOAK_TIME_RATIO = 1.5
+#: ... and the RSS grows less than this many MB per 100 runs after run ``SOAK_WINDOW``.
+SOAK_RSS_MB_PER_100 = 20.0
+#: ``cached``: ``simulate(model)``; ``uncached``: ``simulate(model, cache=False)``.
+SOAK_MODES = ("cached", "uncached")
+
+
+def _current_rss_mb() -> float:
+    """The process's resident set size now in MB (``/proc/self/statm``; without it the peak)."""
+    try:
+        with open("/proc/self/statm") as handle:
+            pages = int(handle.read().split()[1])
+        return pages * os.sysconf("SC_PAGE_SIZE") / 2 ** 20
+    except (OSError, ValueError, IndexError, AttributeError):  # pragma: no cover - not on Linux
+        return _rss_mb()
+
+
+@dataclass
+class SoakRun:
+    """One run of the soak: a fresh model instance simulated in one mode."""
+
+    mode: str
+    run: int
+    wall_seconds: float = math.nan  #: building the model instance + the simulate call
+    build_seconds: float = math.nan  #: building the model instance
+    cpu_seconds: float = math.nan  #: this process's CPU time over the run (less sensitive to other load)
+    translate_seconds: float = math.nan  #: the simulate call's translation (``stats``)
+    simulate_seconds: float = math.nan  #: the simulate call's integration (``stats``)
+    rss_mb: float = math.nan  #: resident set size after the run
+    collected: bool = False  #: ``gc.collect()`` ran before the RSS reading
+    status: int = -1
+    events: int = 0
+    compiled_modes: int = 0
+    #: max |y - y_run1| over every column on the output grid (inf: the grids differ)
+    max_difference: float = math.nan
+    message: str = ""
+
+
+@dataclass
+class SoakSummary:
+    """One mode of the soak, summed up."""
+
+    mode: str
+    runs: int
+    failed: int
+    median_seconds: float
+    window: int  #: runs in the first and last windows
+    first_median_seconds: float  #: runs 2 .. window+1
+    last_median_seconds: float  #: the last ``window`` runs
+    time_ratio: float  #: last / first
+    cpu_ratio: float  #: the same for the CPU time
+    median_translate_seconds: float
+    rss_from_run: int  #: the first RSS reading (after gc.collect()) of the growth fit
+    rss_start_mb: float  #: at ``rss_from_run``
+    rss_end_mb: float
+    rss_growth_mb_per_100: float  #: least-squares slope of the collected readings from ``rss_from_run``
+    max_difference: float
+    flat: bool
+    reasons: str = ""  #: why the mode is not flat
+
+
+@dataclass
+class SoakResult:
+    case: str
+    n_runs: int
+    runs: list[SoakRun]
+    summaries: list[SoakSummary]
+    gc_every: int
+    gc_threshold: tuple
+    wall_seconds: float
+
+    @property
+    def flat(self) -> bool:
+        return bool(self.summaries) and all(s.flat for s in self.summaries)
+
+
+def _result_difference(reference: tuple, result) -> float:
+    """max |y - y_ref| over the columns of ``reference = (time, columns)`` (inf if the grids differ)."""
+    time_ref, columns_ref = reference
+    if len(result.time) != len(time_ref) or set(result.columns) != set(columns_ref):
+        return math.inf
+    worst = float(np.max(np.abs(np.asarray(result.time, float) - time_ref))) if len(time_ref) else 0.0
+    for name, ref in columns_ref.items():
+        y = np.asarray(result.columns[name], dtype=float)
+        if y.shape != ref.shape:
+            return math.inf
+        diff = np.abs(y - ref)
+        both_nan = np.isnan(y) & np.isnan(ref)
+        if np.any(np.isnan(diff) & ~both_nan):
+            return math.inf
+        if diff.size and not np.all(both_nan):
+            worst = max(worst, float(np.nanmax(diff)))
+    return worst
+
+
+def _soak_mode(mode: str, make: Callable[[], Model], n_runs: int, gc_every: int,
+               log: Callable[[str], None]) -> list[SoakRun]:
+    from ..runtime.simulate import simulate
+
+    rows: list[SoakRun] = []
+    reference = None
+    gc.collect()
+    for i in range(1, n_runs + 1):
+        row = SoakRun(mode, i)
+        try:
+            c0, t0 = time.process_time(), time.perf_counter()
+            model = make()
+            t1 = time.perf_counter()
+            result = simulate(model, cache=(mode == "cached"))
+            t2, c2 = time.perf_counter(), time.process_time()
+            row.wall_seconds, row.build_seconds, row.cpu_seconds = t2 - t0, t1 - t0, c2 - c0
+            row.translate_seconds = float(result.stats.get("translate_seconds", math.nan))
+            row.simulate_seconds = float(result.stats.get("simulate_seconds", math.nan))
+            row.status, row.message = result.status, result.message
+            row.events, row.compiled_modes = len(result.events), int(result.compiled_modes)
+            if result.status == 0:
+                if reference is None:  # copies of the arrays only: nothing of the translation is kept
+                    reference = (np.array(result.time, dtype=float),
+                                 {k: np.array(v, dtype=float) for k, v in result.columns.items()})
+                row.max_difference = _result_difference(reference, result)
+            del model, result
+        except Exception as exc:  # noqa: BLE001 - a bench never crashes on a model
+            row.status, row.message = -1, f"{type(exc).__name__}: {exc}"
+        row.collected = i % gc_every == 0 or i == n_runs or row.status != 0
+        if row.collected:
+            gc.collect()
+        row.rss_mb = _current_rss_mb()
+        rows.append(row)
+        if row.collected:
+            log(f"  soak {mode:8s} run {i:4d}: {row.wall_seconds:.3f} s, RSS {row.rss_mb:.1f} MB"
+                + ("" if row.status == 0 else f" FAILED: {row.message[:80]}"))
+        if row.status != 0:  # a failing model measures nothing: the mode stops
+            break
+    return rows
+
+
+def _soak_summary(mode: str, rows: Sequence[SoakRun], gc_every: int) -> SoakSummary:
+    n = len(rows)
+    times = np.array([r.wall_seconds for r in rows], dtype=float)
+    failed = sum(r.status != 0 for r in rows)
+    window = max(1, min(SOAK_WINDOW, (n - 1) // 2))
+    first = float(np.median(times[1:1 + window])) if n > 1 else math.nan
+    last = float(np.median(times[-window:])) if n > 1 else math.nan
+    ratio = last / first if first > 0 else math.nan
+    cpu = np.array([r.cpu_seconds for r in rows], dtype=float)
+    cpu_first = float(np.median(cpu[1:1 + window])) if n > 1 else math.nan
+    cpu_ratio = float(np.median(cpu[-window:])) / cpu_first if cpu_first > 0 else math.nan
+    readings = [r for r in rows if r.collected and math.isfinite(r.rss_mb)]
+    start_run = min(SOAK_WINDOW, max(1, n // 2))
+    fitted = [r for r in readings if r.run >= start_run]
+    if len(fitted) >= 2:
+        slope = float(np.polyfit([r.run for r in fitted], [r.rss_mb for r in fitted], 1)[0])
+        growth = 100.0 * slope
+    else:
+        growth = math.nan
+    differences = [r.max_difference for r in rows if r.status == 0]
+    reasons = []
+    if failed:
+        reasons.append(f"{failed} run failed")
+    if not ratio <= SOAK_TIME_RATIO:
+        reasons.append(f"time grew {ratio:.2f}x (limit {SOAK_TIME_RATIO:g}x)")
+    if not growth < SOAK_RSS_MB_PER_100:
+        reasons.append(f"RSS grew {growth:.1f} MB per 100 runs (limit {SOAK_RSS_MB_PER_100:g})")
+    return SoakSummary(
+        mode, n, failed, float(np.median(times)) if n else math.nan, window, first, last, ratio, cpu_ratio,
+        float(np.nanmedian([r.translate_seconds for r in rows])) if n else math.nan,
+        fitted[0].run if fitted else 0, fitted[0].rss_mb if fitted else math.nan,
+        readings[-1].rss_mb if readings else math.nan, growth,
+        max(differences) if differences else math.nan, not reasons, "; ".join(reasons))
+
+
+def run_soak(n_runs: int = FULL_SOAK_RUNS, make: Callable[[], Model] | None = None, name: str | None = None,
+             modes: Sequence[str] = SOAK_MODES, gc_every: int = SOAK_GC_EVERY,
+             log: Callable[[str], None] | None = None) -> SoakResult:
+    """Simulate one model ``n_runs`` times in this process in each of ``modes``, recording time and RSS.
+
+    ``make`` (default: the suite's ``soak_case()``) builds a fresh model
+    instance for every run.  *cached*: ``simulate(model)``, the in-process
+    translation cache reusing the compiled systems of the first run;
+    *uncached*: ``simulate(model, cache=False)``, a fresh translation and
+    compilation every run.  Each run records its wall time (building the
+    instance and the simulate call) and the resident set size after it;
+    every ``gc_every``-th run (and the last) the RSS is read after
+    ``gc.collect()``.  A failing run ends its mode.
+    """
+    log = log or (lambda _s: None)
+    if make is None:
+        default_name, make = suite().soak_case()
+        name = name or default_name
+    name = name or getattr(make, "__name__", "model")
+    for mode in modes:
+        if mode not in SOAK_MODES:
+            raise ValueError(f"unknown soak mode {mode!r}; choose from {', '.join(SOAK_MODES)}")
+    if n_runs < 2:
+        raise ValueError("a soak needs at least 2 runs per mode")
+    wall0 = time.perf_counter()
+    rows: list[SoakRun] = []
+    summaries = []
+    for mode in modes:
+        mine = _soak_mode(mode, make, n_runs, max(1, int(gc_every)), log)
+        rows += mine
+        summaries.append(_soak_summary(mode, mine, gc_every))
+        s = summaries[-1]
+        log(f"  soak {mode}: median {s.median_seconds:.3f} s/run, last/first {s.time_ratio:.2f} "
+            f"(CPU {s.cpu_ratio:.2f}), "
+            f"RSS {s.rss_start_mb:.0f} -> {s.rss_end_mb:.0f} MB ({s.rss_growth_mb_per_100:+.1f} MB/100 runs), "
+            + ("flat" if s.flat else "NOT flat: " + s.reasons))
+    return SoakResult(name, n_runs, rows, summaries, gc_every, tuple(gc.get_threshold()),
+                      time.perf_counter() - wall0)
+
+
+def _soak_summary_table(soak: SoakResult) -> str:
+    rows = []
+    for s in soak.summaries:
+        rows.append((s.mode, s.runs, s.failed, s.median_seconds, s.median_translate_seconds,
+                     s.first_median_seconds, s.last_median_seconds, f"{s.time_ratio:.2f}", f"{s.cpu_ratio:.2f}",
+                     s.rss_start_mb, s.rss_end_mb, f"{s.rss_growth_mb_per_100:+.2f}", s.max_difference,
+                     "yes" if s.flat else f"**no**: {s.reasons}"))
+    w = soak.summaries[0].window if soak.summaries else SOAK_WINDOW
+    start = soak.summaries[0].rss_from_run if soak.summaries else SOAK_WINDOW
+    return _md_table(("mode", "runs", "failed", "median [s/run]", "median translate [s/run]",
+                      f"runs 2–{w + 1} median [s/run]", f"last {w} median [s/run]", "last / first",
+                      "last / first (CPU)", f"RSS at run {start} [MB]", "RSS at end [MB]", "RSS growth [MB / 100 runs]",
+                      "max Δ vs run 1", "flat"), rows)
+
+
+def _soak_markdown(soak: SoakResult) -> str:
+    if soak.flat:
+        verdict = (f"**Verdict: flat.** Both modes stay within the limits over {soak.n_runs} runs: "
+                   + "; ".join(f"{s.mode} last/first {s.time_ratio:.2f}, RSS {s.rss_growth_mb_per_100:+.1f} "
+                               f"MB per 100 runs" for s in soak.summaries) + ".")
+    else:
+        verdict = "**Verdict: not flat.** " + "; ".join(f"{s.mode}: {s.reasons}" for s in soak.summaries
+                                                        if not s.flat) + "."
+    w = soak.summaries[0].window if soak.summaries else SOAK_WINDOW
+    start = soak.summaries[0].rss_from_run if soak.summaries else SOAK_WINDOW
+    checkpoints = [r for r in soak.runs if r.run == 1 or r.collected]
+    rows = [(r.mode, r.run, r.wall_seconds, r.translate_seconds, r.simulate_seconds, r.rss_mb,
+             r.compiled_modes, r.events, r.max_difference,
+             "ok" if r.status == 0 else "FAILED: " + r.message.replace("|", "/")[:80]) for r in checkpoints]
+    return "\n".join([
+        "# Soak", "",
+        f"{soak.case} simulated {soak.n_runs} times in one process in each mode, one mode after the other "
+        "(" + ", ".join(s.mode for s in soak.summaries) + "), a fresh model instance every run:", "",
+        "- *cached*: `simulate(model)`. The in-process translation cache recognises the flat model (every "
+        "run flattens) and reuses the translation and the systems compiled so far; run 1 translates and "
+        "compiles (unless the process translated the same model before).",
+        "- *uncached*: `simulate(model, cache=False)`: every run flattens, partitions and compiles each "
+        "discrete state it visits afresh.", "",
+        "Time of a run: building the model instance and the `simulate` call (wall clock); *CPU*: this "
+        "process's CPU time over the same span (other load on the machine inflates it less than the wall "
+        "time; the verdict uses the wall time); *translate*: the call's translation time from its `stats`. "
+        "RSS: the process's resident set size "
+        f"(`/proc/self/statm`) after the run; runs {soak.gc_every}, {2 * soak.gc_every}, … and the last "
+        "are read after `gc.collect()`, and only those readings enter the RSS columns. Both modes share "
+        "the process, so the second starts from the RSS the first left. Collector thresholds "
+        f"{soak.gc_threshold}. *max Δ vs run 1*: the largest absolute difference of any column on the "
+        "output grid from the mode's first run (0: every run gave the same result).", "",
+        f"A mode is *flat* when the median time of the last {w} runs is within {SOAK_TIME_RATIO:g}× of the "
+        f"median of runs 2–{w + 1} (run 1 compiles) and the RSS grows less than "
+        f"{SOAK_RSS_MB_PER_100:g} MB per 100 runs after run {start} (least-squares slope through the "
+        "readings after `gc.collect()`). The machine may be shared: read the times as ratios within "
+        f"this run. Soak wall time {soak.wall_seconds:.1f} s.", "",
+        verdict, "",
+        _soak_summary_table(soak), "",
+        "## Runs (run 1 and every run read after `gc.collect()`; every run in soak.csv)", "",
+        _md_table(("mode", "run", "time [s]", "translate [s]", "simulate [s]", "RSS [MB]", "compiled modes",
+                   "events", "max Δ vs run 1", "status"), rows), ""])
+
+
+def _plot_soak(soak: SoakResult, path: Path) -> Path | None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if not soak.runs:
+        return None
+    colors = {"cached": "tab:blue", "uncached": "tab:orange"}
+    fig, (ax_t, ax_m) = plt.subplots(2, 1, figsize=(9.5, 7.0), sharex=True)
+    for s in soak.summaries:
+        mine = [r for r in soak.runs if r.mode == s.mode]
+        color = colors.get(s.mode, "black")
+        runs = [r.run for r in mine]
+        ax_t.plot(runs, [r.wall_seconds for r in mine], ".-", ms=3, lw=0.8, color=color,
+                  label=f"{s.mode} (last/first {s.time_ratio:.2f})")
+        if math.isfinite(s.first_median_seconds):
+            for level, lo, hi in ((s.first_median_seconds, 2, 1 + s.window),
+                                  (s.last_median_seconds, mine[-1].run - s.window + 1, mine[-1].run)):
+                ax_t.hlines(level, lo, hi, colors="black", linestyles="--", lw=2.0, zorder=5)
+        ax_m.plot(runs, [r.rss_mb for r in mine], "-", lw=0.8, color=color, alpha=0.5)
+        collected = [r for r in mine if r.collected]
+        ax_m.plot([r.run for r in collected], [r.rss_mb for r in collected], "o", ms=4, color=color,
+                  label=f"{s.mode} after gc.collect() ({s.rss_growth_mb_per_100:+.1f} MB / 100 runs)")
+    ax_t.set_yscale("log")
+    ax_t.set_ylabel("time per run [s]")
+    ax_t.set_title(f"Soak: {soak.case} simulated {soak.n_runs}× per mode in one process "
+                   f"({'flat' if soak.flat else 'NOT flat'}; black dashes: medians of the first and last windows)",
+                   fontsize=10)
+    ax_m.set_ylabel("resident set size [MB]")
+    ax_m.set_xlabel("run")
+    for ax in (ax_t, ax_m):
+        ax.grid(True, alpha=0.35)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def write_soak(soak: SoakResult, out_dir: Path) -> dict:
+    """Write ``soak.md``, ``soak.csv`` (one row per run) and ``soak.png`` into ``out_dir``; their paths."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    files = {"soak.md": out_dir / "soak.md", "soak.csv": out_dir / "soak.csv"}
+    files["soak.md"].write_text(_soak_markdown(soak))
+    _write_dict_csv(files["soak.csv"], [{"case": soak.case, **vars(r)} for r in soak.runs])
+    path = _plot_soak(soak, out_dir / "soak.png")
+    if path is not None:
+        files["soak.png"] = path
+    return files
+
+
+# ---------------------------------------------------------------------------
 # The whole bench
 # ---------------------------------------------------------------------------
 
@@ -1146,6 +1496,7 @@ class BenchResult:
     wall_seconds: float
     #: What was not measured, and why (reference results missing).
     skipped: dict = field(default_factory=dict)
+    soak: SoakResult | None = None
 
     @property
     def records(self) -> list[RunRecord]:
@@ -1160,7 +1511,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               rtols: Sequence[float] | None = None, *, case_names: Sequence[str] | None = None,
               effects: bool = True, scaling_sizes: Sequence[int] | None = None,
               repeats: int | None = None, isolate_scaling: bool = True,
-              commands: bool = True, verbose: bool = False) -> BenchResult:
+              commands: bool = True, soak_runs: int | None = None, verbose: bool = False) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -1171,10 +1522,11 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         3 repeats; scaling N = 10 ... 1000 within a time budget per point.
     methods, rtols : optional
         Override the adaptive methods and tolerances.
-    case_names, effects, scaling_sizes, repeats, commands :
-        Reduce the bench (tests): the cases to run, whether to run the
-        effects section, the scaling sizes (``()`` for none), whether to
-        time the fresh-process commands.
+    case_names, effects, scaling_sizes, repeats, commands, soak_runs :
+        Reduce the bench (tests): the cases to run (``()`` for none: no
+        ``bench.md`` then), whether to run the effects section, the scaling
+        sizes (``()`` for none), whether to time the fresh-process commands,
+        the soak's runs per mode (default 20 quick, 200 full; 0 for none).
     isolate_scaling : bool
         Run each scaling point in a fresh process (default), so that every
         translation starts with sympy's caches cold, as a user's first
@@ -1199,6 +1551,8 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     else:
         names = suite().QUICK_CASES if quick else tuple(all_cases)
     sizes = tuple(scaling_sizes) if scaling_sizes is not None else (QUICK_SCALING if quick else FULL_SCALING)
+    if soak_runs is None:
+        soak_runs = QUICK_SOAK_RUNS if quick else FULL_SOAK_RUNS
     log = (lambda s: print(s, flush=True)) if verbose else (lambda _s: None)
 
     sections: dict = {}
@@ -1249,6 +1603,12 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     points = run_scaling(sizes, isolate=isolate_scaling, log=log) if sizes else []
     if sizes:
         section("scaling", start)
+    soak = None
+    if soak_runs:
+        log("soak")
+        start = (time.perf_counter(), cpu())
+        soak = run_soak(soak_runs, log=log)
+        section("soak", start)
     fits = {}
     for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
                 "evaluator_setup", "initial_systems", "initialization", "simulate"):
@@ -1260,20 +1620,22 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     wall = time.perf_counter() - wall0
     files: dict = {}
     tables: dict = {}
-    bench_md = _bench_markdown(runs, quick, wall)
-    if skipped:
-        bench_md += "\n## Not measured\n\n" + "\n".join(f"- {what}: {why}" for what, why in skipped.items()) + "\n"
-    tables["bench"] = bench_md
-    files["bench.md"] = out_dir / "bench.md"
-    files["bench.md"].write_text(bench_md)
-    files["bench.csv"] = out_dir / "bench.csv"
-    _write_bench_csv(files["bench.csv"], runs)
-    for quantity, cost, fname in (("error", "sim_seconds", "work_precision.png"),
-                                  ("event_error", "sim_seconds", "work_precision_events.png"),
-                                  ("error", "rhs_evaluations", "work_precision_rhs.png")):
-        path = _plot_work_precision(runs, out_dir / fname, quantity, cost)
-        if path is not None:
-            files[fname] = path
+    if names:  # the work-precision section was asked for
+        bench_md = _bench_markdown(runs, quick, wall)
+        if skipped:
+            bench_md += ("\n## Not measured\n\n" + "\n".join(f"- {what}: {why}" for what, why in skipped.items())
+                         + "\n")
+        tables["bench"] = bench_md
+        files["bench.md"] = out_dir / "bench.md"
+        files["bench.md"].write_text(bench_md)
+        files["bench.csv"] = out_dir / "bench.csv"
+        _write_bench_csv(files["bench.csv"], runs)
+        for quantity, cost, fname in (("error", "sim_seconds", "work_precision.png"),
+                                      ("event_error", "sim_seconds", "work_precision_events.png"),
+                                      ("error", "rhs_evaluations", "work_precision_rhs.png")):
+            path = _plot_work_precision(runs, out_dir / fname, quantity, cost)
+            if path is not None:
+                files[fname] = path
     if effect_records:
         tables["effects"] = _effects_markdown(effect_records)
         files["effects.md"] = out_dir / "effects.md"
@@ -1295,8 +1657,11 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         path = _plot_scaling(points, fits, out_dir / "scaling.png")
         if path is not None:
             files["scaling.png"] = path
+    if soak is not None:
+        files.update(write_soak(soak, out_dir))
+        tables["soak"] = _soak_markdown(soak).split("\n## Runs")[0].rstrip() + "\n"
     wall = time.perf_counter() - wall0
-    return BenchResult(quick, runs, effect_records, points, fits, files, tables, wall, skipped)
+    return BenchResult(quick, runs, effect_records, points, fits, files, tables, wall, skipped, soak)
 
 
 def _split(text: str) -> list[str]:
@@ -1311,14 +1676,30 @@ def main(argv: Sequence[str] | None = None) -> int:
     gc.set_threshold(*GC_THRESHOLD)
     parser = argparse.ArgumentParser(prog="acausal bench",
                                      description="Work-precision benchmark of the adaptive methods, "
-                                                 "effects of output demand, and scaling with model size.")
+                                                 "effects of output demand, scaling with model size, and a "
+                                                 "soak (one model simulated many times in one process).")
     parser.add_argument("--quick", action="store_true",
                         help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40); under a minute")
     parser.add_argument("--out", default="bench-out", metavar="DIR", help="output folder (default bench-out)")
     parser.add_argument("--methods", metavar="M,...",
                         help=f"comma-separated methods (default {','.join(ADAPTIVE_METHODS)})")
     parser.add_argument("--rtols", metavar="R,...", help="comma-separated relative tolerances")
+    parser.add_argument("--only", metavar="SECTION,...",
+                        help=f"run only these sections ({', '.join(SECTIONS)}); the others' files are "
+                             "left as they are")
+    parser.add_argument("--soak-runs", type=int, metavar="N",
+                        help=f"runs per mode of the soak (default {QUICK_SOAK_RUNS} with --quick, "
+                             f"else {FULL_SOAK_RUNS}; 0: no soak)")
     args = parser.parse_args(argv)
+    only = set(SECTIONS)
+    if args.only is not None:
+        only = {s.lower() for s in _split(args.only)}
+        unknown = sorted(only - set(SECTIONS))
+        if unknown or not only:
+            parser.error(f"--only: unknown section {unknown[0] if unknown else args.only!r}; "
+                         f"choose from {', '.join(SECTIONS)}")
+    if args.soak_runs is not None and args.soak_runs != 0 and args.soak_runs < 2:
+        parser.error("--soak-runs: at least 2 (or 0 for none)")
     methods = _split(args.methods) if args.methods else None
     if methods:
         from ..runtime.simulate import METHODS
@@ -1332,9 +1713,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         rtols = [float(r) for r in _split(args.rtols)] if args.rtols else None
     except ValueError:
         parser.error(f"--rtols: not a list of numbers: {args.rtols!r}")
-    result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True)
+    reduced: dict = {}
+    if "work-precision" not in only:
+        reduced["case_names"] = ()
+    if "effects" not in only:
+        reduced["effects"] = False
+    if "commands" not in only:
+        reduced["commands"] = False
+    if "scaling" not in only:
+        reduced["scaling_sizes"] = ()
+    if "soak" not in only:
+        reduced["soak_runs"] = 0
+    elif args.soak_runs is not None:
+        reduced["soak_runs"] = args.soak_runs
+    result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True, **reduced)
     print()
-    for key in ("bench", "effects", "commands", "scaling"):
+    for key in ("bench", "effects", "commands", "scaling", "soak"):
         if key in result.tables:
             print(result.tables[key])
             print()

@@ -6,11 +6,13 @@ The cases are defined in ``examples/benchmarks.py`` (the suite, ``bench.suite()`
 
 from __future__ import annotations
 
+import csv
 import math
 
 import numpy as np
 import pytest
 
+from acausal import Experiment, Model
 from acausal.tools import bench
 
 benchmarks = bench.suite()
@@ -59,10 +61,11 @@ def test_exact_cases_converge(name):
 def test_run_bench_writes_files(tmp_path):
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-4, 1e-7],
                              case_names=["CoastDown", "StickSlip"], effects=False, scaling_sizes=(2, 4),
-                             isolate_scaling=False, commands=False,
+                             isolate_scaling=False, commands=False, soak_runs=0,
                              repeats=1)
     for name in ("bench.md", "bench.csv", "work_precision.png", "scaling.md", "scaling.csv", "scaling.png"):
         assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
+    assert not (tmp_path / "soak.md").exists() and result.soak is None
     assert len(result.records) == 4 and not result.failures
     text = (tmp_path / "bench.md").read_text()
     assert "| StickSlip | RK45 | 1e-04 |" in text and "Fastest method" in text
@@ -100,7 +103,7 @@ def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeyp
     monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-6],
                              case_names=["StickSlip", "First"], effects=False, scaling_sizes=(),
-                             repeats=1)
+                             soak_runs=0, repeats=1)
     assert [run.case.name for run in result.runs] == ["StickSlip"]
     assert set(result.skipped) == {"case First", "fresh-process commands"}
     assert all("no-reference" in why for why in result.skipped.values())
@@ -116,3 +119,65 @@ def test_a_failing_command_never_meets_the_target(tmp_path, monkeypatch):
     assert [r["met"] for r in records] == [False, False, False]
     assert all("no-reference" in r["failure"] for r in records)
     assert bench._commands_markdown(records).count("**not met**") == 3
+
+
+class _Spin(Model):
+    """The tiniest model: one inertia turning freely."""
+
+    experiment = Experiment(stop_time=0.1, interval=0.01)
+
+    def build(self):
+        from acausal.library.rotational import Inertia
+
+        self.inertia = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=1, fixed=True))
+
+
+def test_soak_records_time_and_memory_per_run(tmp_path):
+    soak = bench.run_soak(6, make=_Spin, name="Spin", gc_every=2)
+    assert soak.case == "Spin" and soak.n_runs == 6
+    assert [(r.mode, r.run) for r in soak.runs] == [(m, i) for m in ("cached", "uncached") for i in range(1, 7)]
+    for r in soak.runs:
+        assert r.status == 0, r.message
+        for value in (r.wall_seconds, r.translate_seconds, r.simulate_seconds, r.rss_mb):
+            assert math.isfinite(value) and value > 0
+        assert r.max_difference == 0.0  # the same model gives the same result every run
+    assert [r.run for r in soak.runs if r.collected] == [2, 4, 6, 2, 4, 6]
+    assert [s.mode for s in soak.summaries] == ["cached", "uncached"]
+    for s in soak.summaries:
+        assert s.runs == 6 and s.failed == 0 and s.window == 2 and s.rss_from_run == 4
+        for value in (s.median_seconds, s.first_median_seconds, s.last_median_seconds, s.time_ratio,
+                      s.rss_start_mb, s.rss_end_mb, s.median_translate_seconds):
+            assert math.isfinite(value) and value > 0
+        assert math.isfinite(s.rss_growth_mb_per_100)
+        assert s.flat == (s.time_ratio <= bench.SOAK_TIME_RATIO
+                          and s.rss_growth_mb_per_100 < bench.SOAK_RSS_MB_PER_100)
+    # the cache reuses the translation: later cached runs translate faster than uncached ones
+    cached, uncached = soak.summaries
+    assert cached.median_translate_seconds < uncached.median_translate_seconds
+
+    files = bench.write_soak(soak, tmp_path)
+    assert set(files) == {"soak.md", "soak.csv", "soak.png"}
+    assert all(path.stat().st_size > 0 for path in files.values())
+    text = (tmp_path / "soak.md").read_text()
+    assert "**Verdict: " in text and "| mode | runs | failed | median [s/run] |" in text
+    summary = [line for line in text.splitlines() if line.startswith(("| cached |", "| uncached |"))]
+    assert len(summary) == 2 + 2 * 4  # the summary rows, then runs 1, 2, 4, 6 of each mode
+    with (tmp_path / "soak.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 12
+    assert {"case", "mode", "run", "wall_seconds", "rss_mb", "collected", "status"} <= set(rows[0])
+    assert all(float(row["wall_seconds"]) > 0 and float(row["rss_mb"]) > 0 for row in rows)
+
+
+def test_bench_only_soak_writes_only_the_soak(tmp_path, monkeypatch):
+    calls = []
+    run_soak = bench.run_soak
+
+    def fake_soak(n_runs, log=None):  # the tiny model instead of the suite's
+        calls.append(n_runs)
+        return run_soak(n_runs, make=_Spin, name="Spin", gc_every=1, log=log)
+
+    monkeypatch.setattr(bench, "run_soak", fake_soak)
+    assert bench.main(["--only", "soak", "--soak-runs", "3", "--out", str(tmp_path)]) == 0
+    assert calls == [3]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["soak.csv", "soak.md", "soak.png"]
