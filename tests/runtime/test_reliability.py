@@ -378,3 +378,33 @@ def test_the_issue_reproducer_a_nan_parameter_neither_hangs_nor_passes_silently(
     refused, stopped = done.stdout.splitlines()[:2]
     assert refused.startswith("refused:") and "p" in refused
     assert stopped.startswith("-1 ") and "der(x) = nan" in stopped
+
+
+def test_a_clutch_with_a_nan_normal_force_is_refused_not_hung():
+    # the issue's RK45/DOP853 hang: fn_max = nan; refused at flattening, by name
+    done = _run_python("""
+        from acausal import Experiment, Model, simulate
+        from acausal.errors import ParameterError
+        from acausal.library.blocks import Constant
+        from acausal.library.rotational import Clutch, Inertia
+        class NaNClutch(Model):
+            experiment = Experiment(stop_time=1.0)
+            def build(self):
+                self.a = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=10, fixed=True))
+                self.b = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
+                self.clutch = Clutch(fn_max=float("nan"))
+                self.force = Constant(k=1.0)
+                self.connect(self.a.flange_b, self.clutch.flange_a)
+                self.connect(self.clutch.flange_b, self.b.flange_a)
+                self.connect(self.force.y, self.clutch.f_normalized)
+        model = NaNClutch()
+        for method in ("RK45", "DOP853"):
+            try:
+                simulate(model, method=method, timeout=5)
+                print("ran")
+            except ParameterError as exc:
+                print("refused", exc.message)
+    """, timeout=60)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert len(lines) == 2 and all(line.startswith("refused") and "fn_max" in line for line in lines)
