@@ -412,63 +412,61 @@ class _Run:
         def flipped(tt, xx):
             return evaluator.flipped_relations(system, tt, xx, relations, watched)
 
-        while True:
-            t_old = solver.t
-            self.t = t_old
-            message = solver.step()
-            self.steps += 1
-            self._check_budgets(solver)
-            if solver.status == "failed":
-                self.nfev += solver.nfev
-                raise SolverError(f"{self.method} failed at t = {solver.t:.12g}: {message}",
-                                  hint="try a smaller tolerance, an implicit method (Radau, BDF) "
-                                       "or a max_step")
-            t_new = solver.t
-            # an accepted step: finite states and derivatives, and time moving on
-            _check_finite(t_new, system.states, solver.y, "the states")
-            f_new = getattr(solver, "f", None)
-            _check_finite(t_new, derivative_names, fun(t_new, solver.y) if f_new is None else f_new,
-                          "the derivatives")
-            if not (solver.step_size is None or math.isfinite(solver.step_size)) or (
-                    t_new <= t_old and solver.status == "running"):
-                self.nfev += solver.nfev
-                raise SolverError(f"{self.method} makes no progress at t = {t_new:.12g} (step size "
-                                  f"{solver.step_size})",
-                                  hint="try a smaller tolerance, an implicit method (Radau, BDF) "
-                                       "or a max_step")
-            dense = solver.dense_output() if (watched or recorder.grid_left) else None
-            event = None
-            if watched and t_new > t_old:
-                _check_crossings(t_new, system, solver.y, watched, self.relations)
-                samples = sample_times(t_old, t_new, recorder.interval, recorder.grid)
-                event = locate_flip(t_old, samples, dense, solver.y, flipped)
-            if event is not None:
-                t_e, x_e, fired = event
-                self._emit(t_e, False, system, dense, discrete)
-                self.nfev += solver.nfev
-                names = tuple(self.relations[k].text for k in fired)
-                return t_e, x_e, (t_e, x_e, names)
+        try:
+            while True:
+                t_old = solver.t
+                self.t = t_old
+                message = solver.step()
+                self.steps += 1
+                self._check_budgets()
+                if solver.status == "failed":
+                    raise SolverError(f"{self.method} failed at t = {solver.t:.12g}: {message}",
+                                      hint="try a smaller tolerance, an implicit method (Radau, BDF) "
+                                           "or a max_step")
+                t_new = solver.t
+                # an accepted step: finite states and derivatives, and time moving on
+                _check_finite(t_new, system.states, solver.y, "the states")
+                f_new = getattr(solver, "f", None)
+                _check_finite(t_new, derivative_names, fun(t_new, solver.y) if f_new is None else f_new,
+                              "the derivatives")
+                if not (solver.step_size is None or math.isfinite(solver.step_size)) or (
+                        t_new <= t_old and solver.status == "running"):
+                    raise SolverError(f"{self.method} makes no progress at t = {t_new:.12g} (step size "
+                                      f"{solver.step_size})",
+                                      hint="try a smaller tolerance, an implicit method (Radau, BDF) "
+                                           "or a max_step")
+                dense = solver.dense_output() if (watched or recorder.grid_left) else None
+                event = None
+                if watched and t_new > t_old:
+                    _check_crossings(t_new, system, solver.y, watched, self.relations)
+                    samples = sample_times(t_old, t_new, recorder.interval, recorder.grid)
+                    event = locate_flip(t_old, samples, dense, solver.y, flipped)
+                if event is not None:
+                    t_e, x_e, fired = event
+                    self._emit(t_e, False, system, dense, discrete)
+                    names = tuple(self.relations[k].text for k in fired)
+                    return t_e, x_e, (t_e, x_e, names)
 
-            def x_at(s, dense=dense, y=solver.y.copy(), t_new=t_new):
-                # a grid point at the step end (up to round-off) takes the step's value
-                if dense is None or abs(s - t_new) <= 1e-12 * max(1.0, abs(t_new)):
-                    return y
-                return dense(s)
+                def x_at(s, dense=dense, y=solver.y.copy(), t_new=t_new):
+                    # a grid point at the step end (up to round-off) takes the step's value
+                    if dense is None or abs(s - t_new) <= 1e-12 * max(1.0, abs(t_new)):
+                        return y
+                    return dense(s)
 
-            self._emit(t_new, t_new < t_bound, system, x_at, discrete)
-            if solver.status == "finished":
-                self.nfev += solver.nfev
-                return t_new, solver.y.copy(), None
+                self._emit(t_new, t_new < t_bound, system, x_at, discrete)
+                if solver.status == "finished":
+                    return t_new, solver.y.copy(), None
+        finally:
+            # every evaluation counts, whatever ended the segment (an interrupt too)
+            self.nfev += solver.nfev
 
     # -- budgets --------------------------------------------------------------------
 
-    def _check_budgets(self, solver=None) -> None:
+    def _check_budgets(self) -> None:
         over_steps = self.max_steps is not None and self.steps > self.max_steps
         over_time = self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout
         if not (over_steps or over_time):
             return
-        if solver is not None:
-            self.nfev += solver.nfev  # count this segment's evaluations before stopping
         if over_steps:
             raise _Budget(f"{self.method} used its budget of {self.max_steps} steps")
         raise _Budget(f"the simulation used its time budget of {self.timeout:g} s")
