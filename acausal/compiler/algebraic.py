@@ -100,6 +100,9 @@ class AlgebraicResult:
     torn_blocks: int
     linear_blocks: int
     nonlinear_blocks: int
+    #: expressions of parameters the steps divide by: non-zero for the values the
+    #: system was solved with; other values must keep them so for it to stay valid
+    nonzero: tuple = ()
 
 
 def _linear_coefficient(residual: sp.Expr, var: sp.Symbol) -> sp.Expr | None:
@@ -126,20 +129,27 @@ def _linear_coefficient(residual: sp.Expr, var: sp.Symbol) -> sp.Expr | None:
 
 def _solve_for(residual: sp.Expr, var: sp.Symbol, values: dict) -> sp.Expr | None:
     """``var`` from ``residual = 0`` if linear in it with a non-zero coefficient."""
+    return _solve_with_guard(residual, var, values)[0]
+
+
+def _solve_with_guard(residual: sp.Expr, var: sp.Symbol, values: dict) -> tuple[sp.Expr | None, sp.Expr | None]:
+    """:func:`_solve_for`, and the coefficient divided by when it depends on parameters only
+    (its being non-zero was decided by the parameter values: a guard for other values)."""
     coeff = _linear_coefficient(residual, var)
     if coeff is None:
         coeff = sp.diff(residual, var)
         if coeff.has(var):
-            return None
+            return None, None
     numeric = coeff.xreplace(values)
     if numeric.is_zero:
-        return None
+        return None, None
     rest = residual.xreplace({var: sp.Integer(0)})
     if coeff == 1:
-        return -rest
+        return -rest, None
     if coeff == -1:
-        return rest
-    return -rest / coeff
+        return rest, None
+    guard = coeff if coeff.free_symbols and coeff.free_symbols <= values.keys() else None
+    return -rest / coeff, guard
 
 
 @dataclass(eq=False)
@@ -168,6 +178,7 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
         raise ValueError("solve_blocks: this memo belongs to other parameter values")
     values = memo.values
     steps = []
+    guards: dict = {}
     torn = linear = nonlinear = 0
     for block in blt.blocks:
         eqs = [equations[i] for i in block.equations]
@@ -175,8 +186,10 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
         if block.size == 1:
             key = (eqs[0].residual, names[0])
             if key not in memo.solutions:
-                memo.solutions[key] = _solve_for(eqs[0].residual, real_symbol(names[0]), values)
-            expr = memo.solutions[key]
+                memo.solutions[key] = _solve_with_guard(eqs[0].residual, real_symbol(names[0]), values)
+            expr, guard = memo.solutions[key]
+            if guard is not None:
+                guards[guard] = None
             if expr is not None:
                 steps.append(Assign(names[0], expr, eqs[0].origin))
                 continue
@@ -185,16 +198,18 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
             continue
         # (the origins too: the step names its equations in error messages)
         key = (tuple(e.residual for e in eqs), tuple(names), tuple(e.origin for e in eqs))
-        step = memo.torn.get(key)
-        if step is None:
-            step = memo.torn[key] = _tear(eqs, names, values)
+        found = memo.torn.get(key)
+        if found is None:
+            found = memo.torn[key] = _tear(eqs, names, values)
+        step, step_guards = found
+        guards.update(dict.fromkeys(step_guards))
         torn += 1
         if isinstance(step, LinearSolve):
             linear += 1
         else:
             nonlinear += 1
         steps.append(step)
-    return AlgebraicResult(tuple(steps), torn, linear, nonlinear)
+    return AlgebraicResult(tuple(steps), torn, linear, nonlinear, tuple(guards))
 
 
 def tear(incidence: Sequence[set[int]], n_unknowns: int,
@@ -255,25 +270,29 @@ def tear(incidence: Sequence[set[int]], n_unknowns: int,
 
 
 def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
-    """The solution step of a block of several equations: tear, then solve."""
+    """The solution step of a block of several equations: tear, then solve.
+
+    Returns the step and the parameter expressions its inner assignments divide by.
+    """
     symbols = {n: real_symbol(n) for n in names}
     position = {n: j for j, n in enumerate(names)}
     incidence = [{position[s.name] for s in e.residual.free_symbols if s.name in position} for e in eqs]
-    solutions: dict[tuple[int, int], sp.Expr] = {}
+    solutions: dict[tuple[int, int], tuple[sp.Expr, sp.Expr | None]] = {}
 
     def solvable(i: int, j: int) -> bool:
-        expr = _solve_for(eqs[i].residual, symbols[names[j]], values)
+        expr, guard = _solve_with_guard(eqs[i].residual, symbols[names[j]], values)
         if expr is not None:
-            solutions[(i, j)] = expr
+            solutions[(i, j)] = (expr, guard)
         return expr is not None
 
     plan = tear(incidence, len(names), solvable)
     if plan is None:
         # tearing failed to balance: solve the whole block simultaneously
-        tears, inner, residual_eqs = list(names), [], list(range(len(eqs)))
+        tears, inner, residual_eqs, guards = list(names), [], list(range(len(eqs))), ()
     else:
         solved, torn, residual_eqs = plan
-        inner = [Assign(names[j], solutions[(i, j)], eqs[i].origin) for i, j in solved]
+        inner = [Assign(names[j], solutions[(i, j)][0], eqs[i].origin) for i, j in solved]
+        guards = tuple(g for i, j in solved if (g := solutions[(i, j)][1]) is not None)
         tears = [names[j] for j in torn]
     origins = tuple(str(e.origin) for e in eqs)
     # Express the residuals in the tearing unknowns only
@@ -286,5 +305,6 @@ def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
     if all(not entry.has(*tear_syms) for row in jacobian for entry in row):
         zero = {z: sp.Integer(0) for z in tear_syms}
         b = tuple(-r.xreplace(zero) for r in residuals)
-        return LinearSolve(tuple(tears), tuple(tuple(row) for row in jacobian), b, tuple(inner), origins)
-    return NewtonSolve(tuple(tears), tuple(inner), tuple(eqs[i].residual for i in residual_eqs), origins)
+        return (LinearSolve(tuple(tears), tuple(tuple(row) for row in jacobian), b, tuple(inner), origins),
+                guards)
+    return NewtonSolve(tuple(tears), tuple(inner), tuple(eqs[i].residual for i in residual_eqs), origins), guards

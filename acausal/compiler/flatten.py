@@ -206,24 +206,35 @@ class FlatModel:
 # --------------------------------------------------------------------------
 
 
-def flatten(model: Component) -> FlatModel:
+def flatten(model: Component, parameters: dict[str, float] | None = None) -> FlatModel:
     """Flatten ``model`` (a :class:`~acausal.language.Model` instance).
+
+    Parameters
+    ----------
+    parameters : dict, optional
+        New values of numeric (tunable) parameters by dotted name, in place
+        of their modifiers or defaults; bindings that refer to them follow
+        (``J = 2*Jm``).
 
     Raises
     ------
     ModelDefinitionError
         For equations that are not equations, bad connections, unconnected
         inputs and unresolvable parameter bindings.
+    ParameterError
+        For a name in ``parameters`` that is not a numeric parameter (a
+        structural one selects equations and is set when the model is built).
     """
-    return _Flattener(model).run()
+    return _Flattener(model, parameters).run()
 
 
 class _Flattener:
-    def __init__(self, model: Component) -> None:
+    def __init__(self, model: Component, overrides: dict[str, float] | None = None) -> None:
         if not isinstance(model, Component):
             raise ModelDefinitionError(f"flatten() takes a Model instance, not {type(model).__name__}",
                                        hint="instantiate the class first: flatten(MyModel())")
         self.model = model
+        self.overrides = dict(overrides or {})
         self.components: list[Component] = list(model.walk())
         self.parameters: dict[str, tuple[Any, str, Component]] = {}
         self.structural: dict[str, Any] = {}
@@ -239,6 +250,7 @@ class _Flattener:
     def run(self) -> FlatModel:
         for component in self.components:
             self._declare(component)
+        self._apply_overrides()
         values = self._resolve_parameters()
         self.values = values
         for component in self.components:
@@ -276,6 +288,24 @@ class _Flattener:
                 self.parameters[path] = (binding, decl.unit, component)
                 if not decl.fixed:
                     self.unknown_parameters.append(path)
+
+    def _apply_overrides(self) -> None:
+        """Put the values of ``parameters=`` in place of the bindings they replace."""
+        for name, value in self.overrides.items():
+            if name in self.structural:
+                raise ParameterError(
+                    f"parameter {name} is structural: it decides which equations the model has",
+                    hint="set it where the component is created (e.g. Component(name=value)); "
+                         "only numeric parameters can change between runs")
+            if name not in self.parameters:
+                import difflib
+
+                close = difflib.get_close_matches(name, sorted(self.parameters), n=3)
+                raise ParameterError(f"{type(self.model).__name__} has no numeric parameter {name!r}",
+                                     hint=f"did you mean {', '.join(close)}?" if close else
+                                     "parameters are named by their dotted path, e.g. component.parameter")
+            _binding, unit, component = self.parameters[name]
+            self.parameters[name] = (value, unit, component)
 
     def _resolve_parameters(self) -> dict[str, float]:
         """Evaluate every parameter binding to a number, following references."""

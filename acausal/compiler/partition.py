@@ -99,6 +99,9 @@ class PartitionedModel:
         The discrete symbols the continuous equations depend on, sorted by
         name: the discrete state is their values in this order.
     discrete_variables : tuple of str
+    evaluated_parameters : frozenset of str
+        Parameters of relations decided here, from the parameter values alone
+        (``p > 0``): their values select equations, so they are structural.
     """
 
     flat: FlatModel
@@ -108,6 +111,7 @@ class PartitionedModel:
     relations: tuple[Relation, ...]
     selectors: tuple[sp.Symbol, ...]
     discrete_variables: tuple[str, ...]
+    evaluated_parameters: frozenset[str] = frozenset()
 
     @property
     def is_hybrid(self) -> bool:
@@ -121,6 +125,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
     continuous = {n for n, v in variables.items() if not v.is_discrete}
     relations: dict[tuple, Relation] = {}
     owners: dict[tuple, dict[str, None]] = {}
+    evaluated: set[str] = set()
 
     def is_continuous_symbol(sym: sp.Symbol) -> bool:
         name = sym.name
@@ -137,6 +142,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
                 syms = g.free_symbols
                 if not any(is_continuous_symbol(s) for s in syms):
                     if all(s.name in parameters for s in syms):
+                        evaluated.update(s.name for s in syms)
                         return sp.true if bool(node.func(g.subs({s: parameters[s.name] for s in syms}), 0)) \
                             else sp.false
                     return node.func(lhs, rhs)  # discrete comparison, evaluated at events
@@ -209,4 +215,4 @@ def partition(flat: FlatModel) -> PartitionedModel:
                 selector_set.add(sym)
     selectors = tuple(sorted(selector_set, key=lambda s: s.name))
     return PartitionedModel(flat, equations, initial_equations, discrete,
-                            tuple(relations.values()), selectors, discrete_names)
+                            tuple(relations.values()), selectors, discrete_names, frozenset(evaluated))

@@ -28,8 +28,8 @@ from ..language import Component
 from ..names import is_derivative, parse
 from .cache import ModelCache
 from .flatten import FlatEquation, FlatModel, flatten
-from .initial import InitialSystem, compile_initial_system
-from .modes import ModeSystem, PassLog, compile_mode, describe_key
+from .initial import InitialSystem, check_fixed_constants, compile_initial_system
+from .modes import ModeSystem, PassLog, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
 
 __all__ = ["ModeSystem", "InitialSystem", "Translation", "translate", "flat_signature", "describe_key"]
@@ -75,6 +75,8 @@ class Translation:
         self.initial_systems: dict[tuple, InitialSystem] = {}
         self.flatten_seconds = flatten_seconds
         self.extras: dict = {}
+        #: the translation this one reuses compiled systems from (other parameter values)
+        self.rebound_from: Translation | None = None
         self._by_equations: dict[tuple, ModeSystem] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
 
@@ -139,6 +141,48 @@ class Translation:
             out.append(eq if residual is eq.residual else FlatEquation(residual, eq.origin))
         return tuple(out)
 
+    # -- other parameter values ----------------------------------------------
+
+    def rebound(self, flat: FlatModel, flatten_seconds: float = 0.0) -> "Translation | None":
+        """A translation of ``flat`` (this model's structure with other numeric
+        parameter values) that reuses this one's compiled systems, or None.
+
+        The generated code reads its parameters from a vector, so a compiled
+        system serves other values as they are, given its new vector.  What
+        the values decided while translating must still hold: parameters of
+        relations decided from the parameters alone keep their values (else
+        None: translate anew), and a system whose solution divides by an
+        expression of parameters that is zero for the new values is compiled
+        anew (:attr:`AlgebraicResult.nonzero`).
+        """
+        old = self.parameter_values
+        new = flat.parameter_values
+        if any(old[n] != new[n] for n in self.partitioned.evaluated_parameters):
+            return None
+        partitioned = dataclasses.replace(self.partitioned, flat=flat)
+        translation = Translation(flat, partitioned, flatten_seconds, self.demand)
+        translation.rebound_from = self
+        return translation
+
+    def _rebind(self, key: tuple) -> ModeSystem | None:
+        """The system of ``key`` compiled by :attr:`rebound_from`, bound to this one's parameters."""
+        if self.rebound_from is None:
+            return None
+        # compiled by the first translation of the structure, with its memos (its values
+        # decide nothing the structure does not, but which coefficients are non-zero)
+        source = self.rebound_from.system(key)
+        if not self._guards_hold(source.algebraic):
+            return None
+        t0 = _time.perf_counter()
+        derivatives, crossings, outputs = source.code.make(self.parameter_vector)
+        plan = alias_plan(source.aliases, self.cache.parameters.symbols)
+        return dataclasses.replace(source, derivatives=derivatives, crossings=crossings, outputs=outputs,
+                                   alias_plan=plan, passes=(("rebind", _time.perf_counter() - t0),))
+
+    def _guards_hold(self, algebraic) -> bool:
+        symbols = self.cache.parameters.symbols
+        return all(not sp.sympify(g).xreplace(symbols).is_zero for g in algebraic.nonzero)
+
     # -- building systems -----------------------------------------------------
 
     def _context(self, description: str) -> str:
@@ -149,6 +193,10 @@ class Translation:
         cached = self.systems.get(key)
         if cached is not None:
             return cached
+        rebound = self._rebind(key)
+        if rebound is not None:
+            self.systems[key] = rebound
+            return rebound
         description = self.describe(key)
         context = self._context(description)
         passes = PassLog()
@@ -221,6 +269,16 @@ class Translation:
         if cached is not None:
             return cached
         mode = self.system(key)
+        source = (self.rebound_from.initial_system(key) if self.rebound_from is not None
+                  and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
+        if source is not None and self._guards_hold(source.algebraic):
+            t0 = _time.perf_counter()
+            check_fixed_constants(mode.aliases, self.cache.parameters.symbols)
+            _, _, outputs = source.code.make(self.parameter_vector)
+            system = dataclasses.replace(source, outputs=outputs,
+                                         passes=(("rebind", _time.perf_counter() - t0),))
+            self.initial_systems[key] = system
+            return system
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
@@ -245,10 +303,12 @@ class Translation:
 
 #: Translations of recently translated flat models, by :func:`flat_signature` and output demand.
 _CACHE: "OrderedDict[tuple, Translation]" = OrderedDict()
+#: The first translation of each structure (parameter values abstracted), to rebind.
+_STRUCTURES: "OrderedDict[tuple, Translation]" = OrderedDict()
 CACHE_SIZE = 16
 
 
-def flat_signature(flat: FlatModel) -> tuple:
+def flat_signature(flat: FlatModel, tunable: bool = False) -> tuple:
     """Everything a translation is computed from: two flat models with the same
     signature get the same compiled systems.
 
@@ -260,13 +320,18 @@ def flat_signature(flat: FlatModel) -> tuple:
     table's data is part of it), variables by all their attributes,
     parameters by their values; origins by where they come from (their text
     follows from the residual).
+
+    With ``tunable``, parameters count only by whether they are zero (a zero
+    is a structural zero): the signature of the *structure*, which the
+    compiled systems of one translation share across parameter values (see
+    :meth:`Translation.rebound`).
     """
     def origin(o) -> tuple:
         return (o.component, o.component_class, o.declared_in, o.index)
 
     return (
         flat.name, flat.modelica_class, flat.experiment,
-        tuple((p.name, p.value) for p in flat.parameters),
+        tuple((p.name, p.value == 0 if tunable else p.value) for p in flat.parameters),
         _freeze(flat.structural_parameters),
         tuple(tuple(_freeze(getattr(v, f.name)) for f in dataclasses.fields(v)) for v in flat.variables),
         tuple((eq.residual, origin(eq.origin)) for eq in flat.equations),
@@ -288,7 +353,8 @@ def _freeze(value):
     return (type(value).__name__, repr(value))
 
 
-def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True) -> Translation:
+def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True,
+              parameters: Mapping[str, float] | None = None) -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
     Parameters
@@ -299,26 +365,40 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
     cache : bool
         Reuse the translation (and every system compiled so far) of a model
         translated before in this process whose flat model is the same (see
-        :func:`flat_signature`).  The model is always flattened: what its
-        components' equations read cannot be known otherwise.
+        :func:`flat_signature`).  A model that differs only in the values of
+        numeric parameters reuses the compiled systems of the first one, with
+        its own parameter vector (:meth:`Translation.rebound`).  The model is
+        always flattened: what its components' equations read cannot be
+        known otherwise.
+    parameters : mapping, optional
+        New values of numeric parameters by dotted name (see
+        :func:`~acausal.compiler.flatten.flatten`).
     """
     t0 = _time.perf_counter()
-    flat = flatten(model)
+    flat = flatten(model, dict(parameters) if parameters else None)
     demand = _demand(flat, outputs)
-    key = None
-    if cache:
-        key = (flat_signature(flat), demand)
-        found = _CACHE.get(key)
-        if found is not None:
-            _CACHE.move_to_end(key)
-            return found
-    partitioned = partition(flat)
-    translation = Translation(flat, partitioned, _time.perf_counter() - t0, demand)
-    if key is not None:
-        _CACHE[key] = translation
-        while len(_CACHE) > CACHE_SIZE:
-            _CACHE.popitem(last=False)
+    if not cache:
+        return Translation(flat, partition(flat), _time.perf_counter() - t0, demand)
+    key = (flat_signature(flat), demand)
+    found = _CACHE.get(key)
+    if found is not None:
+        _CACHE.move_to_end(key)
+        return found
+    structure = (flat_signature(flat, tunable=True), demand)
+    base = _STRUCTURES.get(structure)
+    translation = base.rebound(flat, _time.perf_counter() - t0) if base is not None else None
+    if translation is None:
+        translation = Translation(flat, partition(flat), _time.perf_counter() - t0, demand)
+        _remember(_STRUCTURES, structure, translation)
+    _remember(_CACHE, key, translation)
     return translation
+
+
+def _remember(cache: OrderedDict, key: tuple, translation: Translation) -> None:
+    cache[key] = translation
+    cache.move_to_end(key)
+    while len(cache) > CACHE_SIZE:
+        cache.popitem(last=False)
 
 
 def _demand(flat: FlatModel, outputs: Iterable[str] | None) -> frozenset[str] | None:

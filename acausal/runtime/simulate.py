@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import time as _time
 from collections import deque
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 import scipy.integrate as integrate
@@ -65,7 +65,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              relation_epsilon: float = 1e-10, max_event_iterations: int = 20,
              chattering_events: int = 100, outputs: Sequence[str] | None = None,
              max_steps: int | None = None, timeout: float | None = None,
-             cache: bool = True) -> SimulationResult:
+             cache: bool = True, parameters: Mapping[str, float] | None = None) -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -103,6 +103,15 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     cache : bool
         Reuse the compiled systems of an identical flat model translated
         before in this process (see :func:`~acausal.compiler.translate.translate`).
+    parameters : mapping, optional
+        New values of numeric parameters by dotted name, e.g.
+        ``{"clutch1.fn_max": 100}``: parameters are tunable, as in Modelica, so
+        the systems compiled for the model's own values are reused with a new
+        parameter vector.  A value that changes the equations (a zero, which
+        removes the terms it multiplies; a parameter a relation compares with
+        a constant) makes a new translation, and the result's notes say so.
+        Structural parameters (``structural=True``) are set when the model is
+        built.
 
     Returns
     -------
@@ -126,9 +135,12 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     if isinstance(model, Translation):
         if outputs is not None and model.demand != frozenset(outputs):
             raise ValueError("outputs must be given to translate() when simulating a Translation")
+        if parameters:
+            raise SettingError("parameters= needs the model, not a translation",
+                               hint="simulate(model, parameters={...}) reuses the compiled systems")
         translation = model
     else:
-        translation = translate(model, outputs, cache=cache)
+        translation = translate(model, outputs, cache=cache, parameters=parameters)
     flatten_seconds = _time.perf_counter() - t_setup
     experiment = translation.flat.experiment
     t0 = experiment.start_time if start_time is None else start_time
@@ -144,11 +156,26 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
                     max_event_iterations, chattering_events, max_steps, timeout)
     run = _Run(translation, method, float(rtol), atol, max_step, relation_epsilon, max_event_iterations,
                chattering_events)
+    run.notes.extend(_structural_notes(translation, parameters))
     run.max_steps, run.timeout = max_steps, timeout
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
     return run.execute(t0, t1, float(interval), t_setup)
+
+
+def _structural_notes(translation: Translation, parameters: Mapping[str, float] | None) -> list[str]:
+    """Which of the parameters given change the equations, so that the model was translated for them."""
+    notes = []
+    for name in sorted(parameters or ()):
+        value = translation.parameter_values.get(name)
+        if name in translation.partitioned.evaluated_parameters:
+            notes.append(f"{name} = {value:g} decides a relation of parameters alone: it is structural, "
+                         f"and the model was translated for this value")
+        elif value == 0:
+            notes.append(f"{name} = 0 removes the terms it multiplies (a structural zero): the model was "
+                         f"translated for this value")
+    return notes
 
 
 def _finite_time(what: str, value) -> float:

@@ -167,11 +167,25 @@ def _model_code(cls: type, function, *args, **kwargs):
         raise CommandError(f"cannot translate {cls.__name__}: {_describe_failure(exc, cls)}") from exc
 
 
-def _translate(model: Model, outputs=None, cache: bool = True):
+def _translate(model: Model, outputs=None, cache: bool = True, parameters=None):
     """``translate(model, outputs)``, with a failure of the model's own code as a CommandError."""
     from ..compiler.translate import translate
 
-    return _model_code(type(model), translate, model, outputs, cache=cache)
+    return _model_code(type(model), translate, model, outputs, cache=cache, parameters=parameters)
+
+
+def _parameters(pairs: Sequence[str]) -> dict[str, float]:
+    """``["a.b=1.5", ...]`` -> ``{"a.b": 1.5}``."""
+    out = {}
+    for pair in pairs:
+        name, sep, text = pair.partition("=")
+        if not sep or not name.strip():
+            raise CommandError(f"--param {pair!r}: write NAME=VALUE, e.g. component.parameter=2.5")
+        try:
+            out[name.strip()] = float(text)
+        except ValueError:
+            raise CommandError(f"--param {pair!r}: {text!r} is not a number") from None
+    return out
 
 
 def _describe_failure(exc: BaseException, cls: type) -> str:
@@ -350,6 +364,8 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--out", metavar="FILE.csv", help="CSV file to write; default: <Model>.csv")
     sim.add_argument("--signals", metavar="a,b,...",
                      help="comma-separated variables to write; default: all")
+    sim.add_argument("--param", metavar="NAME=VALUE", action="append", default=[],
+                     help="a numeric parameter's value for this run (repeatable), e.g. component.parameter=2.5")
     sim.set_defaults(run=_cmd_simulate)
 
     cmp_ = commands.add_parser("compare", help="tube-test a model against the MSL reference results",
@@ -395,9 +411,14 @@ def _simulate(model, **options):
     if not stop > start:
         raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
     # translated here, so that a failure of the model's own code is a model error (status 2)
+    parameters = options.pop("parameters", None)
     translating = time.perf_counter()
-    translation = _translate(model, options.pop("outputs", None))
+    translation = _translate(model, options.pop("outputs", None), parameters=parameters)
     translating = time.perf_counter() - translating
+    from ..runtime.simulate import _structural_notes
+
+    for note in _structural_notes(translation, parameters):
+        print(f"note: {note}", file=sys.stderr)
     try:
         result = simulate(translation, **options)
     except KeyboardInterrupt as exc:  # it may carry the partial result
@@ -445,7 +466,7 @@ def _cmd_simulate(args) -> int:
     try:
         result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
                            interval=args.interval, method=args.method, rtol=args.rtol,
-                           atol=args.atol, outputs=signals)
+                           atol=args.atol, outputs=signals, parameters=_parameters(args.param) or None)
     except KeyboardInterrupt as exc:
         # Ctrl-C: simulate() may attach the result computed until then
         result = getattr(exc, "result", None)
