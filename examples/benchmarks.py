@@ -304,6 +304,14 @@ COMMAND_TARGETS = (("First", "examples/first.py"), ("TwoMasses", "examples/two_m
                    ("CoupledClutches", "examples/coupled_clutches.py"))
 
 
+def parameter_case() -> tuple:
+    """``(name, make, parameter, values)``: a tunable parameter changed between runs."""
+    from acausal.tools.bench import example_factory
+
+    return ("CoupledClutches", example_factory("coupled_clutches", "CoupledClutches"), "clutch1.fn_max",
+            (5.0, 10.0, 40.0, 80.0, 160.0))
+
+
 def soak_case() -> tuple:
     """``(name, make)``: the model the soak section simulates many times in one process."""
     from acausal.tools.bench import example_factory

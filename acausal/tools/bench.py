@@ -95,7 +95,7 @@ __all__ = [
     "ADAPTIVE_METHODS", "QUICK_RTOLS", "FULL_RTOLS", "Case", "RunRecord", "CaseTranslation", "CaseRun",
     "BenchResult", "cases", "get_case", "run_case", "run_effects", "scaling_point", "run_scaling",
     "run_bench", "main", "suite", "reference_case", "example_factory", "fit_power_law",
-    "SECTIONS", "SoakRun", "SoakSummary", "SoakResult", "run_soak", "write_soak",
+    "SECTIONS", "run_parameter_change", "SoakRun", "SoakSummary", "SoakResult", "run_soak", "write_soak",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -114,7 +114,7 @@ SLOW_RUN_SECONDS = 5.0
 #: Smallest error shown in the work-precision plots (exact results are clipped to it).
 ERROR_FLOOR = 1e-16
 #: The sections of the bench, as ``acausal bench --only`` names them.
-SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak")
+SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak", "parameters")
 
 
 def _ensure_path() -> None:
@@ -1507,11 +1507,66 @@ class BenchResult:
         return [r for r in self.records if r.status != 0]
 
 
+def run_parameter_change(repeats: int = 5, log: Callable[[str], None] | None = None) -> list[dict]:
+    """What a changed tunable parameter costs, against translating anew.
+
+    The suite's parameter case (``parameter_case()``): one run translated
+    from scratch (``cache=False``), the same model again (the cache), each
+    of several new values of one tunable parameter (the compiled systems
+    rebound to a new parameter vector), and the value 0 (a structural zero:
+    a new translation).  Wall seconds and the run's own translation seconds,
+    median of ``repeats`` for the repeatable rows.
+    """
+    from ..runtime.simulate import simulate
+
+    name, make, parameter, values = suite().parameter_case()
+    rows = []
+
+    def timed(label: str, repeat: int, run: Callable[[], object]) -> None:
+        walls, translates, status = [], [], 0
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            result = run()
+            walls.append(time.perf_counter() - t0)
+            translates.append(result.stats.get("translate_seconds", math.nan))
+            status = min(status, result.status)
+        rows.append({"model": name, "run": label, "repeats": repeat,
+                     "wall_seconds": float(np.median(walls)),
+                     "translate_seconds": float(np.median(translates)), "status": status})
+        if log:
+            log(f"  {label}: {rows[-1]['wall_seconds']:.3f} s (translation {rows[-1]['translate_seconds']:.3f} s)")
+
+    timed("translated anew (cache=False)", repeats, lambda: simulate(make(), cache=False))
+    simulate(make())  # the cache's first translation of the structure
+    timed("same model again (cache)", repeats, lambda: simulate(make()))
+    for value in values:
+        timed(f"{parameter} = {value:g} (new value, systems rebound)", 1,
+              lambda value=value: simulate(make(), parameters={parameter: value}))
+    timed(f"{parameter} = 0 (structural zero: translated anew)", 1,
+          lambda: simulate(make(), parameters={parameter: 0.0}))
+    return rows
+
+
+def _parameters_markdown(rows: list[dict]) -> str:
+    lines = ["# A changed parameter", "",
+             "Each new value of a tunable parameter reuses the systems compiled for the model's own "
+             "values, bound to a new parameter vector; what is left of the translation is "
+             "flattening (always done: the cache keys on the flat model) and binding. A zero is a "
+             "structural zero and translates anew. Wall seconds per run (median of the repeats), "
+             "translation seconds as the run's `stats` count them.", "",
+             "| model | run | repeats | wall [s] | translation [s] | status |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['model']} | {r['run']} | {r['repeats']} | {r['wall_seconds']:.3f} | "
+                     f"{r['translate_seconds']:.3f} | {r['status']} |")
+    return "\n".join(lines) + "\n"
+
+
 def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               rtols: Sequence[float] | None = None, *, case_names: Sequence[str] | None = None,
               effects: bool = True, scaling_sizes: Sequence[int] | None = None,
               repeats: int | None = None, isolate_scaling: bool = True,
-              commands: bool = True, soak_runs: int | None = None, verbose: bool = False) -> BenchResult:
+              commands: bool = True, soak_runs: int | None = None, verbose: bool = False,
+              parameters: bool = True) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -1609,6 +1664,12 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         start = (time.perf_counter(), cpu())
         soak = run_soak(soak_runs, log=log)
         section("soak", start)
+    parameter_rows = []
+    if parameters:
+        log("parameters")
+        start = (time.perf_counter(), cpu())
+        parameter_rows = run_parameter_change(3 if quick else 5, log=log)
+        section("parameters", start)
     fits = {}
     for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
                 "evaluator_setup", "initial_systems", "initialization", "simulate"):
@@ -1657,6 +1718,12 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         path = _plot_scaling(points, fits, out_dir / "scaling.png")
         if path is not None:
             files["scaling.png"] = path
+    if parameter_rows:
+        tables["parameters"] = _parameters_markdown(parameter_rows)
+        files["parameters.md"] = out_dir / "parameters.md"
+        files["parameters.md"].write_text(tables["parameters"])
+        files["parameters.csv"] = out_dir / "parameters.csv"
+        _write_dict_csv(files["parameters.csv"], parameter_rows)
     if soak is not None:
         files.update(write_soak(soak, out_dir))
         tables["soak"] = _soak_markdown(soak).split("\n## Runs")[0].rstrip() + "\n"
@@ -1722,13 +1789,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         reduced["commands"] = False
     if "scaling" not in only:
         reduced["scaling_sizes"] = ()
+    if "parameters" not in only:
+        reduced["parameters"] = False
     if "soak" not in only:
         reduced["soak_runs"] = 0
     elif args.soak_runs is not None:
         reduced["soak_runs"] = args.soak_runs
     result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True, **reduced)
     print()
-    for key in ("bench", "effects", "commands", "scaling", "soak"):
+    for key in ("bench", "effects", "commands", "scaling", "soak", "parameters"):
         if key in result.tables:
             print(result.tables[key])
             print()

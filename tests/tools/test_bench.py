@@ -61,7 +61,7 @@ def test_exact_cases_converge(name):
 def test_run_bench_writes_files(tmp_path):
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-4, 1e-7],
                              case_names=["CoastDown", "StickSlip"], effects=False, scaling_sizes=(2, 4),
-                             isolate_scaling=False, commands=False, soak_runs=0,
+                             isolate_scaling=False, commands=False, soak_runs=0, parameters=False,
                              repeats=1)
     for name in ("bench.md", "bench.csv", "work_precision.png", "scaling.md", "scaling.csv", "scaling.png"):
         assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
@@ -103,7 +103,7 @@ def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeyp
     monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-6],
                              case_names=["StickSlip", "First"], effects=False, scaling_sizes=(),
-                             soak_runs=0, repeats=1)
+                             soak_runs=0, parameters=False, repeats=1)
     assert [run.case.name for run in result.runs] == ["StickSlip"]
     assert set(result.skipped) == {"case First", "fresh-process commands"}
     assert all("no-reference" in why for why in result.skipped.values())
@@ -181,3 +181,15 @@ def test_bench_only_soak_writes_only_the_soak(tmp_path, monkeypatch):
     assert bench.main(["--only", "soak", "--soak-runs", "3", "--out", str(tmp_path)]) == 0
     assert calls == [3]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["soak.csv", "soak.md", "soak.png"]
+
+
+def test_parameter_change_rows_rebind_and_cost_less_than_translating():
+    rows = bench.run_parameter_change(repeats=1)
+    labels = [r["run"] for r in rows]
+    assert labels[0].startswith("translated anew") and labels[1].startswith("same model again")
+    assert any("rebound" in label for label in labels) and "structural zero" in labels[-1]
+    assert all(r["status"] == 0 and r["wall_seconds"] > 0 for r in rows)
+    anew = rows[0]["translate_seconds"]
+    rebound = [r["translate_seconds"] for r in rows if "rebound" in r["run"]]
+    # a new value binds the compiled systems: far less than translating (flattening is left)
+    assert max(rebound) < anew
