@@ -15,6 +15,8 @@ same model every time.
 
 from __future__ import annotations
 
+import ast
+import itertools
 import keyword
 import math
 import re
@@ -29,7 +31,7 @@ from .algebraic import Assign, LinearSolve, NewtonSolve
 from ..errors import SolverError
 
 __all__ = ["CodePlan", "CodegenMemo", "GeneratedCode", "plan_functions", "generate", "needed_steps", "newton_solve", "python_identifiers",
-           "compile_functions"]
+           "compile_functions", "vectorised"]
 
 
 class _Printer(PythonCodePrinter):
@@ -428,3 +430,296 @@ def _step_code(step, printer, local) -> list[str]:
         ipre, (text,) = _cse_lines([expr], printer, f"{prefix}o{var}_")
         lines += ipre + [f"{var} = {text}"]
     return lines
+
+
+# -- numpy versions of the generated functions ----------------------------------------------------
+
+#: ``math`` functions that numpy computes with the same rounding for every argument (exact
+#: or correctly rounded in both).  Every other function is called element by element.
+_EXACT_NUMPY = {"copysign": "copysign", "fabs": "abs", "sqrt": "sqrt"}
+
+
+class _NotVectorisable(Exception):
+    """A construct :func:`vectorised` does not translate."""
+
+
+def vectorised(function: Callable, source: str) -> Callable | None:
+    """A numpy version of the generated function ``function`` (``crossings`` or ``outputs``).
+
+    ``f(t, X)`` takes ``m`` times and the states as the rows of ``X`` (``n x m``) and
+    returns a ``k x m`` array whose column ``j`` equals, bit for bit, the tuple
+    ``function(t[j], X[:, j])`` as floats.  It is derived from the function's own
+    generated text (``source``, the system's :attr:`GeneratedCode.source`, which stays
+    as it is) and bound to the same parameter values:
+
+    * ``+ - * /``, comparisons, ``abs``, ``copysign``, ``sqrt`` are numpy's: these round
+      the same on arrays as on scalars;
+    * ``a if c else b`` is ``np.where(c, a, b)`` (both branches are evaluated), ``min``
+      and ``max`` pick as Python's do;
+    * every other function (``math.sin``, powers, tables) is called element by element,
+      on floats: numpy's own ``sin`` and ``**`` can differ from the C library's in the
+      last bit.
+
+    Where the scalar function raises, or gives a value that is not finite, ``f`` may
+    raise or give a non-finite value: callers evaluate such columns with ``function``
+    itself, and call ``f`` under ``np.errstate(divide="raise", invalid="raise")`` so
+    that an operation Python's floats could refuse (``x / 0.0``) makes it raise too.
+    None when the function holds a construct that is not translated (a Newton
+    iteration, a linear system of three or more unknowns).
+    """
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return None
+    name = function.__name__
+    make = next((node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"),
+                None)
+    found = None if make is None else next(
+        (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
+    if found is None or not found.body or not isinstance(found.body[-1], ast.Return):
+        return None
+    varying = _varying_names(found.body)
+    constants: dict = {}
+    try:
+        body = [_vector_statement(stmt, k, varying, constants) for k, stmt in enumerate(found.body)]
+    except _NotVectorisable:
+        return None
+    module = ast.parse(f"def {name}_many(t, x):\n    pass\n")
+    module.body[0].body = body
+    ast.fix_missing_locations(module)
+    namespace = dict(function.__globals__)
+    cells = function.__closure__ or ()
+    namespace.update(zip(function.__code__.co_freevars, (cell.cell_contents for cell in cells)))
+    namespace.update(_VECTOR_HELPERS)
+    namespace.update(constants)
+    filename = function.__code__.co_filename.rstrip(">") + f" {name}_many>"
+    exec(compile(module, filename, "exec"), namespace)
+    return namespace[f"{name}_many"]
+
+
+def _varying_names(body) -> set[str]:
+    """The names that vary from instant to instant: ``t``, the states, and what is
+    computed from them (the others are parameters and constants)."""
+    varying = {"t"}
+    for stmt in body:
+        if isinstance(stmt, ast.Assign):
+            reads = {n.id for n in ast.walk(stmt.value) if isinstance(n, ast.Name)}
+            if reads & varying or (isinstance(stmt.value, ast.Name) and stmt.value.id == "x"):
+                for target in stmt.targets:
+                    varying |= {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
+    return varying
+
+
+def _vector_statement(stmt, position: int, varying: set[str], constants: dict):
+    """One statement of a generated function, for arrays (``constants``: names it binds)."""
+    if isinstance(stmt, ast.Assign) and len(stmt.targets) == 1:
+        target = stmt.targets[0]
+        if isinstance(target, ast.Name):
+            return ast.Assign([target], _VectorExpression().visit(stmt.value))
+        # the states, ``a, b, = x``: the rows of X
+        if (position == 0 and isinstance(target, ast.Tuple) and isinstance(stmt.value, ast.Name)
+                and stmt.value.id == "x" and all(isinstance(e, ast.Name) for e in target.elts)):
+            return stmt
+        raise _NotVectorisable
+    if (isinstance(stmt, ast.If) and not stmt.orelse and len(stmt.body) == 1
+            and isinstance(stmt.body[0], ast.Raise)):
+        # a singular system: raise if any column is singular (the caller then evaluates
+        # column by column, and the scalar function raises where it does)
+        return ast.If(_call("_v_any", _VectorExpression().visit(stmt.test)), stmt.body, [])
+    if isinstance(stmt, ast.Return) and isinstance(stmt.value, ast.Tuple):
+        # the values that vary fill their rows at once, the constants theirs
+        items = [_VectorExpression().visit(e) for e in stmt.value.elts]
+        moving = [any(isinstance(n, ast.Name) and n.id in varying for n in ast.walk(e))
+                  for e in stmt.value.elts]
+        rows = [[k for k, m in enumerate(moving) if m], [k for k, m in enumerate(moving) if not m]]
+        constants["_v_varying_rows"] = np.array(rows[0], dtype=np.intp)
+        constants["_v_constant_rows"] = np.array(rows[1], dtype=np.intp)
+        return ast.Return(_call(
+            "_v_rows", *[ast.Tuple([items[k] for k in r], ast.Load()) for r in rows],
+            ast.Name("_v_varying_rows", ast.Load()), ast.Name("_v_constant_rows", ast.Load()),
+            ast.Name("t", ast.Load())))
+    raise _NotVectorisable
+
+
+def _call(name, *args) -> ast.Call:
+    func = ast.Name(name, ast.Load()) if isinstance(name, str) else name
+    return ast.Call(func, list(args), [])
+
+
+class _VectorExpression(ast.NodeTransformer):
+    """Rewrites one generated expression for arrays (see :func:`vectorised`)."""
+
+    _ALLOWED = (ast.Name, ast.Constant, ast.Load, ast.BinOp, ast.UnaryOp, ast.Compare, ast.IfExp,
+                ast.Call, ast.Attribute, ast.BoolOp, ast.Add, ast.Sub, ast.Mult, ast.Div, ast.USub,
+                ast.UAdd, ast.Not, ast.Eq, ast.NotEq, ast.Lt, ast.LtE, ast.Gt, ast.GtE, ast.And, ast.Or)
+
+    def generic_visit(self, node):
+        if not isinstance(node, self._ALLOWED):
+            raise _NotVectorisable
+        return super().generic_visit(node)
+
+    def visit_Attribute(self, node):  # noqa: N802 - ast API
+        # constants of math (math.pi); a function of math is handled in visit_Call
+        if (isinstance(node.value, ast.Name) and node.value.id == "math"
+                and node.attr in ("pi", "e", "tau", "inf")):
+            return node
+        raise _NotVectorisable
+
+    def visit_BinOp(self, node):  # noqa: N802
+        node.left, node.right = self.visit(node.left), self.visit(node.right)
+        if isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+            return node
+        if isinstance(node.op, ast.Pow):
+            return _call("_v_map", ast.Name("_v_pow", ast.Load()), node.left, node.right)
+        raise _NotVectorisable
+
+    def visit_Compare(self, node):  # noqa: N802
+        if len(node.ops) != 1:
+            raise _NotVectorisable
+        return self.generic_visit(node)
+
+    def visit_BoolOp(self, node):  # noqa: N802
+        for value in node.values:
+            if not isinstance(value, (ast.Compare, ast.BoolOp, ast.UnaryOp)):
+                raise _NotVectorisable  # ``a and b`` of numbers is one of them, not a Boolean
+        values = [self.visit(v) for v in node.values]
+        return _call("_v_and" if isinstance(node.op, ast.And) else "_v_or", *values)
+
+    def visit_UnaryOp(self, node):  # noqa: N802
+        node = self.generic_visit(node)
+        if isinstance(node.op, ast.Not):
+            return _call("_v_not", node.operand)
+        return node
+
+    def visit_IfExp(self, node):  # noqa: N802
+        return _call("_v_where", self.visit(node.test), self.visit(node.body), self.visit(node.orelse))
+
+    def visit_Call(self, node):  # noqa: N802
+        if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
+            raise _NotVectorisable
+        args = [self.visit(a) for a in node.args]
+        func = node.func
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "math":
+            exact = _EXACT_NUMPY.get(func.attr)
+            if exact is not None:
+                return _call(ast.Attribute(ast.Name("np", ast.Load()), exact, ast.Load()), *args)
+            return _call("_v_map", func, *args)
+        if isinstance(func, ast.Name):
+            if func.id == "abs" and len(args) == 1:
+                return _call("_v_abs", *args)
+            if func.id in ("min", "max") and len(args) >= 2:
+                return _call(f"_v_{func.id}", *args)
+            if func.id.startswith("_f_"):  # a table function
+                return _call("_v_map", func, *args)
+        raise _NotVectorisable
+
+
+def _is_array(value) -> bool:
+    return isinstance(value, np.ndarray) and value.ndim > 0
+
+
+def _v_map(function, *args):
+    """``function`` element by element, on Python numbers (an element that fails gives NaN)."""
+    arrays = [a for a in args if isinstance(a, np.ndarray) and a.ndim]
+    if not arrays:
+        return function(*args)  # no array among the arguments: the scalar code itself
+    shape = arrays[0].shape
+    if len(shape) == 1 and all(a.shape == shape for a in arrays):
+        lists = [a.tolist() if isinstance(a, np.ndarray) and a.ndim
+                 else itertools.repeat(a.item() if isinstance(a, np.ndarray) else a) for a in args]
+    else:
+        broadcast = np.broadcast_arrays(*[np.asarray(a) for a in args])
+        shape = broadcast[0].shape
+        lists = [a.ravel().tolist() for a in broadcast]
+    try:
+        return np.fromiter(map(function, *lists), float, math.prod(shape)).reshape(shape)
+    except (ArithmeticError, ValueError, TypeError):
+        pass
+    lists = [list(itertools.islice(items, math.prod(shape))) for items in lists]
+    values = []
+    for items in zip(*lists):
+        try:
+            values.append(float(function(*items)))
+        except (ArithmeticError, ValueError, TypeError):
+            values.append(math.nan)
+    return np.array(values, dtype=float).reshape(shape)
+
+
+def _v_pow(a, b):
+    return a ** b
+
+
+def _v_where(test, a, b):
+    if not (_is_array(test) or _is_array(a) or _is_array(b)):
+        return a if test else b
+    return np.where(test, a, b)
+
+
+def _v_abs(a):
+    return np.abs(a) if _is_array(a) else abs(a)
+
+
+def _v_max(first, *rest):
+    """Python's ``max(a, b, ...)``: a later item replaces the current one only if greater."""
+    if not any(_is_array(a) for a in (first, *rest)):
+        return max(first, *rest)
+    out = first
+    for item in rest:
+        out = np.where(item > out, item, out)
+    return out
+
+
+def _v_min(first, *rest):
+    """Python's ``min(a, b, ...)``."""
+    if not any(_is_array(a) for a in (first, *rest)):
+        return min(first, *rest)
+    out = first
+    for item in rest:
+        out = np.where(item < out, item, out)
+    return out
+
+
+def _v_and(*values):
+    out = values[0]
+    for value in values[1:]:
+        out = np.logical_and(out, value)
+    return out
+
+
+def _v_or(*values):
+    out = values[0]
+    for value in values[1:]:
+        out = np.logical_or(out, value)
+    return out
+
+
+def _v_not(value):
+    return np.logical_not(value)
+
+
+def _v_any(value) -> bool:
+    return bool(np.any(value))
+
+
+def _v_rows(varying, constant, varying_rows, constant_rows, t) -> np.ndarray:
+    """The returned values as the rows of one float array: the values that vary with
+    the instant (arrays) and the constants (each filling its row)."""
+    m = np.shape(t)[0]
+    out = np.empty((len(varying) + len(constant), m))
+    try:
+        if varying:
+            block = np.array(varying, dtype=float)
+            if block.shape != (len(varying), m):
+                raise ValueError("a value expected to vary is a constant")
+            out[varying_rows] = block
+        if constant:
+            out[constant_rows] = np.array(constant, dtype=float)[:, None]
+    except (ValueError, TypeError):  # not the shapes expected: one row at a time
+        for k, item in zip((*varying_rows.tolist(), *constant_rows.tolist()), (*varying, *constant)):
+            out[k] = item
+    return out
+
+
+_VECTOR_HELPERS = {"_v_map": _v_map, "_v_pow": _v_pow, "_v_where": _v_where, "_v_abs": _v_abs,
+                   "_v_max": _v_max, "_v_min": _v_min, "_v_and": _v_and, "_v_or": _v_or, "_v_not": _v_not,
+                   "_v_any": _v_any, "_v_rows": _v_rows, "np": np, "math": math}

@@ -12,26 +12,58 @@ have flipped at a state.
   so that two sign changes inside one step are not missed, scipy issue
   #9228), then bracketed by bisection to the first instant the relation has
   flipped (:func:`locate_flip`).
+* A step's dense output is evaluated once for all its samples and output
+  points (:func:`states_at`, bit for bit what the dense output gives at each
+  instant alone), and the relations are decided for all samples at once
+  (:meth:`~acausal.runtime.events.DiscreteEvaluator.first_flip`, with the
+  numpy versions of the generated functions, :func:`vectorised_function`).
 """
 
 from __future__ import annotations
 
 import math
+import weakref
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
 
+from ..compiler.codegen import vectorised
 from ..language import time as time_symbol
 
-__all__ = ["time_event_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip"]
+__all__ = ["time_event_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip", "states_at",
+           "state_at", "sample_states", "step_samples", "vectorised_function"]
 
 #: Most samples taken in one step (a long step of a stuck model on a fine grid).
 MAX_SAMPLES = 2000
 
 
 def time_event_roots(relations: Sequence, parameter_symbols: Mapping) -> tuple[tuple[int, float], ...]:
-    """``(relation index, instant)`` of every time event (``inf`` if it never crosses)."""
+    """``(relation index, instant)`` of every time event (``inf`` if it never crosses).
+
+    Kept for the last few ``(relations, parameter_symbols)`` seen (the same objects,
+    holding the same values): each run of a translation asks again, and the
+    symbolic work costs a fraction of a millisecond.
+    """
+    key = (id(relations), id(parameter_symbols))
+    values = tuple(item for pair in parameter_symbols.items() for item in pair)
+    found = _ROOTS.get(key)
+    if (found is not None and found[0] is relations and found[1] is parameter_symbols
+            and len(found[2]) == len(values) and all(a is b for a, b in zip(found[2], values))
+            and len(found[3]) == len(relations) and all(a is b for a, b in zip(found[3], relations))):
+        return found[4]
+    roots = _time_event_roots(relations, parameter_symbols)
+    _ROOTS[key] = (relations, parameter_symbols, values, tuple(relations), roots)
+    while len(_ROOTS) > 16:
+        del _ROOTS[next(iter(_ROOTS))]
+    return roots
+
+
+#: (id(relations), id(parameter symbols)) -> (relations, symbols, their items, the relations, roots)
+_ROOTS: dict = {}
+
+
+def _time_event_roots(relations: Sequence, parameter_symbols: Mapping) -> tuple[tuple[int, float], ...]:
     roots = []
     for rel in relations:
         if rel.is_time_event:
@@ -60,17 +92,59 @@ def sample_times(t_old: float, t_new: float, interval: float, grid: np.ndarray) 
     points inside the step are samples too, so that no output row shows a
     relation at odds with its discrete state.
     """
+    return _samples(t_old, t_new, interval, grid)[0]
+
+
+def _samples(t_old: float, t_new: float, interval: float, grid: np.ndarray) -> tuple[np.ndarray, int, int]:
+    """:func:`sample_times`, and the output points among them: ``grid[lo:hi]``."""
     n = min(max(4, int(math.ceil((t_new - t_old) / interval))), MAX_SAMPLES)
     samples = np.linspace(t_old, t_new, n + 1)[1:]
-    lo_i = np.searchsorted(grid, t_old, side="right")
-    hi_i = np.searchsorted(grid, t_new, side="left")
+    lo_i = int(np.searchsorted(grid, t_old, side="right"))
+    hi_i = int(np.searchsorted(grid, t_new, side="left"))
     if hi_i > lo_i:
-        samples = np.union1d(samples, grid[lo_i:hi_i])
-    return samples
+        samples = _union(samples, grid[lo_i:hi_i])
+    return samples, lo_i, hi_i
+
+
+def _union(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.union1d(a, b)`` (the sorted distinct values), without its layers of calls."""
+    out = np.concatenate((a, b))
+    out.sort()
+    keep = np.empty(len(out), dtype=bool)
+    keep[:1] = True
+    np.not_equal(out[1:], out[:-1], out=keep[1:])
+    return out[keep]
+
+
+def step_samples(t_old: float, t_new: float, interval: float, grid: np.ndarray, dense: Callable,
+                 y_new: np.ndarray, first_row: int, stop_row: int):
+    """The samples of the step ``(t_old, t_new]`` (:func:`sample_times`), and the states at
+    them and at the output points ``grid[first_row:stop_row]``: one evaluation of the
+    step's dense output for both.
+
+    Returns ``(samples, at samples, at rows)``, states as rows: at a sample before
+    ``t_new`` the dense output, at ``t_new`` the solver's own ``y_new``; at an output
+    point the dense output (the step's end included: the caller decides).
+    """
+    samples, lo_i, hi_i = _samples(t_old, t_new, interval, grid)
+    before = samples < t_new
+    inside = samples[before]
+    rows = grid[first_row:stop_row]
+    if first_row >= stop_row or (lo_i <= first_row and stop_row <= hi_i):
+        times = inside  # every output point is a sample
+    else:  # output points at the step's end (or before the step) as well
+        times = np.union1d(inside, rows)
+    states = states_at(dense, times)
+    at_samples = np.empty((len(samples), len(y_new)))
+    at_samples[before] = states if times is inside else states[np.searchsorted(times, inside)]
+    at_samples[~before] = y_new
+    at_rows = states[np.searchsorted(times, rows)]
+    return samples, at_samples, at_rows
 
 
 def locate_flip(t_old: float, samples: np.ndarray, dense: Callable, y_new: np.ndarray,
-                flipped: Callable) -> tuple[float, np.ndarray, tuple] | None:
+                flipped: Callable, first_flip: Callable | None = None,
+                states: np.ndarray | None = None) -> tuple[float, np.ndarray, tuple] | None:
     """The first instant in the step at which a watched relation has flipped.
 
     Parameters
@@ -85,25 +159,46 @@ def locate_flip(t_old: float, samples: np.ndarray, dense: Callable, y_new: np.nd
         The state at the step's end (the solver's own value).
     flipped : callable
         ``flipped(t, x)`` -> the indices of the relations that have flipped.
+    first_flip : callable, optional
+        ``first_flip(times, states)`` -> ``(index, flipped)`` of the first sample
+        at which ``flipped`` is not empty, or None: the samples decided at once
+        (default: ``flipped`` at each sample in turn).
+    states : ndarray, optional
+        The states at the samples as rows (default: :func:`states_at` inside the
+        step, ``y_new`` at its end).
 
     Returns
     -------
     (t, x, indices) or None
         The instant (to a few ulps), the state there and what flipped.
     """
-    t_new = samples[-1]
-    # the dense output at all samples in one call (the step end: its own value)
-    inside = samples[samples < t_new]
-    states_at = dense(inside).T if len(inside) else ()
-    lo = t_old
-    for i, s in enumerate(samples):
-        xs = states_at[i] if s < t_new else y_new
-        if flipped(s, xs):
-            # bisection starts from the very state that flipped (the dense output
-            # evaluated alone can differ in the last bit)
-            return bisect_flip(lo, s, dense, flipped, xs)
-        lo = s
-    return None
+    if states is None:
+        states = sample_states(dense, samples, y_new)
+    if first_flip is None:
+        found = None
+        for i, s in enumerate(samples):
+            hit = flipped(s, states[i])
+            if hit:
+                found = i, hit
+                break
+    else:
+        found = first_flip(samples, states)
+    if found is None:
+        return None
+    i, _ = found
+    lo = samples[i - 1] if i else t_old
+    # bisection starts from the very state that flipped
+    return bisect_flip(lo, samples[i], dense, flipped, states[i])
+
+
+def sample_states(dense: Callable, samples: np.ndarray, y_new: np.ndarray) -> np.ndarray:
+    """The states at ``samples`` as rows: the dense output inside the step, the
+    solver's own value at its end (the last sample)."""
+    before = samples < samples[-1]
+    out = np.empty((len(samples), np.size(y_new)))
+    out[before] = states_at(dense, samples[before])
+    out[~before] = y_new
+    return out
 
 
 def bisect_flip(lo: float, hi: float, dense: Callable, flipped: Callable, x_hi) -> tuple[float, np.ndarray, tuple]:
@@ -116,10 +211,184 @@ def bisect_flip(lo: float, hi: float, dense: Callable, flipped: Callable, x_hi) 
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        x_mid = dense(mid)
+        x_mid = state_at(dense, mid)  # dense(mid), bit for bit
         now = flipped(mid, x_mid)
         if now:
             hi, x_hi, hit = mid, x_mid, now
         else:
             lo = mid
     return hi, np.array(x_hi, dtype=float), hit
+
+
+# -- many instants at once ------------------------------------------------------------------------
+
+def states_at(dense: Callable, times) -> np.ndarray:
+    """The dense output at each of ``times``, as rows: ``m x n``.
+
+    Row ``j`` is bit for bit ``dense(times[j])``.  scipy's dense outputs, called
+    with an array, compute the polynomials with one matrix product whose
+    rounding differs from that of a call at one instant; here the same matrix-
+    vector products are made for all instants in one call (``np.matmul`` on a
+    stack), so rows written to the result are what the loop of one call per
+    output point gave.  Dense outputs of other kinds are called per instant.
+    """
+    times = np.asarray(times, dtype=float).reshape(-1)
+    batched = _BATCHED.get(type(dense))
+    if batched is not None and batched[1] is not False and len(times):
+        try:
+            out = batched[0](dense, times)
+        except (AttributeError, TypeError, ValueError):  # a scipy with other internals
+            out = None
+        if out is not None and batched[1] is None:
+            # the first use in this process: check against the per-instant calls
+            batched[1] = _identical(out[:16], _per_instant(dense, times[:16]))
+        if out is not None and batched[1]:
+            return out
+    return _per_instant(dense, times)
+
+
+def state_at(dense: Callable, t: float) -> np.ndarray:
+    """``dense(t)`` at one instant, bit for bit, without the overhead of scipy's call
+    (for the dense outputs of RK23, RK45 and Radau; others are called)."""
+    kind = type(dense)
+    point = _POINT.get(kind)
+    if point is not None and point[1] is not False:
+        try:
+            y = point[0](dense, t)
+        except (AttributeError, TypeError, ValueError):  # a scipy with other internals
+            point[1] = False
+            return dense(t)
+        if point[1] is None:  # the first use in this process: check against the call
+            point[1] = _identical(y, dense(t))
+            if not point[1]:
+                return dense(t)
+        return y
+    return dense(t)
+
+
+def _rk_point(d, t):
+    x = (t - d.t_old) / d.h
+    p = [x]
+    for _ in range(d.order):  # np.cumprod of the repeated x, one product at a time
+        p.append(p[-1] * x)
+    y = d.h * np.dot(d.Q, np.array(p, dtype=float))
+    y += d.y_old
+    return y
+
+
+def _radau_point(d, t):
+    x = (t - d.t_old) / d.h
+    p = [x]
+    for _ in range(d.order):
+        p.append(p[-1] * x)
+    y = np.dot(d.Q, np.array(p, dtype=float))
+    y += d.y_old
+    return y
+
+
+def _identical(a, b) -> bool:
+    """Bit for bit (a NaN equal to itself, -0.0 not equal to 0.0)."""
+    a, b = np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(b, dtype=float)
+    return a.shape == b.shape and bool(np.array_equal(a.view(np.int64), b.view(np.int64)))
+
+
+def _per_instant(dense: Callable, times: np.ndarray) -> np.ndarray:
+    rows = [np.asarray(dense(t), dtype=float) for t in times]
+    if not rows:
+        return np.empty((0, np.size(dense(dense.t))))
+    return np.array(rows).reshape(len(rows), -1)
+
+
+def _gemv_rows(A: np.ndarray, P: np.ndarray) -> np.ndarray:
+    """``np.dot(A, p)`` for every row ``p`` of ``P``: one stacked product, the same
+    matrix-vector call (and rounding) as each alone."""
+    return np.matmul(A, P[:, :, None])[:, :, 0]
+
+
+def _powers(x: np.ndarray, k: int) -> np.ndarray:
+    """Rows ``x, x*x, (x*x)*x, ...`` (``k`` of them): the products ``np.cumprod`` of the
+    repeated ``x`` makes, one at a time."""
+    p = np.empty((len(x), k))
+    p[:, 0] = x
+    for j in range(1, k):
+        np.multiply(p[:, j - 1], x, out=p[:, j])
+    return p
+
+
+def _rk_states(d, t):
+    """scipy's ``RkDenseOutput`` (RK23, RK45) at instants one by one."""
+    y = d.h * _gemv_rows(d.Q, _powers((t - d.t_old) / d.h, d.order + 1))
+    y += d.y_old
+    return y
+
+
+def _radau_states(d, t):
+    y = _gemv_rows(d.Q, _powers((t - d.t_old) / d.h, d.order + 1))
+    y += d.y_old
+    return y
+
+
+def _bdf_states(d, t):
+    p = np.cumprod((t[:, None] - d.t_shift) / d.denom, axis=1)
+    y = _gemv_rows(d.D[1:].T, np.ascontiguousarray(p))
+    y += d.D[0]
+    return y
+
+
+def _lsoda_states(d, t):
+    # the powers instant by instant: numpy's power of an array may round otherwise
+    p = np.array([((s - d.t) / d.h) ** d.p for s in t])
+    return _gemv_rows(d.yh, p)
+
+
+def _dop853_states(d, t):
+    # element-wise operations only: an array call is what one call per instant gives
+    return np.asarray(d(t), dtype=float).T.reshape(len(t), -1)
+
+
+def _batched_kinds() -> dict:
+    """Dense output class -> [function, verified]: None until checked once in this process."""
+    from scipy.integrate._ivp.bdf import BdfDenseOutput
+    from scipy.integrate._ivp.lsoda import LsodaDenseOutput
+    from scipy.integrate._ivp.radau import RadauDenseOutput
+    from scipy.integrate._ivp.rk import Dop853DenseOutput, RkDenseOutput
+
+    return {RkDenseOutput: [_rk_states, None], RadauDenseOutput: [_radau_states, None],
+            BdfDenseOutput: [_bdf_states, None], LsodaDenseOutput: [_lsoda_states, None],
+            Dop853DenseOutput: [_dop853_states, None]}
+
+
+def _point_kinds() -> dict:
+    from scipy.integrate._ivp.radau import RadauDenseOutput
+    from scipy.integrate._ivp.rk import RkDenseOutput
+
+    return {RkDenseOutput: [_rk_point, None], RadauDenseOutput: [_radau_point, None]}
+
+
+try:
+    _BATCHED, _POINT = _batched_kinds(), _point_kinds()
+except ImportError:  # another scipy layout: one call per instant
+    _BATCHED, _POINT = {}, {}
+
+
+#: generated function -> its numpy version (or False): made once per compiled function
+_VECTORISED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def vectorised_function(system, name: str) -> Callable | None:
+    """The numpy version of ``system.<name>`` (``crossings``, ``outputs``; see
+    :func:`acausal.compiler.codegen.vectorised`), or None."""
+    function = getattr(system, name)
+    try:
+        found = _VECTORISED.get(function)
+    except TypeError:  # not weakly referable: not a generated function
+        return None
+    if found is None:
+        code = getattr(system, "code", None)
+        source = getattr(code, "source", None)
+        found = (vectorised(function, source) if isinstance(source, str) else None) or False
+        try:
+            _VECTORISED[function] = found
+        except TypeError:
+            pass
+    return found or None

@@ -29,12 +29,17 @@ from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
 from ..names import INITIAL_NAME, is_relation, parse, pre_name, relation_name
 from ..compiler.translate import ModeSystem, Translation
+from .crossings import vectorised_function
 
 __all__ = ["DiscreteEvaluator", "EventOutcome", "evaluator_for", "mode_values"]
 
 
 #: From this many watched relations on, they are checked with numpy at once.
 _VECTORISE_FROM = 48
+
+#: Samples times (watched relations + 2) from which the relations at the samples of a
+#: step are decided in one numpy call rather than sample by sample.
+_MANY_FROM = 40
 
 
 def mode_values(system: ModeSystem, t: float, x) -> dict[str, float]:
@@ -92,6 +97,12 @@ class DiscreteEvaluator:
         self._downstream = self._downstream_equations()
         self._selector_names = tuple(parse(s.name) for s in translation.selectors)
         self._vector_plan = None
+        self._scalar_plan = None
+        self._kinds = [(1.0 if r.op in (">", ">=") else -1.0, r.op in (">", "<"), r.is_time_event)
+                       for r in self.relations]
+        self._relation_names = [relation_name(k) for k in range(len(self.relations))]
+        self._pre_names: dict[str, str] = {}
+        self._selector_set = frozenset(s.name for s in translation.selectors)
 
     def _downstream_equations(self) -> dict[int, list[int]]:
         """For each relation, the discrete equations (in order) its value can reach."""
@@ -142,14 +153,15 @@ class DiscreteEvaluator:
             return ()
         raw = system.crossings(t, x)
         out = []
-        for k, rel in enumerate(self.relations):
+        epsilon = self.epsilon
+        # Relation.holds and holds_with_hysteresis, inlined (see flipped_relations)
+        for k, (d, strict, timed) in enumerate(self._kinds):
             lhs, rhs = raw[2 * k], raw[2 * k + 1]
-            g = lhs - rhs
-            if exact or k in fired:
-                out.append(rel.holds(g))
+            if exact or timed or k in fired:
+                v = d * (lhs - rhs)
             else:
-                eps = self.epsilon * max(1.0, abs(lhs), abs(rhs))
-                out.append(rel.holds_with_hysteresis(g, previous[k], eps))
+                v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(1.0, abs(lhs), abs(rhs))))
+            out.append(v > 0 if strict else v >= 0)
         return tuple(out)
 
     def flipped_relations(self, system: ModeSystem, t: float, x, relations,
@@ -164,14 +176,32 @@ class DiscreteEvaluator:
         raw = system.crossings(t, x)
         if len(watched) >= _VECTORISE_FROM:
             return self._flipped_vectorised(raw, relations, watched)
+        # Relation.holds_with_hysteresis, inlined: g = lhs - rhs moved by the margin
+        # towards the previous value, d = +1 for > and >=, -1 for < and <=; then
+        # d * (g ± eps) > 0 (strict) or >= 0 -- the same roundings (negation and
+        # adding -eps are exact)
+        plan = self._scalar_plan
+        if plan is None or plan[0] is not watched or plan[1] is not relations:
+            plan = self._scalar_plan = (watched, relations, [
+                (k, 2 * k, *self._relation_kind(k, relations[k])) for k in watched])
         out = []
         epsilon = self.epsilon
-        for k in watched:
-            lhs, rhs = raw[2 * k], raw[2 * k + 1]
-            eps = epsilon * max(1.0, abs(lhs), abs(rhs))
-            if self.relations[k].holds_with_hysteresis(lhs - rhs, relations[k], eps) != relations[k]:
+        for k, i, d, toward, strict, timed, previous in plan[2]:
+            lhs, rhs = raw[i], raw[i + 1]
+            if timed:
+                v = d * (lhs - rhs)
+            else:
+                v = d * ((lhs - rhs) + toward * (epsilon * max(1.0, abs(lhs), abs(rhs))))
+            if (v > 0 if strict else v >= 0) != previous:
                 out.append(k)
         return tuple(out)
+
+    def _relation_kind(self, k: int, previous: bool) -> tuple[float, float, bool, bool, bool]:
+        """``(d, toward, strict, timed, previous)`` of relation ``k``: ``d`` is +1 for ``>``
+        and ``>=``, -1 for ``<`` and ``<=``; the margin moves ``g`` by ``toward * eps``."""
+        rel = self.relations[k]
+        d = 1.0 if rel.op in (">", ">=") else -1.0
+        return d, d if previous else -d, rel.op in (">", "<"), rel.is_time_event, bool(previous)
 
     def _flipped_vectorised(self, raw, relations, watched) -> tuple[int, ...]:
         """:meth:`flipped_relations` for many relations at once, with numpy.
@@ -180,26 +210,127 @@ class DiscreteEvaluator:
         so that every operation rounds the same way: ``d * (g ± eps)`` with
         ``d = ±1`` compared with 0 (``>`` for strict relations, ``>=`` not).
         """
+        with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
+            w, flips = self._flips(np.asarray(raw, dtype=float), relations, watched)
+        return tuple(w[flips].tolist())
+
+    def _plan(self, relations, watched):
         plan = self._vector_plan
         if plan is None or plan[0] is not watched or plan[1] is not relations:
             w = np.array(watched, dtype=int)
-            rels = [self.relations[k] for k in watched]
-            previous = np.array([relations[k] for k in watched], dtype=bool)
-            direction = np.array([1.0 if r.op in (">", ">=") else -1.0 for r in rels])
-            strict = np.array([r.op in (">", "<") for r in rels], dtype=bool)
-            timed = np.array([r.is_time_event for r in rels], dtype=bool)
-            # the margin keeps the previous value: towards it on the side of d
-            toward = np.where(previous, direction, -direction)
-            plan = self._vector_plan = (watched, relations, w, previous, direction, strict, timed, toward)
-        _, _, w, previous, direction, strict, timed, toward = plan
-        values = np.asarray(raw, dtype=float)
-        lhs, rhs = values[2 * w], values[2 * w + 1]
-        with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
-            eps = self.epsilon * np.maximum(1.0, np.maximum(np.abs(lhs), np.abs(rhs)))
-            eps = np.where(timed, 0.0, eps)
-            v = direction * ((lhs - rhs) + toward * eps)
-            holds = np.where(strict, v > 0, v >= 0)
-        return tuple(w[holds != previous].tolist())
+            kinds = [self._relation_kind(k, relations[k]) for k in watched]
+            d = np.array([kind[0] for kind in kinds])
+            toward = np.array([kind[1] for kind in kinds])
+            strict = np.array([kind[2] for kind in kinds], dtype=bool)
+            timed = np.array([kind[3] for kind in kinds], dtype=bool)
+            previous = np.array([kind[4] for kind in kinds], dtype=bool)
+            columns = tuple(a[:, None] for a in (d, toward, strict, previous))
+            plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1,
+                                        (d, toward, strict, previous), columns, timed, bool(timed.any()))
+        return plan
+
+    def _flips(self, values: np.ndarray, relations, watched):
+        """``(w, flipped)``: the watched relations' indices, and whether each has
+        flipped at each column of ``values`` (the crossing functions' values, one
+        instant a column; or one instant as a vector)."""
+        _, _, w, left, right, vectors, columns, timed, any_timed = self._plan(relations, watched)
+        d, toward, strict, previous = columns if values.ndim == 2 else vectors
+        lhs, rhs = values[left], values[right]
+        # (callers silence numpy's warnings: inf/NaN sides decide as in Python)
+        eps = np.maximum(np.abs(lhs), np.abs(rhs))
+        np.maximum(eps, 1.0, out=eps)
+        eps *= self.epsilon
+        if any_timed:
+            eps[timed] = 0.0
+        v = lhs - rhs
+        v += toward * eps
+        v *= d
+        holds = np.where(strict, v > 0, v >= 0)
+        return w, holds != previous
+
+    def first_flip(self, system: ModeSystem, times, states, relations,
+                   watched: tuple[int, ...]) -> tuple[int, tuple[int, ...]] | None:
+        """The first of ``times`` at which a watched relation has flipped.
+
+        ``states`` holds the state at each time as a row.  Returns ``(index,
+        flipped)`` with ``flipped`` as :meth:`flipped_relations` gives it at that
+        instant, or None: exactly what calling :meth:`flipped_relations` at each
+        time in turn gives (the first flip, and any error on the way).
+
+        The relations are decided for all times at once, with numpy
+        (:meth:`_flips`), on the crossing functions' values: from one numpy call
+        when the system's code allows it
+        (:func:`~acausal.runtime.crossings.vectorised_function`; from an instant
+        whose values are not all finite on, or if it raises, the scalar function
+        decides instant by instant), else from the scalar function at each time.
+        A few samples of few relations are decided one by one: a numpy call has
+        a fixed cost of some tens of microseconds.
+        """
+        m = len(times)
+        if not watched or not m:
+            return None
+        start = 0
+        if m * (len(watched) + 2) >= _MANY_FROM:
+            many = vectorised_function(system, "crossings")
+            if many is not None:
+                found, start = self._first_flip_many(many, times, states, relations, watched)
+            else:
+                found, start = self._first_flip_collected(system, times, states, relations, watched)
+            if found is not None or start >= m:
+                return found
+        for i in range(start, m):
+            hit = self.flipped_relations(system, times[i], states[i], relations, watched)
+            if hit:
+                return i, hit
+        return None
+
+    def _first_flip_many(self, many, times, states, relations, watched):
+        """``(first flip, None)`` or ``(None, index to go on from)`` with the numpy crossings."""
+        m = len(times)
+        try:
+            # a division by zero or an invalid operation (where Python's floats could
+            # raise) leaves the instants to the scalar function
+            with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
+                raw = many(np.asarray(times, dtype=float), np.asarray(states, dtype=float).T)
+            with np.errstate(all="ignore"):
+                w, flips = self._flips(raw, relations, watched)
+        except Exception:  # the scalar function raises where it should, or not at all
+            return None, 0
+        stop = flips.any(axis=0)
+        finite = np.isfinite(raw)
+        unsure = None if finite.all() else ~finite.all(axis=0)
+        if unsure is not None:
+            stop |= unsure
+        if not stop.any():
+            return None, m
+        first = int(np.argmax(stop))
+        if unsure is not None and unsure[first]:
+            return None, first  # the scalar function decides from here on
+        return (first, tuple(w[flips[:, first]].tolist())), m
+
+    def _first_flip_collected(self, system, times, states, relations, watched):
+        """The same with the scalar crossing function called at each time: its values
+        are those :meth:`flipped_relations` decides on."""
+        columns = []
+        crossings = system.crossings
+        for t, x in zip(times, states):
+            try:
+                columns.append(crossings(t, x))
+            except Exception:  # flipped_relations raises it, unless a flip comes first
+                break
+        if not columns:
+            return None, 0
+        try:
+            raw = np.array(columns, dtype=float).T
+            with np.errstate(all="ignore"):
+                w, flips = self._flips(raw, relations, watched)
+        except (TypeError, ValueError):  # values that are no numbers: decided one by one
+            return None, 0
+        stop = flips.any(axis=0)
+        if not stop.any():
+            return None, len(columns)
+        first = int(np.argmax(stop))
+        return (first, tuple(w[flips[:, first]].tolist())), len(times)
 
     # -- discrete equations -------------------------------------------------------
 
@@ -212,11 +343,14 @@ class DiscreteEvaluator:
         """
         current = dict(discrete)
         env = dict(current)
-        for k, value in enumerate(relations):
-            env[relation_name(k)] = value
+        env.update(zip(self._relation_names, relations))
         env[INITIAL_NAME] = initial
+        pre_names = self._pre_names
         for name, value in pre.items():
-            env[pre_name(name)] = value
+            key = pre_names.get(name)
+            if key is None:
+                key = pre_names[name] = pre_name(name)
+            env[key] = value
         for variable, args, fn, origin in self.equations:
             if relation_free and any(is_relation(a) for a in args):
                 continue
@@ -233,12 +367,16 @@ class DiscreteEvaluator:
         variable as it is.  Relations that select continuous equations are
         always watched.  At the next event all relations are re-evaluated.
         """
-        selector_names = {s.name for s in self.translation.selectors}
+        selector_names = self._selector_set
         # the values every flip is tried against: relations as they are, pre = current
-        env = {relation_name(j): value for j, value in enumerate(relations)}
+        env = dict(zip(self._relation_names, relations))
         env[INITIAL_NAME] = False
+        pre_names = self._pre_names
         for name, value in discrete.items():
-            env[pre_name(name)] = value
+            key = pre_names.get(name)
+            if key is None:
+                key = pre_names[name] = pre_name(name)
+            env[key] = value
         env.update(discrete)
         out = []
         for k, rel in enumerate(self.relations):

@@ -11,13 +11,16 @@ represented by those two rows.
 
 from __future__ import annotations
 
+import itertools
 import math
+from operator import itemgetter
 from typing import Callable
 
 import numpy as np
 
 from ..compiler.translate import ModeSystem, Translation
 from ..errors import SimulationError
+from .crossings import vectorised_function
 
 __all__ = ["Recorder", "output_grid"]
 
@@ -58,7 +61,8 @@ class Recorder:
 
     def add(self, t: float, system: ModeSystem, x, discrete: dict) -> None:
         """A row at ``t`` (an event's limit, a segment's end, the start)."""
-        self.rows.append((float(t), system, np.array(x, dtype=float), self._snapshot(discrete)))
+        x = x.copy() if type(x) is np.ndarray and x.dtype == np.float64 else np.array(x, dtype=float)
+        self.rows.append((float(t), system, x, self._snapshot(discrete)))
 
     def skip_grid_through(self, t: float, round_off: bool = True) -> None:
         """Output points up to ``t`` (with ``round_off``, a relative 1e-14 above it too)
@@ -82,6 +86,42 @@ class Recorder:
             if not (self.rows and self.rows[-1][0] == tg):
                 self.add(tg, system, x_at(tg), discrete)
             self.next_grid += 1
+
+    def pending(self, t_end: float, inclusive: bool) -> np.ndarray:
+        """The output points :meth:`emit_grid_until` would write up to ``t_end`` (none written yet)."""
+        if not t_end == t_end:  # NaN: no point is before it
+            return self.grid[:0]
+        stop = int(np.searchsorted(self.grid, t_end, side="right" if inclusive else "left"))
+        return self.grid[self.next_grid:max(self.next_grid, stop)]
+
+    def emit_rows(self, times: np.ndarray, states: np.ndarray, system: ModeSystem, discrete: dict,
+                  check: Callable[[], None] | None = None) -> None:
+        """Rows at the next output points ``times`` (from :meth:`pending`), the states as rows.
+
+        The same rows as :meth:`emit_grid_until` with ``x_at`` giving ``states``
+        (a point at the time of the last row is represented by it).  ``check`` is
+        called once, before the rows.  The rows are appended as a block; where
+        :meth:`add` is overridden (a subclass, a test), each row goes through it.
+        """
+        times = np.asarray(times, dtype=float)
+        if check is not None:
+            check()
+        rows = self.rows
+        if type(self).add is not _ADD:
+            add = self.add
+            for tg, x in zip(times.tolist(), states):
+                if not (rows and rows[-1][0] == tg):
+                    add(tg, system, x, discrete)
+                self.next_grid += 1
+            return
+        first = 1 if (len(times) and rows and rows[-1][0] == times[0]) else 0
+        if len(times) > first:
+            # the points are increasing: only the first can fall on the last row's time
+            snapshot = self._snapshot(discrete)
+            block = np.array(states[first:], dtype=float)
+            rows.extend(zip(times[first:].tolist(), itertools.repeat(system), block,
+                            itertools.repeat(snapshot)))
+        self.next_grid += len(times)
 
     def _snapshot(self, discrete: dict) -> dict:
         """A copy of the discrete values for a row, shared by the rows that have
@@ -115,24 +155,26 @@ class Recorder:
             names = [n for n in names if n in translation.demand] + discrete_names
         index = {n: k for k, n in enumerate(names)}
         rows = self.rows
-        data = np.full((len(rows), len(names)), np.nan)
-        times = np.array([row[0] for row in rows], dtype=float)
+        n = len(rows)
+        data = np.full((n, len(names)), np.nan)
+        times = np.fromiter(map(itemgetter(0), rows), float, n)
         # Rows come in stretches with one system and one set of discrete
         # values (between events): each stretch is filled column by column.
-        start, plans, bad = 0, {}, None
+        systems = np.fromiter(map(id, map(itemgetter(1), rows)), np.uint64, n)
+        discretes = np.fromiter(map(id, map(itemgetter(3), rows)), np.uint64, n)
+        starts = np.flatnonzero((systems[1:] != systems[:-1]) | (discretes[1:] != discretes[:-1])) + 1
+        plans, bad = {}, None
         names_of = {ident: name for name, ident in translation.cache.identifiers.items()}
-        while start < len(rows):
+        for start, stop in zip([0, *starts.tolist()], [*starts.tolist(), n]):
+            if start >= stop:
+                continue
             _, system, _, discrete = rows[start]
-            stop = start + 1
-            while stop < len(rows) and rows[stop][1] is system and rows[stop][3] is discrete:
-                stop += 1
             if system.key not in plans:
                 plans[system.key] = fill_plan(system, index)
             found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key],
-                          names_of)
+                          names_of, times[start:stop])
             if found is not None and bad is None:
                 bad = (start + found[0], found[1], found[2])
-            start = stop
         columns = {n: data[:, k] for n, k in index.items()}
         for p in flat.parameters:
             if translation.demand is None or p.name in translation.demand:
@@ -140,8 +182,13 @@ class Recorder:
         return times, columns, bad
 
 
+#: :meth:`Recorder.add` as defined here (an override makes :meth:`Recorder.emit_rows` call it per row)
+_ADD = Recorder.add
+
+
 def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, discrete: dict,
-          plan, names_of: dict[str, str]) -> tuple[int, list[str], str] | None:
+          plan, names_of: dict[str, str],
+          times: np.ndarray | None = None) -> tuple[int, list[str], str] | None:
     """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
 
     Returns ``(row, names, reason)`` for the first row whose values could not
@@ -149,15 +196,35 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
     """
     targets, sources, aliases = plan
     n_states = len(system.states)
-    values = np.full((len(rows), n_states + len(system.unknowns)), np.nan)
+    m = len(rows)
+    values = np.full((m, n_states + len(system.unknowns)), np.nan)
+    if n_states:
+        values[:, :n_states] = np.array(list(map(itemgetter(2), rows)), dtype=float).reshape(m, n_states)
     failed = None
-    for r, (t, _, x, _) in enumerate(rows):
-        values[r, :n_states] = x
+    # the unknowns of all rows in one numpy call where the code allows it; rows whose
+    # values are not all finite (or all rows, if it raises) are computed row by row
+    redo = range(m)
+    many = vectorised_function(system, "outputs") if m > 1 and system.unknowns else None
+    if many is not None:
+        if times is None:
+            times = np.fromiter(map(itemgetter(0), rows), float, m)
+        try:
+            # a division by zero or an invalid operation (where Python's floats could
+            # raise): every row by the scalar function
+            with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
+                out = many(times, values[:, :n_states].T)
+            values[:, n_states:] = out.T
+            redo = np.flatnonzero(~np.isfinite(out).all(axis=0)).tolist()
+        except Exception:  # the scalar function raises where it should, or not at all
+            redo = range(m)
+    for r in redo:
+        t, _, x, _ = rows[r]
         try:
             values[r, n_states:] = system.outputs(t, x)
         except (SimulationError, ArithmeticError, ValueError) as exc:
             # the states are still known, and so are their aliases and the
             # constants; the unknowns of this row stay NaN
+            values[r, n_states:] = np.nan
             if failed is None:
                 name, line = _failing_line(exc, system, names_of)
                 failed = (r, [name], f"{type(exc).__name__}: {exc}" + (f", in: {line}" if line else ""))

@@ -35,7 +35,8 @@ from ..errors import (ChatteringError, SettingError, SimulationError, Simulation
                       StructuralError)
 from ..language import Component
 from ..names import base_name, der_name
-from .crossings import locate_flip, next_time_event, sample_times, time_event_roots
+from .crossings import (locate_flip, next_time_event, states_at, step_samples,
+                        time_event_roots)
 from .events import evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
@@ -244,6 +245,9 @@ class _Budget(Exception):
 class _Run:
     """One simulation run: the loop over segments and events (state in attributes)."""
 
+    #: Most output rows evaluated and written at once (memory and budget checks stay bounded).
+    _ROWS_AT_ONCE = 65536
+
     def __init__(self, translation: Translation, method, rtol, atol, max_step, relation_epsilon,
                  max_event_iterations, chattering_events) -> None:
         self.translation = translation
@@ -385,6 +389,40 @@ class _Run:
         finally:
             self.seconds["output"] += _time.perf_counter() - started
 
+    def _emit_rows(self, times, states, system: ModeSystem, discrete) -> None:
+        """Rows at the next output points ``times``, states given as rows (timed, within the
+        budgets, a block of at most ``_ROWS_AT_ONCE`` rows at a time)."""
+        block = self._ROWS_AT_ONCE
+        for k in range(0, len(times), block):
+            started = _time.perf_counter()
+            try:
+                self.recorder.emit_rows(times[k:k + block], states[k:k + block], system, discrete,
+                                        check=self._check_budgets if self.timeout is not None else None)
+            finally:
+                self.seconds["output"] += _time.perf_counter() - started
+
+    def _emit_step(self, rows, at_rows, dense, y_new, t_new: float, system: ModeSystem, discrete) -> None:
+        """The output points ``rows`` of a step ending at ``t_new``: states from ``at_rows``
+        (None: from the dense output, a block at a time), the step's own value at
+        its end (up to round-off)."""
+        near = 1e-12 * max(1.0, abs(t_new))
+        block = self._ROWS_AT_ONCE
+        for k in range(0, len(rows), block):
+            part = rows[k:k + block]
+            started = _time.perf_counter()
+            if at_rows is not None:
+                states = at_rows[k:k + block]
+            elif dense is not None:
+                states = states_at(dense, part)
+            else:
+                states = np.empty((len(part), len(y_new)))
+            at_end = np.abs(part - t_new) <= near
+            if dense is None:
+                at_end[:] = True
+            states[at_end] = y_new
+            self.seconds["output"] += _time.perf_counter() - started
+            self._emit_rows(part, states, system, discrete)
+
     def _check_chattering(self, recent: deque, t1: float) -> None:
         """Chattering: many state events in a row, ping-ponging between at most
         two discrete states, within a vanishing window (a millionth of the
@@ -439,6 +477,9 @@ class _Run:
         def flipped(tt, xx):
             return evaluator.flipped_relations(system, tt, xx, relations, watched)
 
+        def first_flip(times, states):
+            return evaluator.first_flip(system, times, states, relations, watched)
+
         try:
             while True:
                 t_old = solver.t
@@ -463,24 +504,26 @@ class _Run:
                                       hint="try a smaller tolerance, an implicit method (Radau, BDF) "
                                            "or a max_step")
                 dense = solver.dense_output() if (watched or recorder.grid_left) else None
+                y_new = solver.y.copy()
+                # the output points of this step, and the states there and at the samples
+                # from one evaluation of the dense output
+                rows = recorder.pending(t_new, t_new < t_bound)
                 event = None
                 if watched and t_new > t_old:
-                    _check_crossings(t_new, system, solver.y, watched, self.relations)
-                    samples = sample_times(t_old, t_new, recorder.interval, recorder.grid)
-                    event = locate_flip(t_old, samples, dense, solver.y, flipped)
+                    _check_crossings(t_new, system, y_new, watched, self.relations)
+                    samples, at_samples, at_rows = step_samples(
+                        t_old, t_new, recorder.interval, recorder.grid, dense, y_new, recorder.next_grid,
+                        recorder.next_grid + len(rows))
+                    event = locate_flip(t_old, samples, dense, y_new, flipped, first_flip, at_samples)
+                else:
+                    at_rows = None  # evaluated as they are written
                 if event is not None:
                     t_e, x_e, fired = event
-                    self._emit(t_e, False, system, dense, discrete)
+                    before = rows[rows < t_e]
+                    self._emit_rows(before, at_rows[:len(before)], system, discrete)
                     names = tuple(self.relations[k].text for k in fired)
                     return t_e, x_e, (t_e, x_e, names)
-
-                def x_at(s, dense=dense, y=solver.y.copy(), t_new=t_new):
-                    # a grid point at the step end (up to round-off) takes the step's value
-                    if dense is None or abs(s - t_new) <= 1e-12 * max(1.0, abs(t_new)):
-                        return y
-                    return dense(s)
-
-                self._emit(t_new, t_new < t_bound, system, x_at, discrete)
+                self._emit_step(rows, at_rows, dense, y_new, t_new, system, discrete)
                 if solver.status == "finished":
                     return t_new, solver.y.copy(), None
         finally:
