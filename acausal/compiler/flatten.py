@@ -5,22 +5,31 @@ Modelica name (``clutch1.flange_a.tau``), turns ``connect()`` statements into
 equations (potentials equal, flows sum to zero, unconnected flows zero),
 resolves parameter bindings to numbers and expands ``der(expression)`` by the
 chain rule.  Every equation remembers where it came from.
+
+A component class repeated many times is flattened once per structural
+configuration; further instances get those equations renamed to their own
+symbols (:class:`_Template`, which states when that is exact).
 """
 
 from __future__ import annotations
 
+import enum
+import functools
 import math
 import os
+import re
 import sysconfig
 import traceback
+import types
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import sympy as sp
+from sympy.core.function import UndefinedFunction
 
-from ..names import INITIAL_NAME, der_name, pre_name
+from ..names import INITIAL_NAME, der_name, parse, pre_name
 from ..errors import AcausalError, ConnectionError_, EquationError, ModelDefinitionError, ParameterError
 from ..language import (
     Boolean,
@@ -64,7 +73,7 @@ _UNEVALUATED = (sp.Piecewise, sp.And, sp.Or, sp.Not)
 
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Origin:
     """Where an equation or variable comes from, for messages and teaching."""
 
@@ -98,7 +107,7 @@ class FlatParameter:
     component: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class FlatVariable:
     """A variable of the flat model with its attributes evaluated to numbers."""
 
@@ -118,7 +127,7 @@ class FlatVariable:
         return self.kind in ("boolean", "integer")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class FlatEquation:
     """``residual = 0``."""
 
@@ -129,7 +138,7 @@ class FlatEquation:
         return f"0 = {self.residual}"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class DiscreteEquation:
     """``variable := rhs`` for a Boolean or Integer variable."""
 
@@ -228,8 +237,15 @@ def flatten(model: Component, parameters: dict[str, float] | None = None) -> Fla
     return _Flattener(model, parameters).run()
 
 
+#: Whether flattening builds the equations of repeated components from templates
+#: (:class:`_Template`).  False calls every instance's ``equations()``; the flat
+#: model is the same (``tests/compiler/test_flatten_templates.py``).
+USE_TEMPLATES = True
+
+
 class _Flattener:
-    def __init__(self, model: Component, overrides: dict[str, float] | None = None) -> None:
+    def __init__(self, model: Component, overrides: dict[str, float] | None = None, *,
+                 templates: bool | None = None) -> None:
         if not isinstance(model, Component):
             raise ModelDefinitionError(f"flatten() takes a Model instance, not {type(model).__name__}",
                                        hint="instantiate the class first: flatten(MyModel())")
@@ -244,6 +260,17 @@ class _Flattener:
         self.discrete_equations: list[DiscreteEquation] = []
         self.initial_equations: list[FlatEquation] = []
         self.unknown_parameters: list[str] = []
+        #: template key -> _Template, or None where templates are not used
+        self.templates: dict[tuple, list[_Template] | None] | None = (
+            {} if (USE_TEMPLATES if templates is None else templates) else None)
+        self._plans: dict[type, tuple] = {}  # class -> (structural, conditional, structural names)
+        self._class_declarations: dict[type, dict] = {}
+        self._keys: dict[int, tuple | None] = {}  # id of a component -> its template key
+        self._computed_templates: dict[tuple, _ValueTemplate | None] = {}
+        #: id -> (value, its _ValueTemplate, symbols) of computed attributes built from a template
+        self._built_values: dict[int, tuple] = {}
+        self._connector_variables: dict[type, dict] = {}
+        self._forms: dict[tuple, list] = {}  # connection equations: kind -> [_Program or None, verified]
 
     # -- declarations ---------------------------------------------------------
 
@@ -277,11 +304,22 @@ class _Flattener:
             hints={c.path: h for c in self.components if (h := component_hints(type(c)))},
         )
 
+    def _declarations(self, component: Component) -> dict:
+        """``component.declarations()``, computed once per class (it walks the class hierarchy)."""
+        klass = type(component)
+        found = self._class_declarations.get(klass)
+        if found is None:
+            found = self._class_declarations[klass] = klass.declarations()
+        return found
+
     def _declare(self, component: Component) -> None:
-        for key, decl in component.declarations().items():
+        # parameter_binding() looks the declaration up again: done here unless a class overrides it
+        plain = type(component).parameter_binding is Component.parameter_binding
+        for key, decl in self._declarations(component).items():
             if isinstance(decl, Parameter):
                 path = component._path_of(key)
-                binding = component.parameter_binding(key)
+                binding = component._modifiers.get(key, decl.default) if plain \
+                    else component.parameter_binding(key)
                 if decl.structural:
                     self.structural[path] = binding
                     continue
@@ -335,7 +373,7 @@ class _Flattener:
             resolve(name)
         # finite and min/max checks (nan compares False: "not value >= min" catches it)
         for component in self.components:
-            for key, decl in component.declarations().items():
+            for key, decl in self._declarations(component).items():
                 if not isinstance(decl, Parameter):
                     continue
                 path = component._path_of(key)
@@ -387,6 +425,18 @@ class _Flattener:
                                   "declare it structural=True for other values")
 
     def _number(self, value: Any, what: str) -> float:
+        built = self._built_values.pop(id(value), None) if isinstance(value, sp.Basic) else None
+        if built is not None and built[0] is value:
+            # a computed attribute renamed from a template: evaluated once per set of values
+            _, template, symbols = built
+            values = tuple(self.values.get(s.name, _MISSING) for s in symbols)
+            number = template.numbers.get(values)
+            if number is None:
+                number = template.numbers[values] = self._evaluate(value, what)
+            return number
+        return self._evaluate(value, what)
+
+    def _evaluate(self, value: Any, what: str) -> float:
         if isinstance(value, sp.Basic):
             subs = {s: self.values[s.name] for s in value.free_symbols if s.name in self.values}
             value = value.subs(subs)
@@ -397,12 +447,15 @@ class _Flattener:
                                        hint="attributes take numbers or expressions of parameters") from exc
 
     def _declare_variables(self, component: Component, values) -> None:
-        for key, decl in component.declarations().items():
+        for key, decl in self._declarations(component).items():
             if isinstance(decl, Connector):
                 if not decl.enabled(component):
                     continue
                 path = component._path_of(key)
-                for var_name, var in type(decl).variables().items():
+                variables = self._connector_variables.get(type(decl))
+                if variables is None:
+                    variables = self._connector_variables[type(decl)] = type(decl).variables()
+                for var_name, var in variables.items():
                     self._add_variable(f"{path}.{var_name}", var, component, None)
             elif isinstance(decl, Variable):
                 if not decl.enabled(component):
@@ -420,11 +473,19 @@ class _Flattener:
                     state_select=StateSelect.default, unit=unit, component=component.path)
 
     def _add_variable(self, path: str, decl: Variable, component: Component, key: str | None) -> None:
+        # Component.attribute(key, name) with the declaration at hand, unless a class overrides it
+        modified = {} if key is None else component._attribute_modifiers.get(key, {})
+        plain = key is None or type(component).attribute is Component.attribute
+
         def attr(name):
-            if key is None:
-                value = getattr(decl, name)
-                return value(component) if callable(value) and not isinstance(value, sp.Basic) else value
-            return component.attribute(key, name)
+            if not plain:
+                return component.attribute(key, name)
+            value = modified[name] if name in modified else getattr(decl, name)
+            if callable(value) and not isinstance(value, sp.Basic):
+                return self._computed(component, (label, name, value), value)
+            return value
+
+        label = key if key is not None else path[len(component.path) + 1:]
 
         kind = "boolean" if isinstance(decl, Boolean) else "integer" if isinstance(decl, Integer) \
             else "continuous"
@@ -447,10 +508,165 @@ class _Flattener:
         self.variables[path] = variable
         if decl.causality:
             self.signal_declarations[path] = (decl, component)
+        self._built_values.clear()
 
     # -- equations --------------------------------------------------------------
 
     def _collect_equations(self, component: Component) -> None:
+        if self.templates is None:
+            self._call_equations(component)
+            return
+        key = self._template_key(component)
+        if key is None:
+            self._call_equations(component)
+            return
+        variants = self.templates.get(key, [])
+        if variants is None:  # this key builds every instance directly
+            self._call_equations(component)
+            return
+        path = component.path
+        for template in variants:
+            symbols = template.symbols_for(self, path)
+            if symbols is None:
+                continue
+            if template.verified:
+                template.add(self, path, symbols)
+                return
+            # its first use: build the instance both ways; the template serves
+            # further instances only if the two agree
+            start = self._sizes()
+            self._call_equations(component)
+            if template.agrees(self, path, symbols, start):
+                template.verified = True
+            else:
+                self.templates[key] = None
+            return
+        if len(variants) >= _MAX_VARIANTS:
+            self._call_equations(component)
+            return
+        # no template applies: call equations(), recording what it reads, and keep the result
+        start = self._sizes()
+        reads = self._call_equations_recorded(component)
+        template = _Template.make(self, component, start, reads, self._plans[type(component)][2])
+        if template is None:
+            self.templates[key] = None
+        else:
+            self.templates[key] = variants + [template]
+
+    def _template_key(self, component: Component) -> tuple | None:
+        """What the equations of a leaf component may depend on besides its path (see
+        :class:`_Template`), or None if it is not a leaf."""
+        found = self._keys.get(id(component), self)
+        if found is self:
+            found = self._keys[id(component)] = self._make_template_key(component)
+        return found
+
+    def _make_template_key(self, component: Component) -> tuple | None:
+        if component._parent is None or component._children or component._connections:
+            return None
+        klass = type(component)
+        plan = self._plans.get(klass)
+        if plan is None:
+            declarations = self._declarations(component)
+            structural = tuple((name, d.default) for name, d in declarations.items()
+                               if isinstance(d, Parameter) and d.structural)
+            conditional = tuple(d for d in declarations.values() if d.condition is not None)
+            plan = self._plans[klass] = (structural, conditional, frozenset(n for n, _ in structural))
+        structural, conditional, _ = plan
+        modifiers = component._modifiers
+        try:
+            key = [klass]
+            key.extend(_freeze(modifiers.get(name, default)) for name, default in structural)
+            key.extend(bool(d.enabled(component)) for d in conditional)
+            key.extend((name, _freeze(value)) for name, value in vars(component).items()
+                       if name not in _FRAMEWORK_ATTRIBUTES)
+        except _NotTemplatable:
+            return None
+        except Exception:  # noqa: BLE001 - a failing condition: built directly, which reports it
+            return None
+        return tuple(key)
+
+    def _declared_as(self, name: str) -> tuple:
+        """How a symbol's name is declared, as far as its equations' flattening depends on it."""
+        if name in self.parameters:
+            return ("parameter", name in self.unknown_parameters)
+        variable = self.variables.get(name)
+        if variable is not None:
+            return ("variable", variable.kind)
+        return ("undeclared",)
+
+    def _sizes(self) -> tuple[int, int, int]:
+        return len(self.equations), len(self.initial_equations), len(self.discrete_equations)
+
+    def _call_equations_recorded(self, component: Component) -> set | None:
+        """:meth:`_call_equations`, recording what the equations read (:meth:`_recorded`)."""
+        return self._recorded(component, lambda: self._call_equations(component))[1]
+
+    def _recorded(self, component: Component, call) -> tuple[Any, set | None]:
+        """``(call(), reads)`` with what ``call`` reads of ``component`` recorded.
+
+        The component's modifier dictionaries record their reads and its parent is
+        replaced by a :class:`_ParentGuard`.  ``reads`` are the names of the
+        parameter modifiers read, or None if ``call`` read a variable's attribute
+        modifiers, the modifiers as a whole, or anything of the parent but its path.
+        """
+        modifiers = _RecordingDict(component._modifiers)
+        attributes = _RecordingDict(component._attribute_modifiers)
+        original = component._modifiers, component._attribute_modifiers, component._parent
+        guard = _ParentGuard(original[2])
+        object.__setattr__(component, "_modifiers", modifiers)
+        object.__setattr__(component, "_attribute_modifiers", attributes)
+        object.__setattr__(component, "_parent", guard)
+        try:
+            result = call()
+        finally:
+            object.__setattr__(component, "_modifiers", original[0])
+            object.__setattr__(component, "_attribute_modifiers", original[1])
+            object.__setattr__(component, "_parent", original[2])
+            for recorder, dictionary in zip((modifiers, attributes), original):
+                if recorder.changed:  # the call changed them: keep what it did
+                    dictionary.clear()
+                    dictionary.update(recorder)
+        if modifiers.everything or modifiers.changed or attributes.everything or attributes.changed \
+                or attributes.read or guard._touched:
+            return result, None
+        return result, modifiers.read
+
+    def _computed(self, component: Component, label: tuple, function) -> Any:
+        """``function(component)``, a computed variable attribute (:class:`_ValueTemplate`)."""
+        key = self._template_key(component) if self.templates is not None else None
+        if key is None:
+            return function(component)
+        key = (key, label)
+        template = self._computed_templates.get(key, self)
+        if template is self:  # the first instance
+            value, reads = self._recorded(component, lambda: function(component))
+            made = None
+            if reads is not None and reads <= self._plans[type(component)][2]:
+                try:
+                    made = _ValueTemplate(self, component, value)
+                except _NotTemplatable:
+                    pass
+            self._computed_templates[key] = made
+            return value
+        if template is None:
+            return function(component)
+        symbols = template.symbols_for(self, component.path)
+        if symbols is None:
+            return function(component)
+        if not template.verified:
+            value = function(component)
+            if template.agrees(value, symbols):
+                template.verified = True
+            else:
+                self._computed_templates[key] = None
+            return value
+        value = template.build(symbols)
+        if isinstance(value, sp.Basic):
+            self._built_values[id(value)] = (value, template, symbols)
+        return value
+
+    def _call_equations(self, component: Component) -> None:
         for klass in reversed(type(component).__mro__):
             for method_name, target in (("equations", self.equations),
                                         ("initial_equations", self.initial_equations)):
@@ -554,6 +770,7 @@ class _Flattener:
         parent: dict[tuple, tuple] = {}
         members: dict[tuple, dict] = {}  # element -> info
         order: list[tuple] = []
+        position: dict[tuple, int] = {}  # element -> its index in order
 
         def find(x):
             while parent[x] != x:
@@ -592,12 +809,13 @@ class _Flattener:
 
         # every enabled physical connector is an 'inside' element, connected or not
         for component in self.components:
-            for key, decl in component.declarations().items():
+            for key, decl in self._declarations(component).items():
                 if isinstance(decl, Connector) and decl.enabled(component):
                     bound = getattr(component, key)
                     el = ("physical", bound.path, False)
                     parent[el] = el
                     members[el] = bound
+                    position[el] = len(order)
                     order.append(el)
 
         signal_edges: list[tuple[str, str, str]] = []
@@ -628,11 +846,12 @@ class _Flattener:
                     if el not in parent:
                         parent[el] = el
                         members[el] = bound
+                        position[el] = len(order)
                         order.append(el)
                 ra, rb = find(ea), find(eb)
                 if ra != rb:
                     # keep the earlier-declared element as root: deterministic
-                    if order.index(rb) < order.index(ra):
+                    if position[rb] < position[ra]:
                         ra, rb = rb, ra
                     parent[rb] = ra
                 connect_text[find(ea)] = statement
@@ -642,7 +861,10 @@ class _Flattener:
             sets.setdefault(find(el), []).append(el)
         for root, elements in sets.items():
             bound0 = members[elements[0]]
-            variables = type(bound0.declaration).variables()
+            variables = self._connector_variables.get(type(bound0.declaration))
+            if variables is None:
+                variables = self._connector_variables[type(bound0.declaration)] = \
+                    type(bound0.declaration).variables()
             if len(elements) == 1:
                 for var_name, var in variables.items():
                     if isinstance(var, Flow) and not elements[0][2]:
@@ -658,11 +880,14 @@ class _Flattener:
                 if isinstance(var, Potential):
                     for sym in symbols[1:]:
                         self.equations.append(FlatEquation(
-                            sym - symbols[0],
+                            self._formed(("potential",), [sym, symbols[0]],
+                                         lambda sym=sym, first=symbols[0]: sym - first),
                             Origin(origin.component, origin.component_class, "connect", 0,
                                    f"{sym.name} = {symbols[0].name}  [{text}]")))
                 elif isinstance(var, Flow):
-                    total = sum(((-1 if e[2] else 1) * s for e, s in zip(elements, symbols)), sp.Integer(0))
+                    signs = tuple(-1 if e[2] else 1 for e in elements)
+                    total = self._formed(("flow", signs), symbols, lambda signs=signs, symbols=symbols: sum(
+                        (sign * s for sign, s in zip(signs, symbols)), sp.Integer(0)))
                     self.equations.append(FlatEquation(
                         total, Origin(origin.component, origin.component_class, "connect", 0,
                                       lambda total=total, text=text: f"0 = {total}  [{text}]")))
@@ -687,6 +912,37 @@ class _Flattener:
                     continue
                 raise ConnectionError_(f"input {name} of {type(component).__name__} is not connected",
                                        hint=f"connect a signal source to {name}")
+
+    def _formed(self, kind: tuple, symbols: list, build) -> sp.Basic:
+        """``build()``, an expression of ``symbols`` (a connection equation of the given
+        ``kind``), renamed without evaluation from the first one of its kind whose
+        symbols' names sort alike (as equation templates are; checked at the first reuse)."""
+        if self.templates is None or len(set(symbols)) != len(symbols) \
+                or any(type(s) is not sp.Symbol for s in symbols):
+            return build()
+        names = [s.name for s in symbols]
+        key = (kind, tuple(sorted(range(len(names)), key=names.__getitem__)))
+        form = self._forms.get(key)
+        if form is None:
+            expr = build()
+            try:
+                program = _Program([expr], {s: i for i, s in enumerate(symbols)}, ())
+            except _NotTemplatable:
+                program = None
+            self._forms[key] = [program, False]
+            return expr
+        program, verified = form
+        if program is None:
+            return build()
+        renamed = program.run(symbols)[program.roots[0]]
+        if not verified:
+            expr = build()
+            if sp.srepr(renamed) == sp.srepr(expr):
+                form[1] = True
+            else:
+                form[0] = None
+            return expr
+        return renamed
 
     def _assigned_inside(self, name: str) -> bool:
         sym = real_symbol(name)
@@ -811,3 +1067,574 @@ def _equations_failed(exc: Exception, component: Component, klass: type, method_
     return EquationError(f"{method_name}() of {component.path or 'the model'} ({of}) raised "
                          f"{type(exc).__name__}: {exc}{at}",
                          hint=hint, components=(component.path,))
+
+
+# --------------------------------------------------------------------------
+# Equation templates
+#
+# A large model repeats a few component classes many times (a drive train of
+# N units has N inertias, N bearings and N - 1 spring-dampers).  Calling
+# ``equations()`` of every instance builds the same expressions again and
+# again through sympy's automatic evaluation and assumption queries, and
+# expands der() by the chain rule each time.  Instead, the first instance of
+# a class (in a given structural configuration) is flattened as usual and its
+# result kept as a *template*; a further instance gets the template's
+# expressions with its own symbols put in, rebuilt node by node without any
+# evaluation.  The rule for when a template applies is in _Template's docstring.
+
+
+class _NotTemplatable(Exception):
+    """Raised while making a template: this result cannot be renamed safely."""
+
+
+#: The instance attributes every Component has; the rest (set by a constructor or
+#: build()) is part of the template key.
+_FRAMEWORK_ATTRIBUTES = frozenset({"_name", "_parent", "_children", "_connections", "_built",
+                                   "_modifiers", "_attribute_modifiers"})
+
+#: How many templates one key may have (one per order of the names, see _Template).
+_MAX_VARIANTS = 4
+
+_MISSING = object()
+
+
+def _freeze(value: Any) -> Any:
+    """A hashable stand-in for ``value`` that is equal for equal values of the same type.
+
+    Raises _NotTemplatable for a value it cannot compare safely.
+    """
+    if value is None or isinstance(value, (bool, int, float, complex, str, bytes)):
+        return (type(value), value)
+    if isinstance(value, (tuple, list)):
+        return (type(value), tuple(_freeze(v) for v in value))
+    if isinstance(value, (set, frozenset)):
+        return (type(value), frozenset(_freeze(v) for v in value))
+    if isinstance(value, dict):
+        return (type(value), tuple((_freeze(k), _freeze(v)) for k, v in value.items()))
+    if isinstance(value, np.ndarray):
+        if value.dtype.hasobject:
+            raise _NotTemplatable("an object array")
+        return (np.ndarray, value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, np.generic):
+        return (type(value), value.item())
+    if isinstance(value, enum.Enum):
+        return (type(value), value)
+    if isinstance(value, sp.Basic):
+        return (sp.Basic, sp.srepr(value))
+    if isinstance(value, (type, types.FunctionType, types.BuiltinFunctionType, types.MethodType,
+                          functools.partial)):
+        return ("object", id(value))  # the same object (they are alive during flattening)
+    raise _NotTemplatable(f"a {type(value).__name__}")
+
+
+class _RecordingDict(dict):
+    """A component's modifier dictionary that records how it is read.
+
+    While the first instance of a template key runs its ``equations()``, the
+    component's ``_modifiers`` and ``_attribute_modifiers`` are replaced by
+    these: every access by key is recorded in ``read``, any access to the
+    whole (iteration, length, copies, comparison) sets ``everything``, and
+    any change sets ``changed`` (and ``everything``).
+    """
+
+    def __init__(self, data) -> None:
+        super().__init__(data)
+        self.read: set = set()
+        self.everything = False
+        self.changed = False
+
+    def __getitem__(self, key):
+        self.read.add(key)
+        return dict.__getitem__(self, key)
+
+    def get(self, key, default=None):
+        self.read.add(key)
+        return dict.get(self, key, default)
+
+    def __contains__(self, key):
+        self.read.add(key)
+        return dict.__contains__(self, key)
+
+    __hash__ = None
+
+
+def _recording(name: str, changes: bool):
+    method = getattr(dict, name)
+
+    def recorded(self, *args, **kwargs):
+        self.everything = True
+        if changes:
+            self.changed = True
+        return method(self, *args, **kwargs)
+
+    recorded.__name__ = name
+    return recorded
+
+
+for _name in ("__iter__", "__len__", "__reversed__", "keys", "values", "items", "copy", "__eq__", "__ne__",
+              "__repr__", "__or__", "__ror__", "__reduce__", "__reduce_ex__"):
+    setattr(_RecordingDict, _name, _recording(_name, changes=False))
+for _name in ("__setitem__", "__delitem__", "setdefault", "pop", "popitem", "update", "clear", "__ior__"):
+    setattr(_RecordingDict, _name, _recording(_name, changes=True))
+del _name
+
+
+#: The slots every sympy object has; the others (``is_commutative``) are copied.
+_BASIC_SLOTS = frozenset({"_mhash", "_args", "_assumptions", "__dict__", "__weakref__"})
+
+#: class -> its own slot descriptors (beyond _BASIC_SLOTS)
+_SLOT_DESCRIPTORS: dict[type, tuple] = {}
+
+_basic_new = sp.Basic.__new__
+
+
+class _ParentGuard:
+    """Stands for a component's parent while the component's equations are recorded.
+
+    It gives the parent's ``path`` (the component's own path is made from it);
+    reading anything else of it is passed on to the parent and recorded in
+    ``_touched``: those equations depend on more than the component.
+    """
+
+    __slots__ = ("_target", "_touched")
+
+    def __init__(self, target) -> None:
+        object.__setattr__(self, "_target", target)
+        object.__setattr__(self, "_touched", False)
+
+    @property
+    def path(self) -> str:
+        return self._target.path
+
+    @property
+    def __class__(self):  # isinstance() sees the parent's class
+        return type(self._target)
+
+    def __getattr__(self, name: str):
+        object.__setattr__(self, "_touched", True)
+        return getattr(self._target, name)
+
+    def __setattr__(self, name: str, value) -> None:
+        object.__setattr__(self, "_touched", True)
+        setattr(self._target, name, value)
+
+
+def _slot_descriptors(klass: type) -> tuple:
+    found = _SLOT_DESCRIPTORS.get(klass)
+    if found is None:
+        found = []
+        for base in klass.__mro__:
+            names = vars(base).get("__slots__", ())
+            for name in (names,) if isinstance(names, str) else names:
+                if name not in _BASIC_SLOTS:
+                    found.append(vars(base)[name])
+        found = _SLOT_DESCRIPTORS[klass] = tuple(found)
+    return found
+
+
+def _model_function_name_ok(klass: type, forbidden_names: tuple) -> bool:
+    """False for a class made by the model (not sympy's own: an undefined function, a table)
+    whose name contains one of ``forbidden_names`` (the instance's path or name)."""
+    module = getattr(klass, "__module__", None) or ""
+    if module.startswith("sympy.") and not isinstance(klass, UndefinedFunction):
+        return True
+    return not any(name in klass.__name__ for name in forbidden_names)
+
+
+def _symbol_constructor_assumptions(symbol: sp.Symbol) -> dict:
+    """The assumptions ``symbol`` was created with (so that the same cached symbol results)."""
+    original = getattr(symbol, "_assumptions_orig", None)
+    return dict(original) if original is not None else dict(symbol.assumptions0)
+
+
+class _Program:
+    """Straight-line instructions rebuilding some expressions from new symbols.
+
+    ``symbol_slots`` numbers the symbols of ``roots``; :meth:`run` takes the
+    new symbols in that order.  ``values`` holds them, then the template's
+    other leaves (numbers: the same objects for every instance), then one
+    entry per node; each step creates one node of the template with its
+    arguments taken from ``values``, exactly as the template's node was (same
+    class, arguments in the same order, same slot values), without calling
+    the class's constructor, so without any evaluation or assumption query.
+    Subexpressions shared in the template are shared in the result.
+    """
+
+    def __init__(self, roots, symbol_slots: dict, forbidden_names: tuple) -> None:
+        self.values: list = [None] * len(symbol_slots)
+        self.steps: list[tuple] = []
+        memo: dict[int, int] = {}  # id of a node (alive in roots while compiling) -> its entry
+        self.roots = [self._compile(root, memo, symbol_slots, forbidden_names) for root in roots]
+
+    def _compile(self, node, memo, symbol_slots, forbidden_names) -> int:
+        key = id(node)
+        found = memo.get(key)
+        if found is not None:
+            return found
+        if not isinstance(node, sp.Basic):
+            raise _NotTemplatable(f"a {type(node).__name__} in an expression")
+        if not node.args:
+            if type(node) is sp.Symbol:
+                slot = symbol_slots.get(node)
+                if slot is None:
+                    raise _NotTemplatable(f"the symbol {node.name}")
+                memo[key] = slot
+                return slot
+            if isinstance(node, sp.Symbol) or not (
+                    isinstance(node, sp.logic.boolalg.BooleanAtom) or node.is_number is True
+                    or isinstance(node, sp.Function) and _model_function_name_ok(type(node), forbidden_names)):
+                raise _NotTemplatable(f"the atom {node!r}")
+            self.values.append(node)  # the same object in every instance: it has no symbols
+            memo[key] = slot = len(self.values) - 1
+            return slot
+        klass = type(node)
+        if not _model_function_name_ok(klass, forbidden_names):
+            raise _NotTemplatable(f"the function {klass.__name__} named after the instance")
+        args = tuple(self._compile(a, memo, symbol_slots, forbidden_names) for a in node.args)
+        slots = []
+        for descriptor in _slot_descriptors(klass):
+            try:
+                value = descriptor.__get__(node, klass)
+            except AttributeError:
+                continue
+            if value is not None and not isinstance(value, bool):
+                raise _NotTemplatable(f"slot {descriptor!r} of {klass.__name__}")
+            slots.append((descriptor, value))
+        attributes = {}
+        argset = False
+        for name, value in getattr(node, "__dict__", {}).items():
+            if name == "_argset" and value == frozenset(node.args):
+                argset = True
+            elif name == "nargs" and isinstance(value, sp.Basic) and not value.free_symbols:
+                attributes[name] = value
+            else:
+                raise _NotTemplatable(f"attribute {name} of {klass.__name__}")
+        self.values.append(None)
+        slot = len(self.values) - 1
+        self.steps.append((slot, klass, args, tuple(slots), attributes, argset))
+        memo[key] = slot
+        return slot
+
+    def run(self, symbols: list) -> list:
+        values = self.values.copy()
+        values[:len(symbols)] = symbols
+        new = _basic_new
+        for slot, klass, args, slots, attributes, argset in self.steps:
+            arguments = [values[i] for i in args]
+            node = new(klass, *arguments)
+            for descriptor, value in slots:
+                descriptor.__set__(node, value)
+            if attributes or argset:
+                state = node.__dict__
+                state.update(attributes)
+                if argset:
+                    state["_argset"] = frozenset(arguments)
+            values[slot] = node
+        return values
+
+
+class _Source:
+    """The source of a templated equation's Origin: its text, printed on demand."""
+
+    __slots__ = ("template", "symbols", "entry")
+
+    def __init__(self, template: "_Template", symbols: list, entry: int) -> None:
+        self.template = template
+        self.symbols = symbols
+        self.entry = entry
+
+    def expression(self) -> Any:
+        """The equation as the instance's equations() wrote it."""
+        template = self.template
+        root = template.source_roots[self.entry]
+        if root is None:
+            return template.source_constants[self.entry]
+        return template.sources.run(self.symbols)[template.sources.roots[root]]
+
+    def __call__(self) -> str:
+        return _text(self.expression())
+
+    def __reduce__(self):  # a copy (pickle, deepcopy) keeps the text
+        return (str, (self(),))
+
+
+class _Renaming:
+    """The symbols in some expressions of one component instance, and how to name another's.
+
+    Every symbol must be the instance's own (a variable or parameter under its
+    path, or ``der()``/``pre()`` of one) or ``time`` or ``initial()``.  Slots
+    are numbered in a fixed order; :meth:`symbols_for` gives another
+    instance's symbols in the same slots, or None if its names do not sort as
+    these do (ties included) or are not declared alike.
+    """
+
+    def __init__(self, flattener: "_Flattener", component: Component, expressions: list) -> None:
+        path = component.path
+        prefix = path + "."
+        symbols: set = set()
+        for expr in expressions:
+            symbols |= expr.atoms(sp.Symbol)
+        constants = {time: None, INITIAL: None}
+        renamed = sorted((s for s in symbols if s not in constants), key=lambda s: (s.name, str(s.assumptions0)))
+        fixed = sorted((s for s in symbols if s in constants), key=lambda s: s.name)
+        self.parts: list[tuple] = []  # (head, tail, constructor assumptions) or (None, symbol, None)
+        self.checks: list[tuple[int, tuple]] = []  # (slot, how the name is declared)
+        for slot, symbol in enumerate(renamed):
+            if type(symbol) is not sp.Symbol:
+                raise _NotTemplatable(f"the {type(symbol).__name__} {symbol}")
+            name = symbol.name
+            what = parse(name)
+            if what.kind not in ("variable", "derivative", "pre") or not what.base.startswith(prefix):
+                raise _NotTemplatable(f"the symbol {name} is not {path}'s")
+            at = name.find(what.base)
+            self.parts.append((name[:at], name[at + len(path):], _symbol_constructor_assumptions(symbol)))
+            if what.kind == "variable":
+                self.checks.append((slot, flattener._declared_as(name)))
+        for symbol in fixed:
+            self.parts.append((None, symbol, None))
+        names = [s.name for s in renamed + fixed]
+        order = sorted(range(len(names)), key=names.__getitem__)
+        self.order = [(a, b, names[a] == names[b]) for a, b in zip(order, order[1:])]
+        self.slot_of_name: dict[str, int] = {}
+        for slot, name in enumerate(names):
+            self.slot_of_name.setdefault(name, slot)
+        self.slots = {s: i for i, s in enumerate(renamed + fixed)}
+        #: function classes named after the instance cannot be renamed
+        self.forbidden = tuple({re.sub(r"[^0-9A-Za-z_]", "_", path), component.name})
+
+    def symbols_for(self, flattener: "_Flattener", path: str) -> list | None:
+        names = [tail.name if head is None else head + path + tail for head, tail, _ in self.parts]
+        for a, b, equal in self.order:
+            if (names[a] != names[b]) if equal else not names[a] < names[b]:
+                return None
+        for slot, declared in self.checks:
+            if flattener._declared_as(names[slot]) != declared:
+                return None
+        return [tail if head is None else _symbol(name, assumptions)
+                for (head, tail, assumptions), name in zip(self.parts, names)]
+
+
+def _symbol(name: str, assumptions: dict) -> sp.Symbol:
+    """``sympy.Symbol(name, **assumptions)`` for assumptions sympy has already checked."""
+    if _new_symbol is None:
+        return sp.Symbol(name, **assumptions)
+    return _new_symbol(sp.Symbol, name, **assumptions)
+
+
+#: Symbol's cached constructor without the check of the assumptions (private to sympy: if it
+#: is not there, Symbol() is used)
+_new_symbol = getattr(sp.Symbol, "_Symbol__xnew_cached_", None)
+
+
+class _ValueTemplate:
+    """A computed attribute (``Variable(nominal=function)``) of one instance, for another.
+
+    The function is called with the first instance of a template key (recorded
+    as equations() are, see :class:`_Template`); its value (a number, or an
+    expression of the instance's parameters) serves the further instances of
+    the key, renamed, under the same rules as equations, with the same check
+    at the first reuse.  ``numbers`` keeps what the expression evaluated to,
+    by the values of its symbols.
+    """
+
+    def __init__(self, flattener: "_Flattener", component: Component, value: Any) -> None:
+        self.verified = False
+        self.numbers: dict[tuple, float] = {}
+        if isinstance(value, sp.Basic):
+            self.plain = None
+            self.renaming = _Renaming(flattener, component, [value])
+            self.program = _Program([value], self.renaming.slots, self.renaming.forbidden)
+        elif value is None or type(value) in (bool, int, float, str) or isinstance(value, enum.Enum):
+            self.plain = value
+            self.renaming = None
+        else:
+            raise _NotTemplatable(f"a {type(value).__name__}")
+
+    def symbols_for(self, flattener: "_Flattener", path: str) -> list | None:
+        return [] if self.renaming is None else self.renaming.symbols_for(flattener, path)
+
+    def build(self, symbols: list) -> Any:
+        if self.renaming is None:
+            return self.plain
+        return self.program.run(symbols)[self.program.roots[0]]
+
+    def agrees(self, value: Any, symbols: list) -> bool:
+        built = self.build(symbols)
+        if isinstance(value, sp.Basic) or isinstance(built, sp.Basic):
+            return isinstance(value, sp.Basic) and isinstance(built, sp.Basic) and \
+                sp.srepr(value) == sp.srepr(built)
+        return type(value) is type(built) and value == built
+
+
+class _Template:
+    """The flattened equations of one component instance, ready to be given to another.
+
+    **The rule.**  The equations of instance B are those of instance A with A's
+    symbols renamed to B's (``A.x`` -> ``B.x``, ``der(A.x)`` -> ``der(B.x)``) when
+
+    1. **A and B have the same template key** (:meth:`_Flattener._template_key`):
+       both are leaves (no sub-components, no connections of their own) of the
+       same class, with equal values of every structural parameter, the same
+       conditional declarations enabled, and equal values of every other
+       attribute set on the instance (by its constructor or ``build()``; an
+       attribute whose value cannot be compared, such as another component,
+       gives no key).  Numeric parameters are symbols in the equations and are
+       not part of the key.  Instead, A's ``equations()`` run with A's modifier
+       dictionaries recording what is read (:class:`_RecordingDict`) and A's
+       parent replaced by a :class:`_ParentGuard`: the key gets no template if
+       they read any modifier but a structural parameter's (``parameter_binding``),
+       a variable attribute (``attribute``), the modifiers as a whole, or
+       anything of the parent but its path (``self._parent.gain``).
+    2. **A's result can be renamed**: every symbol in it (residuals, discrete
+       right-hand sides, the equations as written) is A's own (a variable,
+       parameter, ``der()`` or ``pre()`` of one under A's path) or ``time`` or
+       ``initial()``; every other leaf is a number; no function class is named
+       after A (a table with two rows or more is: such a key gets no
+       template); no node carries state that cannot be copied.
+    3. **The names sort alike**: sympy orders the arguments of sums, products
+       and ``And``/``Or`` by comparing names, and decides some canonical forms
+       by that order (which sign a sum keeps), so B's names must sort in the
+       same order, ties included, as A's.  ``time`` sorts after ``bearing1.w``
+       but before ``spring1.w``: a key keeps up to _MAX_VARIANTS templates,
+       one per order met.
+    4. **Each template is checked once**: the first instance it would serve is
+       built both ways, and the template is used only if the renamed result is
+       identical (``srepr``) to what ``equations()`` returns (residuals,
+       discrete equations, equations as written, origins).  This catches what
+       1-3 cannot see, such as equations reading a global variable, as far as
+       that instance differs.  If they differ, the key builds every instance
+       directly.
+    5. B's renamed symbols must be declared the same way as A's (variable or
+       parameter, its kind, fixed or not); otherwise B is built directly (and
+       any error is raised as usual).
+
+    What remains assumed: ``equations()`` is a function of the component (its
+    declarations, modifiers, attributes and path), as the language defines it,
+    not of state elsewhere (a global counter, a closure) that happens to
+    agree for A and the instance checked under 4.
+
+    **The renaming** creates each node with ``Basic.__new__`` and the template
+    node's arguments and slots (:class:`_Program`): no evaluation and no
+    assumption query, and, under 3, the same canonical form as sympy's
+    evaluation gives B's equations.  The equations as written
+    (``Origin.source``) are rebuilt only when their text is asked for
+    (:class:`_Source`).  Computed variable attributes (``nominal=function``)
+    follow the same rule (:class:`_ValueTemplate`), and so do the connection
+    equations, by the signs and the order of their names (:meth:`_Flattener._formed`).
+    """
+
+    def __init__(self, flattener: "_Flattener", component: Component, equations: list, initial: list,
+                 discrete: list) -> None:
+        self.verified = False
+        self.path = component.path
+        self.component_class = type(component).__name__
+        roots, source_items = [], []
+        #: (declared_in, index, root, source): root and source number the expressions below
+        self.equation_entries: list[tuple] = []
+        self.initial_entries: list[tuple] = []
+        #: (declared_in, index, variable name, root, source)
+        self.discrete_entries: list[tuple] = []
+        for entries, items in ((self.equation_entries, equations), (self.initial_entries, initial)):
+            for eq in items:
+                entries.append((eq.origin.declared_in, eq.origin.index, len(roots), len(source_items)))
+                roots.append(eq.residual)
+                source_items.append(eq.origin.source)
+        for eq in discrete:
+            self.discrete_entries.append((eq.origin.declared_in, eq.origin.index, eq.variable, len(roots),
+                                          len(source_items)))
+            roots.append(eq.rhs)
+            source_items.append(eq.origin.source)
+        for item in source_items:
+            if not (isinstance(item, sp.Basic) or type(item) in (int, float)):
+                raise _NotTemplatable(f"the equation {item!r}")
+
+        self.renaming = renaming = _Renaming(flattener, component, roots + [
+            s for s in source_items if isinstance(s, sp.Basic)])
+        #: discrete variable name -> the slot of a symbol of that name
+        self.variables = {eq.variable: renaming.slot_of_name[eq.variable] for eq in discrete}
+
+        slots, forbidden = renaming.slots, renaming.forbidden
+        self.main = _Program(roots, slots, forbidden)
+        #: the slots of each root's free symbols (partition reads them instead of walking the tree)
+        self.free_slots = [sorted(slots[s] for s in root.free_symbols) for root in roots]
+        self.sources = _Program([s for s in source_items if isinstance(s, sp.Basic)], slots, forbidden)
+        self.source_roots: list[int | None] = []
+        self.source_constants: list = []
+        k = 0
+        for item in source_items:
+            if isinstance(item, sp.Basic):
+                self.source_roots.append(k)
+                self.source_constants.append(None)
+                k += 1
+            else:
+                self.source_roots.append(None)
+                self.source_constants.append(item)
+
+    @classmethod
+    def make(cls, flattener: "_Flattener", component: Component, start: tuple, reads: set | None,
+             structural: frozenset) -> "_Template | None":
+        """The template of ``component``'s equations, just flattened (from ``start``), or None."""
+        if reads is None or not reads <= structural:
+            return None
+        try:
+            return cls(flattener, component, flattener.equations[start[0]:],
+                       flattener.initial_equations[start[1]:], flattener.discrete_equations[start[2]:])
+        except _NotTemplatable:
+            return None
+
+    def symbols_for(self, flattener: "_Flattener", path: str) -> list | None:
+        """The symbols of the instance at ``path`` in slot order, or None if this template
+        does not apply to it (rules 3 and 5)."""
+        return self.renaming.symbols_for(flattener, path)
+
+    def build(self, path: str, symbols: list) -> tuple[list, list, list]:
+        """``(equations, initial equations, discrete equations)`` of the instance at ``path``."""
+        values = self.main.run(symbols)
+        roots = self.main.roots
+        klass = self.component_class
+        out: tuple[list, list, list] = ([], [], [])
+        for target, entries in ((out[0], self.equation_entries), (out[1], self.initial_entries)):
+            for declared_in, index, root, source in entries:
+                target.append(FlatEquation(values[roots[root]], Origin(path, klass, declared_in, index,
+                                                                       _Source(self, symbols, source))))
+        for declared_in, index, variable, root, source in self.discrete_entries:
+            out[2].append(DiscreteEquation(symbols[self.variables[variable]].name, values[roots[root]],
+                                           Origin(path, klass, declared_in, index,
+                                                  _Source(self, symbols, source))))
+        return out
+
+    def add(self, flattener: "_Flattener", path: str, symbols: list) -> None:
+        """Add the equations of the instance at ``path`` to the flat model."""
+        equations, initial, discrete = self.build(path, symbols)
+        flattener.equations.extend(equations)
+        flattener.initial_equations.extend(initial)
+        flattener.discrete_equations.extend(discrete)
+
+    def agrees(self, flattener: "_Flattener", path: str, symbols: list, start: tuple) -> bool:
+        """Whether the template gives exactly what the equations() of the instance at
+        ``path`` just gave (added to the flat model from ``start``)."""
+        built = self.build(path, symbols)
+        direct = (flattener.equations[start[0]:], flattener.initial_equations[start[1]:],
+                  flattener.discrete_equations[start[2]:])
+        return all(len(a) == len(b) and all(_same_equation(x, y) for x, y in zip(a, b))
+                   for a, b in zip(built, direct))
+
+
+def _same_equation(a, b) -> bool:
+    """Whether two flat or discrete equations are identical, origins and sources included."""
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, DiscreteEquation):
+        if a.variable != b.variable or sp.srepr(a.rhs) != sp.srepr(b.rhs):
+            return False
+    elif sp.srepr(a.residual) != sp.srepr(b.residual):
+        return False
+    oa, ob = a.origin, b.origin
+    if (oa.component, oa.component_class, oa.declared_in, oa.index) != \
+            (ob.component, ob.component_class, ob.declared_in, ob.index):
+        return False
+    sa = oa.source.expression() if isinstance(oa.source, _Source) else oa.source
+    sb = ob.source.expression() if isinstance(ob.source, _Source) else ob.source
+    if isinstance(sa, sp.Basic) or isinstance(sb, sp.Basic):
+        return isinstance(sa, sp.Basic) and isinstance(sb, sp.Basic) and sp.srepr(sa) == sp.srepr(sb)
+    return type(sa) is type(sb) and sa == sb

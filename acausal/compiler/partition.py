@@ -10,6 +10,10 @@ The *discrete state* of the model is the assignment of every discrete symbol
 that selects continuous equations (discrete variables, their ``pre()``
 values, relation indicators and ``initial()``).  For each discrete state the
 later stages build their own continuous system, lazily.
+
+The equations that flattening built from one component template are alike
+but for their symbols: the relations of one instance's equation are found
+once, and the other instances get the result renamed (:class:`_RelationTemplate`).
 """
 
 from __future__ import annotations
@@ -19,13 +23,23 @@ from dataclasses import dataclass
 
 import networkx as nx
 import sympy as sp
+from sympy.printing.repr import ReprPrinter
+from sympy.printing.str import StrPrinter
 
 from ..errors import ModelDefinitionError
-from .flatten import DiscreteEquation, FlatEquation, FlatModel
+from .flatten import DiscreteEquation, FlatEquation, FlatModel, _NotTemplatable, _Program, _Source
 from ..language import time
 from ..names import is_derivative, parse, relation_name
 
 __all__ = ["Relation", "PartitionedModel", "partition"]
+
+#: Whether partition treats the equations flattening built from one template
+#: (:class:`~acausal.compiler.flatten._Template`) alike (:class:`_RelationTemplate`).
+#: False visits every equation; the result is the same.
+USE_TEMPLATES = True
+
+#: How many relation templates one template equation may have (one per order of the names).
+_MAX_VARIANTS = 8
 
 _RELATIONS = (sp.StrictGreaterThan, sp.GreaterThan, sp.StrictLessThan, sp.LessThan)
 
@@ -118,46 +132,100 @@ class PartitionedModel:
         return bool(self.relations or self.discrete_equations)
 
 
-def partition(flat: FlatModel) -> PartitionedModel:
-    """Find relations, order discrete equations and the discrete state."""
-    variables = flat.variable_map
-    parameters = flat.parameter_values
-    continuous = {n for n, v in variables.items() if not v.is_discrete}
-    relations: dict[tuple, Relation] = {}
-    owners: dict[tuple, dict[str, None]] = {}
-    evaluated: set[str] = set()
+_OPERATORS = {sp.StrictGreaterThan: ">", sp.GreaterThan: ">=", sp.StrictLessThan: "<", sp.LessThan: "<="}
 
-    def is_continuous_symbol(sym: sp.Symbol) -> bool:
+
+def _has_relation(expr: sp.Basic) -> bool:
+    """``expr.has(*_RELATIONS)`` in one walk of the tree (``has`` walks it once per class)."""
+    stack, seen = [expr], set()
+    while stack:
+        node = stack.pop()
+        if isinstance(node, _RELATIONS):
+            return True
+        for arg in node.args:
+            if id(arg) not in seen:
+                seen.add(id(arg))
+                stack.append(arg)
+    return False
+
+
+class _RelationFinder:
+    """Replaces relations by indicators, numbering them in the order they are met."""
+
+    def __init__(self, flat: FlatModel, variables: dict) -> None:
+        self.parameters = flat.parameter_values
+        self.continuous = {n for n, v in variables.items() if not v.is_discrete}
+        self.relations: dict[tuple, Relation] = {}
+        self.owners: dict[tuple, dict[str, None]] = {}
+        self.evaluated: set[str] = set()
+
+    def copy(self) -> "_RelationFinder":
+        other = object.__new__(_RelationFinder)
+        other.parameters, other.continuous = self.parameters, self.continuous
+        other.relations = dict(self.relations)
+        other.owners = {key: dict(found) for key, found in self.owners.items()}
+        other.evaluated = set(self.evaluated)
+        return other
+
+    def restore(self, other: "_RelationFinder") -> None:
+        """Take what ``other`` (a copy of this one) found."""
+        self.relations, self.owners, self.evaluated = other.relations, other.owners, other.evaluated
+
+    def is_continuous_symbol(self, sym: sp.Symbol) -> bool:
         name = sym.name
-        return sym is time or name in continuous or is_derivative(name)
+        return sym is time or name in self.continuous or is_derivative(name)
 
-    def replace_relations(expr: sp.Basic, origin) -> sp.Basic:
-        if not isinstance(expr, sp.Basic) or not expr.has(*_RELATIONS):
+    def is_time_event(self, g: sp.Expr) -> bool:
+        """A time event needs the crossing time in closed form: g linear in time."""
+        parameters = self.parameters
+        return (all(s is time or s.name in parameters for s in g.free_symbols) and g.has(time)
+                and not sp.diff(g, time).has(time))
+
+    def decide(self, relation: type, g: sp.Expr) -> bool:
+        """The value of ``g op 0`` for a ``g`` of parameters only."""
+        syms = g.free_symbols
+        self.evaluated.update(s.name for s in syms)
+        return bool(relation(g.subs({s: self.parameters[s.name] for s in syms}), 0))
+
+    def add(self, key: tuple, component: str, make) -> sp.Symbol:
+        """The indicator of the relation ``key``; if new, ``make()`` gives its
+        ``(lhs, rhs, op, text, is_time)``."""
+        self.owners.setdefault(key, {})[component] = None
+        found = self.relations.get(key)
+        if found is None:
+            index = len(self.relations)
+            lhs, rhs, op, text, is_time = make()
+            found = self.relations[key] = Relation(index, sp.Symbol(relation_name(index)), lhs, rhs, op,
+                                                   text, is_time)
+        return found.symbol
+
+    def replace(self, expr: sp.Basic, origin, events: list | None = None) -> sp.Basic:
+        """``expr`` with its relations replaced; ``events`` (if given) receives, in order,
+        ``("relation", node, g, lhs, rhs, op, indicator)`` for each relation watched and
+        ``("decided", node, g, value)`` for each relation of parameters decided."""
+        if not isinstance(expr, sp.Basic) or not _has_relation(expr):
             return expr
+        parameters = self.parameters
 
         def visit(node: sp.Basic) -> sp.Basic:
             if isinstance(node, _RELATIONS):
                 lhs, rhs = visit(node.lhs), visit(node.rhs)
                 g = lhs - rhs
                 syms = g.free_symbols
-                if not any(is_continuous_symbol(s) for s in syms):
+                if not any(self.is_continuous_symbol(s) for s in syms):
                     if all(s.name in parameters for s in syms):
-                        evaluated.update(s.name for s in syms)
-                        return sp.true if bool(node.func(g.subs({s: parameters[s.name] for s in syms}), 0)) \
-                            else sp.false
+                        value = self.decide(node.func, g)
+                        if events is not None:
+                            events.append(("decided", node.func, g, value))
+                        return sp.true if value else sp.false
                     return node.func(lhs, rhs)  # discrete comparison, evaluated at events
-                op = {sp.StrictGreaterThan: ">", sp.GreaterThan: ">=", sp.StrictLessThan: "<",
-                      sp.LessThan: "<="}[type(node)]
+                op = _OPERATORS[type(node)]
                 key = (sp.srepr(g), op)
-                owners.setdefault(key, {})[origin.component] = None
-                if key not in relations:
-                    index = len(relations)
-                    # a time event needs the crossing time in closed form: g linear in time
-                    is_time = (all(s is time or s.name in parameters for s in syms) and g.has(time)
-                               and not sp.diff(g, time).has(time))
-                    relations[key] = Relation(index, sp.Symbol(relation_name(index)), lhs, rhs, op,
-                                              f"{lhs} {op} {rhs}", is_time)
-                return relations[key].symbol
+                symbol = self.add(key, origin.component,
+                                  lambda: (lhs, rhs, op, f"{lhs} {op} {rhs}", self.is_time_event(g)))
+                if events is not None:
+                    events.append(("relation", node.func, g, lhs, rhs, op, symbol))
+                return symbol
             if not node.args:
                 return node
             args = [visit(a) for a in node.args]
@@ -165,12 +233,250 @@ def partition(flat: FlatModel) -> PartitionedModel:
 
         return visit(expr)
 
-    equations = tuple(FlatEquation(replace_relations(e.residual, e.origin), e.origin)
-                      for e in flat.equations)
-    initial_equations = tuple(FlatEquation(replace_relations(e.residual, e.origin), e.origin)
+
+class _RelationTemplate:
+    """What partition did to one instance's template equation, ready for another instance.
+
+    Flattening builds the equations of repeated components from a template
+    (:class:`~acausal.compiler.flatten._Template`); their origins say which
+    (:class:`~acausal.compiler.flatten._Source`).  The first instance of a
+    template equation that has relations is visited as usual, and its result,
+    with the relations it met (in order), becomes this template.  A further
+    instance of the same equation gets
+
+    - each relation's ``g``, ``lhs`` and ``rhs`` renamed to its symbols, and
+      the indicator of ``(srepr(g), op)`` (an existing one, or a new one
+      numbered in the same order as a visit would);
+    - relations of parameters alone decided with its own parameter values,
+      which must give the template's value (else it is visited);
+    - the template's result renamed to its symbols and indicators, node by
+      node without evaluation (as flattening's templates), provided the
+      indicators' names sort with the symbols' names as the template's did
+      (``$rel10`` sorts before ``$rel9``) and two relations share an
+      indicator exactly where the template's did; else it is visited.
+
+    The first use of each template is checked against a visit of the same
+    equation; if they differ the equation is visited for every instance.
+    """
+
+    def __init__(self, result: sp.Basic, events: list, symbols: list, finder: _RelationFinder) -> None:
+        self.verified = False
+        #: ("relation", op, is_time, indicator number, root) or ("decided", relation, value, root),
+        #: root: where g (then lhs, rhs) is among the roots of ``parts``
+        self.events: list[tuple] = []
+        indicators: list[sp.Symbol] = []
+        roots: list = []
+        for event in events:
+            if event[0] == "relation":
+                _, _, g, lhs, rhs, op, indicator = event
+                if indicator not in indicators:
+                    indicators.append(indicator)
+                # is_time is the same for every instance: their symbols are declared alike
+                self.events.append(("relation", op, finder.is_time_event(g), indicators.index(indicator),
+                                    len(roots)))
+                roots += [g, lhs, rhs]
+            else:
+                _, relation, g, value = event
+                self.events.append(("decided", relation, value, len(roots)))
+                roots.append(g)
+        n = len(symbols)
+        slots = {symbol: i for i, symbol in enumerate(symbols)}
+        if len(slots) != n or any(i in slots for i in indicators):
+            raise _NotTemplatable("symbols that are not distinct")
+        self.parts = _Program(roots, slots, ())  # no indicators in g, lhs, rhs: nested relations are visited
+        # srepr(g) (the relation's key) and str(lhs), str(rhs) (its text) with holes for the names
+        self.formats = [(_marked(_MarkingRepr, event[2], slots), _marked(_MarkingStr, event[3], slots),
+                         _marked(_MarkingStr, event[4], slots)) if event[0] == "relation" else None
+                        for event in events]
+        #: the slots whose srepr the keys need
+        self.printed_slots = sorted({piece for formats in self.formats if formats is not None
+                                     for i, piece in enumerate(formats[0]) if i % 2})
+        for i, indicator in enumerate(indicators):
+            slots[indicator] = n + i
+        self.result = _Program([result], slots, ())
+        self.n_indicators = len(indicators)
+        # the names in the result, in the order they sort
+        present = sorted(slots[s] for s in result.free_symbols if s in slots)
+        names = [s.name for s in symbols] + [s.name for s in indicators]
+        order = sorted(present, key=names.__getitem__)
+        self.order = [(a, b, names[a] == names[b]) for a, b in zip(order, order[1:])]
+        self.free = present  # slots of the result's free symbols
+        if len(present) != len(result.free_symbols):
+            raise _NotTemplatable("free symbols outside the slots")
+
+    def apply(self, finder: _RelationFinder, symbols: list, origin) -> tuple | None:
+        """``(result, its free symbols)`` for the instance with ``symbols``, with its relations
+        added to ``finder``; None (and nothing added) if the template does not apply."""
+        n = len(symbols)
+        values = self.parts.run(symbols)
+        planned = []  # (key, lhs, rhs, op, indicator number, is_time, printed forms)
+        roots = self.parts.roots
+        reprs: list = [None] * n
+        for slot in self.printed_slots:
+            reprs[slot] = _REPR._print_Symbol(symbols[slot])
+        for event, formats in zip(self.events, self.formats):
+            if event[0] == "relation":
+                _, op, is_time, number, at = event
+                planned.append(((_fill(formats[0], reprs), op), values[roots[at + 1]],
+                                values[roots[at + 2]], op, number, is_time, formats))
+            else:
+                _, relation, value, at = event
+                g = values[roots[at]]
+                syms = g.free_symbols
+                if bool(relation(g.subs({s: finder.parameters[s.name] for s in syms}), 0)) != value:
+                    return None
+        # the indicators this instance gets, without adding anything yet
+        indicators: list = [None] * self.n_indicators
+        new: dict[tuple, sp.Symbol] = {}
+        count = len(finder.relations)
+        for key, _, _, _, number, _, _ in planned:
+            found = finder.relations.get(key)
+            symbol = found.symbol if found is not None else new.get(key)
+            if symbol is None:
+                symbol = new[key] = sp.Symbol(relation_name(count + len(new)))
+            if indicators[number] is None:
+                indicators[number] = symbol
+            elif indicators[number] != symbol:
+                return None
+        if len(set(indicators)) != len(indicators):
+            return None
+        slots = list(symbols) + indicators
+        names = [s.name for s in slots]
+        for a, b, equal in self.order:
+            if (names[a] != names[b]) if equal else not names[a] < names[b]:
+                return None
+        # add them as a visit would: in the order met
+        for key, lhs, rhs, op, number, is_time, formats in planned:
+            finder.add(key, origin.component,
+                       lambda lhs=lhs, rhs=rhs, op=op, is_time=is_time, formats=formats:
+                       (lhs, rhs, op, f"{_fill(formats[1], names)} {op} {_fill(formats[2], names)}", is_time))
+        for event in self.events:
+            if event[0] == "decided":
+                finder.evaluated.update(s.name for s in values[roots[event[3]]].free_symbols)
+        result = self.result.run(slots)[self.result.roots[0]]
+        return result, [slots[i] for i in self.free]
+
+    def agrees(self, finder: _RelationFinder, visited: _RelationFinder, result: sp.Basic,
+               direct: sp.Basic) -> bool:
+        """Whether applying the template (to ``finder``) did what the visit (to ``visited``,
+        a copy of ``finder`` before) did."""
+        if sp.srepr(result) != sp.srepr(direct) or finder.evaluated != visited.evaluated:
+            return False
+        if [(key, list(found)) for key, found in finder.owners.items()] != \
+                [(key, list(found)) for key, found in visited.owners.items()]:
+            return False
+        if list(finder.relations) != list(visited.relations):
+            return False
+        return all(a == b and sp.srepr((a.lhs, a.rhs)) == sp.srepr((b.lhs, b.rhs))
+                   for a, b in zip(finder.relations.values(), visited.relations.values()))
+
+
+#: srepr's printer (for one symbol)
+_REPR = ReprPrinter()
+
+
+class _MarkingRepr(ReprPrinter):
+    """srepr, with the symbols of ``slots`` printed as ``NUL slot NUL``."""
+
+    slots: dict = {}
+
+    def _print_Symbol(self, expr):
+        slot = self.slots.get(expr)
+        return super()._print_Symbol(expr) if slot is None else f"\x00{slot}\x00"
+
+
+class _MarkingStr(StrPrinter):
+    """str(), with the symbols of ``slots`` printed as ``NUL slot NUL``."""
+
+    slots: dict = {}
+
+    def _print_Symbol(self, expr):
+        slot = self.slots.get(expr)
+        return super()._print_Symbol(expr) if slot is None else f"\x00{slot}\x00"
+
+
+def _marked(printer: type, expr: sp.Basic, slots: dict) -> list:
+    """How ``printer`` prints ``expr``: text pieces, and the slot numbers of its symbols between them.
+
+    The order of a sum's terms comes from the expression, not from the text,
+    so it is that of another instance whose names sort alike: filling in its
+    names (:func:`_fill`) prints that instance's expression.
+    """
+    settings = {"order": None} if printer is _MarkingStr else {}  # as str() and srepr() print
+    marking = printer(settings)
+    marking.slots = slots
+    pieces = marking.doprint(expr).split("\x00")
+    if len(pieces) % 2 == 0:
+        raise _NotTemplatable("a name with a NUL character")
+    return [int(piece) if i % 2 else piece for i, piece in enumerate(pieces)]
+
+
+def _fill(pieces: list, texts: list) -> str:
+    return "".join(texts[piece] if i % 2 else piece for i, piece in enumerate(pieces))
+
+
+def partition(flat: FlatModel, *, templates: bool | None = None) -> PartitionedModel:
+    """Find relations, order discrete equations and the discrete state.
+
+    ``templates=False`` (default: :data:`USE_TEMPLATES`) visits every equation
+    instead of reusing the work done for another instance of a component's
+    template equation; the result is the same.
+    """
+    variables = flat.variable_map
+    finder = _RelationFinder(flat, variables)
+    use_templates = USE_TEMPLATES if templates is None else templates
+    #: (id of a flatten template, its equation) -> relation templates, or None
+    variants: dict[tuple, list | None] = {}
+    free: dict[int, list] = {}  # id of a new equation -> its free symbols, where known
+
+    def replace(expr: sp.Basic, origin) -> sp.Basic:
+        source = origin.source
+        if not use_templates or not isinstance(source, _Source):
+            return finder.replace(expr, origin)
+        key = (id(source.template), source.entry)
+        found = variants.get(key, [])
+        if found is None:
+            return finder.replace(expr, origin)
+        if not found and key in variants:  # no relations in this equation of the template
+            free[id(expr)] = [source.symbols[i] for i in source.template.free_slots[source.entry]]
+            return expr
+        for template in found:
+            # its first use is checked: the equation is visited as well, on a copy
+            before = None if template.verified else finder.copy()
+            applied = template.apply(finder, source.symbols, origin)
+            if applied is None:
+                continue
+            result, symbols = applied
+            if before is not None:
+                direct = before.replace(expr, origin)
+                if not template.agrees(finder, before, result, direct):
+                    variants[key] = None
+                    finder.restore(before)  # the visit's result is the one to keep
+                    return direct
+                template.verified = True
+            free[id(result)] = symbols
+            return result
+        if len(found) >= _MAX_VARIANTS:
+            return finder.replace(expr, origin)
+        events: list = []
+        result = finder.replace(expr, origin, events)
+        if not events and result is expr:
+            variants[key] = []  # no relations: every instance's equation stays as it is
+            return result
+        try:
+            template = _RelationTemplate(result, events, source.symbols, finder)
+        except _NotTemplatable:
+            variants[key] = None
+        else:
+            variants[key] = found + [template]
+        return result
+
+    equations = tuple(FlatEquation(replace(e.residual, e.origin), e.origin) for e in flat.equations)
+    initial_equations = tuple(FlatEquation(replace(e.residual, e.origin), e.origin)
                               for e in flat.initial_equations)
-    discrete = tuple(DiscreteEquation(e.variable, replace_relations(e.rhs, e.origin), e.origin)
+    discrete = tuple(DiscreteEquation(e.variable, replace(e.rhs, e.origin), e.origin)
                      for e in flat.discrete_equations)
+    relations, owners, evaluated = finder.relations, finder.owners, finder.evaluated
 
     relations = {key: dataclasses.replace(rel, components=tuple(c for c in owners[key] if c))
                  for key, rel in relations.items()}
@@ -195,7 +501,7 @@ def partition(flat: FlatModel) -> PartitionedModel:
     graph.add_nodes_from(range(len(discrete)))
     index_of = {eq.variable: i for i, eq in enumerate(discrete)}
     for i, eq in enumerate(discrete):
-        for sym in eq.rhs.free_symbols:
+        for sym in free.get(id(eq.rhs)) or eq.rhs.free_symbols:
             j = index_of.get(sym.name)
             if j is not None and j != i:
                 graph.add_edge(j, i)
@@ -207,11 +513,12 @@ def partition(flat: FlatModel) -> PartitionedModel:
     discrete = tuple(discrete[i] for i in order)
 
     selector_set: set[sp.Symbol] = set()
+    is_discrete = frozenset(discrete_names)
     for eq in equations:
-        for sym in eq.residual.free_symbols:
+        for sym in free.get(id(eq.residual)) or eq.residual.free_symbols:
             name = parse(sym.name)
-            if name.kind in ("relation", "initial") or name.text in discrete_names or (
-                    name.kind == "pre" and name.base in discrete_names):
+            if name.kind in ("relation", "initial") or name.text in is_discrete or (
+                    name.kind == "pre" and name.base in is_discrete):
                 selector_set.add(sym)
     selectors = tuple(sorted(selector_set, key=lambda s: s.name))
     return PartitionedModel(flat, equations, initial_equations, discrete,
