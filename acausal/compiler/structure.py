@@ -377,6 +377,20 @@ class StructureMemo:
             raise ValueError("analyse: this memo belongs to other parameter values")
 
 
+class IndexTooHigh(Exception):
+    """Pantelides differentiated an equation more often than a solvable system can need.
+
+    Attributes
+    ----------
+    equation : int
+        The original equation whose derivative chain grew too long.
+    """
+
+    def __init__(self, equation: int) -> None:
+        super().__init__(equation)
+        self.equation = equation
+
+
 def pantelides(G: list[list[int]], A: list[int], add_derivative: Callable[[int], int],
                differentiate_equation: Callable[[int], list[int]]) -> list[int]:
     """Pantelides' index reduction on plain index lists.
@@ -403,6 +417,15 @@ def pantelides(G: list[list[int]], A: list[int], add_derivative: Callable[[int],
     list of int
         ``B[i]``: the index of the derivative of equation ``i``, or -1.
 
+    Raises
+    ------
+    IndexTooHigh
+        When an equation would be differentiated more than ``len(G)`` times
+        (more than the number of original equations): the index of a
+        solvable system cannot be that high, so the system is structurally
+        singular, and without this bound the algorithm never ends on it
+        (the trap the design notes name; ModelingToolkit caps iterations too).
+
     References
     ----------
     .. [1] C. C. Pantelides, "The consistent initialization of
@@ -411,6 +434,8 @@ def pantelides(G: list[list[int]], A: list[int], add_derivative: Callable[[int],
     """
     B: list[int] = [-1] * len(G)
     assign: list[int] = [-1] * len(A)
+    order: list[int] = [0] * len(G)  # how often each equation is a derivative of an original one
+    limit = len(G)
 
     def highest(j: int) -> bool:
         return A[j] == -1
@@ -418,6 +443,8 @@ def pantelides(G: list[list[int]], A: list[int], add_derivative: Callable[[int],
     for k in range(len(G)):
         i = k
         while True:
+            if order[i] > limit:
+                raise IndexTooHigh(k)
             visited_eqs: set[int] = set()
             visited_vars: set[int] = set()
             assign.extend([-1] * (len(A) - len(assign)))
@@ -432,6 +459,7 @@ def pantelides(G: list[list[int]], A: list[int], add_derivative: Callable[[int],
                 B[l] = len(G)
                 G.append(differentiate_equation(l))
                 B.append(-1)
+                order.append(order[l] + 1)
             assign.extend([-1] * (len(A) - len(assign)))
             for j in sorted(visited_vars):
                 if assign[j] != -1:
@@ -514,7 +542,17 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
             add_var(name)
         return sorted(index[n] for n in names)
 
-    B = pantelides(G, A, add_derivative, differentiate_equation)
+    try:
+        B = pantelides(G, A, add_derivative, differentiate_equation)
+    except IndexTooHigh as exc:
+        origin = eqs[exc.equation].origin
+        raise StructurallySingularError(
+            f"{context}: index reduction differentiated {origin} more than {len(equations)} times "
+            f"without finding a solvable system",
+            hint="the equations do not determine some variables whatever their derivatives: a "
+                 "quantity may be fixed twice, or a coefficient that is zero (a zero parameter) may "
+                 "have removed the only term that determined a variable",
+            components=_components_of([origin])) from None
 
     dummies = _select_dummy_derivatives(eqs, G, A, V, B, parent_eq, variables, order_of, context)
 

@@ -329,3 +329,23 @@ def test_pantelides_leaves_an_index_one_system_alone():
     B = pantelides(G, A, lambda j: pytest.fail("no derivative needed"),
                    lambda i: pytest.fail("no equation to differentiate"))
     assert B == [-1, -1]
+
+
+def test_pantelides_stops_on_a_singular_system_instead_of_differentiating_for_ever():
+    from acausal.compiler.structure import IndexTooHigh, pantelides
+
+    # two equations that both hold only x: no number of derivatives makes this solvable
+    G = [[0], [0]]
+    A = [-1]
+
+    def add_derivative(j):
+        A.append(-1)
+        A[j] = len(A) - 1
+        return A[j]
+
+    def differentiate_equation(i):
+        return [A[j] if A[j] != -1 else add_derivative(j) for j in G[i]]
+
+    with pytest.raises(IndexTooHigh):
+        pantelides(G, A, add_derivative, differentiate_equation)
+    assert len(G) < 50  # it gave up after a bounded number of differentiations

@@ -975,12 +975,11 @@ def _tables(spec: Spec):
 
 
 def hits_massless_table_bugs(spec: Spec) -> bool:
-    """Open engine bugs: a massless inertia (J = 0) in a model with a friction table of two rows.
+    """Open engine bug: a massless inertia (J = 0) in a model with a friction table of two rows.
 
-    * A bearing whose two-row table is flat (``[[0, 1], [1, 1]]``) on a J = 0
-      shaft sends the index reduction (Pantelides) into a loop that never ends,
-      and ``timeout=`` does not stop it
-      (test_massless_shaft_on_flat_friction_table_returns_within_its_timeout).
+    * (Fixed: a bearing whose two-row table is flat on a J = 0 shaft sent the
+      index reduction into a loop that never ended;
+      test_massless_shaft_on_flat_friction_table_returns_within_its_timeout.)
     * A J = 0 shaft on a disengaged brake with a two-row table stops at
       initialization with a bare ZeroDivisionError from the generated code:
       status -1, no rows, no hint; on an engaged flat clutch a failed Newton
@@ -1302,14 +1301,12 @@ class MasslessShaftOnFlatBearing(Model):
         self.connect(self.shaft.flange_b, self.bearing.flange_a)
 
 
-# Open engine bug (found by the fuzzing, see hits_massless_table_bugs): the
-# index reduction of the initial system (initialize -> Translation.system ->
-# compile_mode -> analyse -> pantelides) differentiates equations forever --
-# still running after 5 minutes -- and simulate's timeout is not checked in
-# there.  The watchdog turns the hang into the Hang this xfail expects (3 s).
+# Engine bug found by the fuzzing, fixed: the index reduction of the initial
+# system (initialize -> Translation.system -> compile_mode -> analyse ->
+# pantelides) differentiated equations for ever.  Pantelides is now bounded (an
+# equation differentiated more often than there are equations means a singular
+# system: StructurallySingularError).  The watchdog guards the fix.
 @pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="the watchdog needs signal.setitimer (POSIX)")
-@pytest.mark.xfail(strict=True, raises=Hang,
-                   reason="engine bug: Pantelides never ends for J = 0 on a flat friction table; timeout= ignored")
 def test_massless_shaft_on_flat_friction_table_returns_within_its_timeout():
     """simulate(timeout=0.5) returns (or raises a documented error) well within 3 s."""
     with watchdog(3.0, 0.5):
