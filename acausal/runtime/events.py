@@ -342,15 +342,8 @@ class DiscreteEvaluator:
         evaluated; the others keep their values.
         """
         current = dict(discrete)
-        env = dict(current)
-        env.update(zip(self._relation_names, relations))
-        env[INITIAL_NAME] = initial
-        pre_names = self._pre_names
-        for name, value in pre.items():
-            key = pre_names.get(name)
-            if key is None:
-                key = pre_names[name] = pre_name(name)
-            env[key] = value
+        env = self._environment(relations, initial, pre)
+        env.update(current)
         for variable, args, fn, origin in self.equations:
             if relation_free and any(is_relation(a) for a in args):
                 continue
@@ -358,6 +351,18 @@ class DiscreteEvaluator:
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
             current[variable] = env[variable] = value
         return current
+
+    def _environment(self, relations, initial: bool, pre: Mapping) -> dict:
+        """The names the discrete equations read: relation indicators, initial(), pre values."""
+        env = dict(zip(self._relation_names, relations))
+        env[INITIAL_NAME] = initial
+        pre_names = self._pre_names
+        for name, value in pre.items():
+            key = pre_names.get(name)
+            if key is None:
+                key = pre_names[name] = pre_name(name)
+            env[key] = value
+        return env
 
     def relevant_relations(self, discrete: Mapping, relations) -> tuple[int, ...]:
         """State relations whose flip could change something in this discrete state.
@@ -369,14 +374,7 @@ class DiscreteEvaluator:
         """
         selector_names = self._selector_set
         # the values every flip is tried against: relations as they are, pre = current
-        env = dict(zip(self._relation_names, relations))
-        env[INITIAL_NAME] = False
-        pre_names = self._pre_names
-        for name, value in discrete.items():
-            key = pre_names.get(name)
-            if key is None:
-                key = pre_names[name] = pre_name(name)
-            env[key] = value
+        env = self._environment(relations, False, discrete)
         env.update(discrete)
         out = []
         for k, rel in enumerate(self.relations):
