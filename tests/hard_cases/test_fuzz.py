@@ -705,14 +705,11 @@ def check_finite(result, names=None) -> None:
         for n in bad[:5])
 
 
-#: Engine bug (see test_euler_output_between_steps_keeps_the_sign_of_the_speed):
-#: Euler's dense output is the cubic Hermite interpolant of the step ends and
-#: their derivatives, which Euler's step (from the start derivative only) does
-#: not follow; between two step ends it dips below both, so an output row inside
-#: the first step after a breakaway shows the element waiting to slide forward
-#: (mode 0) with w_relfric < 0.  While it stands, the speed-sign part of
-#: check_modes is skipped for Euler; set to False once the xfail test passes.
-SKIP_MODE_SIGNS_FOR_EULER = True
+#: Fixed engine bug (see test_euler_output_between_steps_keeps_the_sign_of_the_speed):
+#: Euler's dense output was the cubic Hermite interpolant of the step ends and
+#: their derivatives, which dipped below both ends after a breakaway; it is now
+#: linear, so the speed-sign part of check_modes runs for Euler too.
+SKIP_MODE_SIGNS_FOR_EULER = False
 
 
 def speed_tolerance(result, audit: Audit, name: str) -> float:
@@ -1269,8 +1266,8 @@ class EulerBreakaway(Model):
         self.connect(self.inertia.flange_b, self.bearing.flange_a)
 
 
-# Open engine bug (found by the fuzzing, see SKIP_MODE_SIGNS_FOR_EULER): Euler's
-# dense output is a cubic Hermite interpolant using the derivative at the step
+# Engine bug found by the fuzzing, fixed (Euler's dense output is now linear): Euler's
+# dense output was a cubic Hermite interpolant using the derivative at the step
 # end, which Euler's step does not follow.  In the first step after the
 # breakaway the start derivative is 0 (sa = tau0_max exactly), so both step
 # ends have w = 0 while the end derivative is positive: the cubic dips below 0
@@ -1278,7 +1275,6 @@ class EulerBreakaway(Model):
 # forward (mode 0, startForward) with w_relfric down to -1.6e-4, although the
 # drive only ever pushes forward.  (RK4 and RK45 give no such row.)  Euler's
 # own interpolant is linear between the step ends.
-@pytest.mark.xfail(strict=True, reason="engine bug: Euler's dense output (cubic Hermite) overshoots the step ends")
 def test_euler_output_between_steps_keeps_the_sign_of_the_speed():
     """Output rows inside Euler steps never show a speed against the drive (w >= 0 throughout)."""
     result = simulate(EulerBreakaway(), stop_time=0.2, interval=0.001, method="Euler", max_step=0.01)
