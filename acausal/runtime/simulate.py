@@ -31,8 +31,8 @@ import numpy as np
 import scipy.integrate as integrate
 
 from ..compiler.translate import ModeSystem, Translation, translate
-from ..errors import (ChatteringError, SettingError, SimulationError, SimulationInterrupted, SolverError,
-                      StructuralError)
+from ..errors import (AcausalError, ChatteringError, InitializationError, SettingError, SimulationError,
+                      SimulationInterrupted, SolverError, StructuralError)
 from ..language import Component
 from ..names import base_name, der_name
 from .crossings import (locate_flip, next_time_event, states_at, step_samples,
@@ -40,7 +40,7 @@ from .crossings import (locate_flip, next_time_event, states_at, step_samples,
 from .events import evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
-from .recorder import Recorder
+from .recorder import Recorder, generated_line
 from .result import Event, SimulationResult
 
 __all__ = ["simulate", "METHODS", "MAX_OUTPUT_POINTS"]
@@ -283,7 +283,13 @@ class _Run:
         self.compiled_before_run = self.translation.translation_seconds
         self.t = t0
         try:
-            state = initialize(self.translation, self.evaluator, t0)
+            try:
+                state = initialize(self.translation, self.evaluator, t0)
+            except (ArithmeticError, ValueError, np.linalg.LinAlgError, SolverError) as exc:
+                if isinstance(exc, AcausalError) and not isinstance(exc, SolverError):
+                    raise  # already says what is wrong with the initial values
+                # nothing is computed yet: a failure here is the initial values' problem
+                raise self._initialization_error(exc) from exc
             self.notes.extend(state.notes)
             outcome = state.outcome
             # Like Dymola, only the values after the post-initialization event
@@ -317,6 +323,25 @@ class _Run:
         if isinstance(error, SimulationInterrupted):
             raise result.error
         return result
+
+    def _initialization_error(self, exc: BaseException) -> InitializationError:
+        """A failure while solving for the initial values, naming the variable and the equation."""
+        translation = self.translation
+        sources = [s.code.source for s in translation.initial_systems.values()]
+        sources += [s.code.source for s in translation.systems.values()]
+        variable, line = generated_line(exc, sources, translation.cache.identifiers)
+        what = exc.message if isinstance(exc, AcausalError) else f"{type(exc).__name__}: {exc}"
+        where = (f" computing {variable} ({line})" if line and variable != "a value"
+                 else f" in: {line}" if line else "")
+        if len(where) > 300:  # a long generated line (a Newton call with its equations)
+            where = where[:297] + "..."
+        return InitializationError(
+            f"initialization of {translation.flat.name} failed{where}: {what}",
+            hint=(exc.hint if isinstance(exc, AcausalError) and exc.hint else
+                  "the initial values make an equation leave its domain (a division by a zero "
+                  "parameter or value, a root of a negative number); check the start values and "
+                  "the parameters of the components named"),
+            components=tuple(dict.fromkeys(n.rpartition(".")[0] for n in [variable] if "." in n)))
 
     def _record_mode(self, system: ModeSystem) -> None:
         if system.description not in self.modes:
