@@ -1658,18 +1658,17 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     points = run_scaling(sizes, isolate=isolate_scaling, log=log) if sizes else []
     if sizes:
         section("scaling", start)
-    soak = None
-    if soak_runs:
-        log("soak")
+
+    def timed(label: str, run: Callable[[], object]):
+        log(label)
         start = (time.perf_counter(), cpu())
-        soak = run_soak(soak_runs, log=log)
-        section("soak", start)
-    parameter_rows = []
-    if parameters:
-        log("parameters")
-        start = (time.perf_counter(), cpu())
-        parameter_rows = run_parameter_change(3 if quick else 5, log=log)
-        section("parameters", start)
+        out = run()
+        section(label, start)
+        return out
+
+    soak = timed("soak", lambda: run_soak(soak_runs, log=log)) if soak_runs else None
+    parameter_rows = (timed("parameters", lambda: run_parameter_change(3 if quick else 5, log=log))
+                      if parameters else [])
     fits = {}
     for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
                 "evaluator_setup", "initial_systems", "initialization", "simulate"):
@@ -1697,33 +1696,26 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
             path = _plot_work_precision(runs, out_dir / fname, quantity, cost)
             if path is not None:
                 files[fname] = path
+
+    def table(key: str, markdown: str, rows: list[dict]) -> None:
+        """``key``.md and ``key``.csv, and the markdown for the summary printed at the end."""
+        tables[key] = markdown
+        files[f"{key}.md"] = out_dir / f"{key}.md"
+        files[f"{key}.md"].write_text(markdown)
+        files[f"{key}.csv"] = out_dir / f"{key}.csv"
+        _write_dict_csv(files[f"{key}.csv"], rows)
+
     if effect_records:
-        tables["effects"] = _effects_markdown(effect_records)
-        files["effects.md"] = out_dir / "effects.md"
-        files["effects.md"].write_text(tables["effects"])
-        files["effects.csv"] = out_dir / "effects.csv"
-        _write_dict_csv(files["effects.csv"], [vars(r) for r in effect_records])
+        table("effects", _effects_markdown(effect_records), [vars(r) for r in effect_records])
     if command_records:
-        tables["commands"] = _commands_markdown(command_records)
-        files["commands.md"] = out_dir / "commands.md"
-        files["commands.md"].write_text(tables["commands"])
-        files["commands.csv"] = out_dir / "commands.csv"
-        _write_dict_csv(files["commands.csv"], command_records)
+        table("commands", _commands_markdown(command_records), command_records)
     if points:
-        tables["scaling"] = _scaling_markdown(points, fits, isolate_scaling)
-        files["scaling.md"] = out_dir / "scaling.md"
-        files["scaling.md"].write_text(tables["scaling"])
-        files["scaling.csv"] = out_dir / "scaling.csv"
-        _write_dict_csv(files["scaling.csv"], points)
+        table("scaling", _scaling_markdown(points, fits, isolate_scaling), points)
         path = _plot_scaling(points, fits, out_dir / "scaling.png")
         if path is not None:
             files["scaling.png"] = path
     if parameter_rows:
-        tables["parameters"] = _parameters_markdown(parameter_rows)
-        files["parameters.md"] = out_dir / "parameters.md"
-        files["parameters.md"].write_text(tables["parameters"])
-        files["parameters.csv"] = out_dir / "parameters.csv"
-        _write_dict_csv(files["parameters.csv"], parameter_rows)
+        table("parameters", _parameters_markdown(parameter_rows), parameter_rows)
     if soak is not None:
         files.update(write_soak(soak, out_dir))
         tables["soak"] = _soak_markdown(soak).split("\n## Runs")[0].rstrip() + "\n"
