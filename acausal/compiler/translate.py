@@ -326,19 +326,44 @@ def flat_signature(flat: FlatModel, tunable: bool = False) -> tuple:
     compiled systems of one translation share across parameter values (see
     :meth:`Translation.rebound`).
     """
-    def origin(o) -> tuple:
-        return (o.component, o.component_class, o.declared_in, o.index)
+    return _parameter_part(flat, tunable) + (_Equations(flat),)
 
-    return (
-        flat.name, flat.modelica_class, flat.experiment,
-        tuple((p.name, p.value == 0 if tunable else p.value) for p in flat.parameters),
-        _freeze(flat.structural_parameters),
-        tuple(tuple(_freeze(getattr(v, f.name)) for f in dataclasses.fields(v)) for v in flat.variables),
-        tuple((eq.residual, origin(eq.origin)) for eq in flat.equations),
-        tuple((eq.variable, eq.rhs, origin(eq.origin)) for eq in flat.discrete_equations),
-        tuple((eq.residual, origin(eq.origin)) for eq in flat.initial_equations),
-        _freeze(flat.hints),
-    )
+
+def _parameter_part(flat: FlatModel, tunable: bool) -> tuple:
+    return (tuple((p.name, p.value == 0 if tunable else p.value) for p in flat.parameters),)
+
+
+class _Equations:
+    """Everything of a flat model's signature but its numeric parameters, hashed once.
+
+    The exact and the structure signature of :func:`translate` share it: a
+    large model's equations are then walked and hashed once, not per key and
+    per dictionary lookup.
+    """
+
+    __slots__ = ("parts", "_hash")
+
+    def __init__(self, flat: FlatModel) -> None:
+        def origin(o) -> tuple:
+            return (o.component, o.component_class, o.declared_in, o.index)
+
+        self.parts = (
+            flat.name, flat.modelica_class, flat.experiment,
+            _freeze(flat.structural_parameters),
+            tuple(tuple(_freeze(getattr(v, f.name)) for f in dataclasses.fields(v)) for v in flat.variables),
+            tuple((eq.residual, origin(eq.origin)) for eq in flat.equations),
+            tuple((eq.variable, eq.rhs, origin(eq.origin)) for eq in flat.discrete_equations),
+            tuple((eq.residual, origin(eq.origin)) for eq in flat.initial_equations),
+            _freeze(flat.hints),
+        )
+        self._hash = hash(self.parts)
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other) -> bool:
+        return self is other or (isinstance(other, _Equations) and self._hash == other._hash
+                                 and self.parts == other.parts)
 
 
 def _freeze(value):
@@ -379,12 +404,13 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
     demand = _demand(flat, outputs)
     if not cache:
         return Translation(flat, partition(flat), _time.perf_counter() - t0, demand)
-    key = (flat_signature(flat), demand)
+    equations = _Equations(flat)
+    key = (_parameter_part(flat, False), equations, demand)
     found = _CACHE.get(key)
     if found is not None:
         _CACHE.move_to_end(key)
         return found
-    structure = (flat_signature(flat, tunable=True), demand)
+    structure = (_parameter_part(flat, True), equations, demand)
     base = _STRUCTURES.get(structure)
     translation = base.rebound(flat, _time.perf_counter() - t0) if base is not None else None
     if translation is None:
