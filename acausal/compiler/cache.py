@@ -57,6 +57,15 @@ class ParameterTable:
         return cls(names, values, tuple(values[n] for n in names), parameter_symbols(values),
                    {real_symbol(n): sp.Integer(0) for n, v in values.items() if v == 0})
 
+    def restricted(self, names) -> "ParameterTable":
+        """The table of ``names`` only (in this table's order): the parameters of one cluster."""
+        chosen = set(names)
+        kept = tuple(n for n in self.names if n in chosen)
+        values = {n: self.values[n] for n in kept}
+        return ParameterTable(kept, values, tuple(values[n] for n in kept),
+                              {s: v for s, v in self.symbols.items() if s.name in chosen},
+                              {s: v for s, v in self.zeros.items() if s.name in chosen})
+
 
 @dataclass(eq=False)
 class SpecialiseMemo:
@@ -98,3 +107,10 @@ class ModelCache:
                                           *(der_name(n) for n in continuous),
                                           *(der_name(n, 2) for n in continuous)])
         return cls(parameters, identifiers)
+
+    def for_cluster(self, parameter_names) -> "ModelCache":
+        """The cache of one cluster's systems: its parameters, the model's identifiers and
+        specialisations, its own stage memos (alias elimination's is tied to a set of
+        variables, the others to a set of parameter values)."""
+        return ModelCache(self.parameters.restricted(parameter_names), self.identifiers,
+                          specialise=self.specialise)

@@ -70,6 +70,11 @@ class InitialSystem:
         """Seconds spent building it, its mode's system excluded."""
         return sum(s for _, s in self.passes)
 
+    @property
+    def sources(self) -> tuple[str, ...]:
+        """The generated source (one; a composed problem has one per cluster)."""
+        return (self.code.source,)
+
 
 def compile_initial_system(mode: ModeSystem, initial_equations: Sequence[FlatEquation], context: str,
                            cache: ModelCache) -> InitialSystem:

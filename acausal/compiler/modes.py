@@ -133,6 +133,16 @@ class ModeSystem:
         system: only its specialisation)."""
         return sum(s for _, s in self.passes)
 
+    @property
+    def sources(self) -> tuple[str, ...]:
+        """The generated source (one; a composed system has one per cluster)."""
+        return (self.code.source,)
+
+    @property
+    def derivative_names(self) -> tuple[str, ...]:
+        """The derivatives of the states the structure chose."""
+        return tuple(self.structure.derivatives)
+
     def values(self, t: float, x) -> dict[str, float]:
         """Continuous variables and derivatives at ``(t, x)`` (aliases: see :attr:`alias_plan`)."""
         out = dict(zip(self.states, map(float, x)))
@@ -143,7 +153,8 @@ class ModeSystem:
 def compile_mode(key: tuple, description: str, context: str, equations: tuple[FlatEquation, ...],
                  passes: PassLog, partitioned: PartitionedModel,
                  continuous: Mapping[str, FlatVariable], cache: ModelCache,
-                 demand: frozenset[str] | None = None) -> ModeSystem:
+                 demand: frozenset[str] | None = None,
+                 relations: Sequence[int] | None = None) -> ModeSystem:
     """Run the continuous pipeline on the specialised ``equations`` of state ``key``.
 
     Parameters
@@ -163,6 +174,10 @@ def compile_mode(key: tuple, description: str, context: str, equations: tuple[Fl
         The work shared with the model's other systems.
     demand : frozenset of str, optional
         Compute only what these outputs (and the events) need.
+    relations : sequence of int, optional
+        The relations whose crossing functions this system computes (default:
+        all; a cluster's system computes its own, see
+        :mod:`~acausal.compiler.clusters`).
 
     Raises
     ------
@@ -188,7 +203,7 @@ def compile_mode(key: tuple, description: str, context: str, equations: tuple[Fl
         algebraic = solve_blocks(structure.equations, structure.unknowns, blt, parameters.values,
                                  cache.algebraic)
     with passes.run("codegen"):
-        crossings = crossing_expressions(partitioned, aliases)
+        crossings = crossing_expressions(partitioned, aliases, relations)
         steps, states, derivs, unknowns = demanded(algebraic.steps, structure, aliases, crossings, demand)
         guesses = {n: v.start for n, v in aliases.variables.items()}
         code = generate(steps, states, derivs, unknowns, parameters.names, crossings,
@@ -215,11 +230,14 @@ def alias_plan(aliases: AliasResult, parameter_symbols: Mapping[sp.Symbol, sp.Fl
     return tuple(plan)
 
 
-def crossing_expressions(partitioned: PartitionedModel, aliases: AliasResult) -> list[sp.Expr]:
-    """Both sides of every relation, aliases replaced: the crossing functions' values."""
+def crossing_expressions(partitioned: PartitionedModel, aliases: AliasResult,
+                         relations: Sequence[int] | None = None) -> list[sp.Expr]:
+    """Both sides of every relation (or of ``relations``), aliases replaced: the
+    crossing functions' values."""
     substitution = {real_symbol(n): e for n, e in aliases.aliases.items()}
     out = []
-    for r in partitioned.relations:
+    chosen = partitioned.relations if relations is None else [partitioned.relations[k] for k in relations]
+    for r in chosen:
         out += [sp.sympify(r.lhs).xreplace(substitution), sp.sympify(r.rhs).xreplace(substitution)]
     return out
 

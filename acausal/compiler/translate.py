@@ -27,12 +27,19 @@ from ..errors import ModelDefinitionError, StructuralError
 from ..language import Component
 from ..names import is_derivative, parse
 from .cache import ModelCache
+from .clusters import Cluster, Clustering, ComposedInitialSystem, ComposedSystem, compose, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, flatten
 from .initial import InitialSystem, check_fixed_constants, compile_initial_system
 from .modes import ModeSystem, PassLog, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
 
-__all__ = ["ModeSystem", "InitialSystem", "Translation", "translate", "flat_signature", "describe_key"]
+__all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "translate", "flat_signature",
+           "describe_key"]
+
+#: Whether a hybrid model with independent parts compiles one system per part
+#: and part mode (:mod:`~acausal.compiler.clusters`).  False compiles the whole
+#: model per discrete state; the results are the same.
+USE_CLUSTERS = True
 
 
 def _value_of(value) -> Any:
@@ -58,6 +65,12 @@ class Translation:
         ``key -> InitialSystem``, likewise.
     flatten_seconds : float
         Seconds spent flattening and partitioning.
+    clustering : Clustering or None
+        The model's independent parts when it has several and is hybrid:
+        then :attr:`systems` holds :class:`ComposedSystem` objects and
+        :attr:`parts` the systems compiled per cluster and cluster key.
+    parts : dict
+        ``(cluster index, cluster key) -> ModeSystem``.
     extras : dict
         Objects the later layers build once per translation and keep with it
         (the runtime's discrete evaluators): they live exactly as long as the
@@ -65,7 +78,8 @@ class Translation:
     """
 
     def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float,
-                 demand: frozenset[str] | None = None) -> None:
+                 demand: frozenset[str] | None = None, clusters: bool = True,
+                 clustering: Clustering | None = None) -> None:
         self.flat = flat
         self.demand = demand
         self.partitioned = partitioned
@@ -79,6 +93,25 @@ class Translation:
         self.rebound_from: Translation | None = None
         self._by_equations: dict[tuple, ModeSystem] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
+        if clustering is None and clusters and USE_CLUSTERS and partitioned.selectors:
+            found = find_clusters(partitioned, self.continuous)
+            clustering = found if len(found) > 1 else None
+        self.clustering: Clustering | None = clustering if clusters else None
+        self.parts: dict[tuple[int, tuple], ModeSystem] = {}
+        self.initial_parts: dict[tuple[int, tuple], InitialSystem] = {}
+        self._cluster_caches: dict[int, ModelCache] = {}
+        self._compiled_seconds = 0.0  # of every system stored (translation_seconds is hot)
+
+    def _store(self, table: dict, key, system) -> None:
+        table[key] = system
+        self._compiled_seconds += system.seconds
+
+    def unclustered(self) -> "Translation":
+        """A translation of the same flat model that compiles the whole model per
+        discrete state (what ``acausal explain`` shows)."""
+        if self.clustering is None:
+            return self
+        return Translation(self.flat, self.partitioned, self.flatten_seconds, self.demand, clusters=False)
 
     # -- parameters -----------------------------------------------------------
 
@@ -160,7 +193,8 @@ class Translation:
         if any(old[n] != new[n] for n in self.partitioned.evaluated_parameters):
             return None
         partitioned = dataclasses.replace(self.partitioned, flat=flat)
-        translation = Translation(flat, partitioned, flatten_seconds, self.demand)
+        translation = Translation(flat, partitioned, flatten_seconds, self.demand,
+                                  clusters=self.clustering is not None, clustering=self.clustering)
         translation.rebound_from = self
         return translation
 
@@ -193,9 +227,14 @@ class Translation:
         cached = self.systems.get(key)
         if cached is not None:
             return cached
+        if self.clustering is not None:
+            composed = self._composed(key)
+            if composed is not None:
+                self._store(self.systems, key, composed)
+                return composed
         rebound = self._rebind(key)
         if rebound is not None:
-            self.systems[key] = rebound
+            self._store(self.systems, key, rebound)
             return rebound
         description = self.describe(key)
         context = self._context(description)
@@ -214,7 +253,7 @@ class Translation:
                                                          f"(shared with an equal state)\n{rest}")
             system = dataclasses.replace(twin, key=key, description=description,
                                          passes=tuple(passes.entries), code=code, shares=twin.key)
-            self.systems[key] = system
+            self._store(self.systems, key, system)
             return system
         try:
             system = compile_mode(key, description, context, equations, passes, self.partitioned,
@@ -234,8 +273,108 @@ class Translation:
                 raise
             # the same error, with what the components and parameters add (and its traceback)
             raise exc.with_hint(hint) from None
-        self.systems[key] = system
+        self._store(self.systems, key, system)
         self._by_equations[signature] = system
+        return system
+
+    # -- clusters ---------------------------------------------------------------
+
+    def _composed(self, key: tuple) -> ComposedSystem | None:
+        """The clusters' systems of ``key`` put together (None: compile the whole model)."""
+        try:
+            parts = [self._part(c, key) for c in self.clustering.clusters]
+        except StructuralError:
+            # A cluster's equations cannot be solved: the whole model's message names
+            # the failure as it does without clusters (and the whole model is compiled
+            # from now on, should it succeed after all).
+            self.clustering = None
+            return None
+        t0 = _time.perf_counter()
+        composed = compose(key, self.describe(key), parts, self.clustering)
+        return dataclasses.replace(composed, passes=(("compose", _time.perf_counter() - t0),))
+
+    def _cluster_cache(self, cluster: Cluster) -> ModelCache:
+        found = self._cluster_caches.get(cluster.index)
+        if found is None:
+            found = self._cluster_caches[cluster.index] = self.cache.for_cluster(cluster.parameters)
+        return found
+
+    def _cluster_demand(self, cluster: Cluster) -> frozenset[str] | None:
+        if self.demand is None:
+            return None
+        own = set(cluster.variables)
+        return frozenset(n for n in self.demand if (parse(n).base if is_derivative(n) else n) in own)
+
+    def _part(self, cluster: Cluster, key: tuple) -> ModeSystem:
+        """The system of ``cluster`` for the model's discrete state ``key`` (built on first use)."""
+        subkey = cluster.project(key)
+        found = self.parts.get((cluster.index, subkey))
+        if found is not None:
+            return found
+        cache = self._cluster_cache(cluster)
+        rebound = self._rebind_part(cluster, key, cache)
+        if rebound is not None:
+            self._store(self.parts, (cluster.index, subkey), rebound)
+            return rebound
+        selectors = [self.selectors[i] for i in cluster.selectors]
+        description = describe_key(selectors, subkey, {r.symbol.name: r.text for r in self.partitioned.relations})
+        context = f"{self.flat.name} [cluster {cluster.index + 1}: {description}]"
+        passes = PassLog()
+        with passes.run("specialise"):
+            equations = self.specialise(key, [self.partitioned.equations[i] for i in cluster.equations])
+        signature = (cluster.index, tuple(eq.residual for eq in equations))
+        twin = self._by_equations.get(signature)
+        if twin is not None:
+            _, rest = twin.code.source.split("\n", 1)
+            code = dataclasses.replace(twin.code, source=f"# generated by acausal for {context} "
+                                                         f"(shared with an equal state)\n{rest}")
+            system = dataclasses.replace(twin, key=subkey, description=description,
+                                         passes=tuple(passes.entries), code=code, shares=twin.key)
+        else:
+            system = compile_mode(subkey, description, context, equations, passes, self.partitioned,
+                                  {n: self.continuous[n] for n in cluster.variables}, cache,
+                                  self._cluster_demand(cluster), cluster.relations)
+            self._by_equations[signature] = system
+        self._store(self.parts, (cluster.index, subkey), system)
+        return system
+
+    def _rebind_part(self, cluster: Cluster, key: tuple, cache: ModelCache) -> ModeSystem | None:
+        """The part compiled by :attr:`rebound_from`, bound to this one's parameters."""
+        source_translation = self.rebound_from
+        if source_translation is None or source_translation.clustering is not self.clustering:
+            return None
+        source = source_translation._part(cluster, key)
+        if not self._guards_hold(source.algebraic):
+            return None
+        t0 = _time.perf_counter()
+        derivatives, crossings, outputs = source.code.make(cache.parameters.vector)
+        plan = alias_plan(source.aliases, cache.parameters.symbols)
+        return dataclasses.replace(source, derivatives=derivatives, crossings=crossings, outputs=outputs,
+                                   alias_plan=plan, passes=(("rebind", _time.perf_counter() - t0),))
+
+    def _initial_part(self, cluster: Cluster, key: tuple) -> InitialSystem:
+        """The initialization problem of ``cluster`` for ``key`` (built on first use)."""
+        subkey = cluster.project(key)
+        found = self.initial_parts.get((cluster.index, subkey))
+        if found is not None:
+            return found
+        mode = self._part(cluster, key)
+        cache = self._cluster_cache(cluster)
+        source_translation = self.rebound_from
+        source = (source_translation._initial_part(cluster, key)
+                  if source_translation is not None and source_translation.clustering is self.clustering
+                  and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
+        if source is not None and self._guards_hold(source.algebraic):
+            t0 = _time.perf_counter()
+            check_fixed_constants(mode.aliases, cache.parameters.symbols)
+            _, _, outputs = source.code.make(cache.parameters.vector)
+            system = dataclasses.replace(source, outputs=outputs,
+                                         passes=(("rebind", _time.perf_counter() - t0),))
+        else:
+            context = f"initialization of {self.flat.name} [cluster {cluster.index + 1}: {mode.description}]"
+            initial = [self.partitioned.initial_equations[i] for i in cluster.initial_equations]
+            system = compile_initial_system(mode, self.specialise(key, initial), context, cache)
+        self._store(self.initial_parts, (cluster.index, subkey), system)
         return system
 
     def _zero_suspects(self, exc: StructuralError) -> str:
@@ -269,6 +408,10 @@ class Translation:
         if cached is not None:
             return cached
         mode = self.system(key)
+        if isinstance(mode, ComposedSystem):
+            system = compose_initial(key, [self._initial_part(c, key) for c in self.clustering.clusters])
+            self._store(self.initial_systems, key, system)
+            return system
         source = (self.rebound_from.initial_system(key) if self.rebound_from is not None
                   and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
         if source is not None and self._guards_hold(source.algebraic):
@@ -277,28 +420,38 @@ class Translation:
             _, _, outputs = source.code.make(self.parameter_vector)
             system = dataclasses.replace(source, outputs=outputs,
                                          passes=(("rebind", _time.perf_counter() - t0),))
-            self.initial_systems[key] = system
+            self._store(self.initial_systems, key, system)
             return system
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
         system = compile_initial_system(mode, self.specialise(key, self.partitioned.initial_equations),
                                         context, self.cache)
-        self.initial_systems[key] = system
+        self._store(self.initial_systems, key, system)
         return system
 
     # -- summary --------------------------------------------------------------
 
+    def mode_systems(self) -> list[ModeSystem]:
+        """Every system compiled so far: the clusters' and the whole model's."""
+        return list(self.parts.values()) + [s for s in self.systems.values() if isinstance(s, ModeSystem)]
+
     @property
     def compiled_systems(self) -> int:
-        """How many systems were compiled (discrete states with equal equations share one)."""
-        return sum(s.shares is None for s in self.systems.values())
+        """How many systems were compiled (discrete states with equal equations share one;
+        with clusters, each cluster's systems count)."""
+        return sum(s.shares is None for s in self.mode_systems())
 
     @property
     def translation_seconds(self) -> float:
         """Seconds spent translating so far: flattening, every system compiled, every initialization system."""
-        return (self.flatten_seconds + sum(s.seconds for s in self.systems.values())
-                + sum(s.seconds for s in self.initial_systems.values()))
+        return self.flatten_seconds + self._compiled_seconds
+
+    @property
+    def initial_seconds(self) -> float:
+        """Seconds spent compiling initialization problems (the clusters' included)."""
+        return (sum(s.seconds for s in self.initial_systems.values())
+                + sum(s.seconds for s in self.initial_parts.values()))
 
 
 #: Translations of recently translated flat models, by :func:`flat_signature` and output demand.

@@ -379,6 +379,16 @@ def vectorised_function(system, name: str) -> Callable | None:
     """The numpy version of ``system.<name>`` (``crossings``, ``outputs``; see
     :func:`acausal.compiler.codegen.vectorised`), or None."""
     function = getattr(system, name)
+    parts = getattr(system, "parts", None)
+    if parts is not None:  # a composed system: from its clusters' numpy forms
+        try:
+            found = _VECTORISED.get(function)
+        except TypeError:
+            return None
+        if found is None:
+            found = system.compose_vectorised(name, [vectorised_function(p, name) for p in parts]) or False
+            _VECTORISED[function] = found
+        return found or None
     try:
         found = _VECTORISED.get(function)
     except TypeError:  # not weakly referable: not a generated function

@@ -147,7 +147,7 @@ class Recorder:
         discrete_names = list(translation.partitioned.discrete_variables)
         derivative_names = []
         for system in translation.systems.values():
-            for d in system.structure.derivatives:
+            for d in system.derivative_names:
                 if d not in derivative_names:
                     derivative_names.append(d)
         names = continuous + derivative_names + discrete_names
@@ -245,18 +245,8 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
 
 def _failing_line(exc: BaseException, system: ModeSystem, names_of: dict[str, str]) -> tuple[str, str]:
     """The variable whose line of generated code raised ``exc``, and that line."""
-    frame = exc.__traceback__
-    lineno = None
-    while frame is not None:
-        if frame.tb_frame.f_code.co_filename.startswith("<acausal"):
-            lineno = frame.tb_lineno
-        frame = frame.tb_next
-    if lineno is None:
-        return "a value", ""
-    lines = system.code.source.splitlines()
-    line = lines[lineno - 1].strip() if 0 < lineno <= len(lines) else ""
-    target = line.split("=", 1)[0].strip() if "=" in line else ""
-    return names_of.get(target, target or "a value"), line
+    identifiers = {ident: name for name, ident in names_of.items()}
+    return generated_line(exc, system.sources, identifiers)
 
 
 def generated_line(exc: BaseException, sources, identifiers) -> tuple[str, str]:

@@ -327,8 +327,8 @@ class _Run:
     def _initialization_error(self, exc: BaseException) -> InitializationError:
         """A failure while solving for the initial values, naming the variable and the equation."""
         translation = self.translation
-        sources = [s.code.source for s in translation.initial_systems.values()]
-        sources += [s.code.source for s in translation.systems.values()]
+        sources = [source for s in translation.initial_systems.values() for source in s.sources]
+        sources += [source for s in translation.systems.values() for source in s.sources]
         variable, line = generated_line(exc, sources, translation.cache.identifiers)
         what = exc.message if isinstance(exc, AcausalError) else f"{type(exc).__name__}: {exc}"
         where = (f" computing {variable} ({line})" if line and variable != "a value"

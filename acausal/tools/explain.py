@@ -100,6 +100,10 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     """
     translation = (model_or_translation if isinstance(model_or_translation, Translation)
                    else translate(model_or_translation, cache=False))
+    # the whole model's system per discrete state (a model of independent parts is
+    # simulated with one system per part; its clusters are listed below)
+    clustering = translation.clustering
+    translation = translation.unclustered()
     partitioned = translation.partitioned
     notes: list[str] = []
     visited: tuple[str, ...] | None = None
@@ -147,6 +151,13 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     _write_passes(writer, translation, main)
     if partitioned.is_hybrid:
         _write_hybrid(writer, translation, main, visited, names)
+    if clustering is not None:
+        sizes = ", ".join(str(len(c.equations)) for c in clustering.clusters[:12])
+        more = ", ..." if len(clustering.clusters) > 12 else ""
+        notes.append(f"The model has {len(clustering.clusters)} independent parts (clusters of "
+                     f"{sizes}{more} equations): a simulation compiles one system per part and "
+                     f"discrete state of the part, and puts them together. What is shown here is the "
+                     f"whole model's system of each discrete state, which is the same.")
     for note in notes:
         writer.note(note)
     if len(systems) > MAX_PICTURES:
