@@ -269,11 +269,17 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     function("outputs", plan.outputs, _tuple(local[u] for u in unknowns))
     lines.append("    return derivatives, crossings, outputs")
     source = "\n".join(lines) + "\n"
+    return GeneratedCode(source, load_make(source, functions, name), len(plan.derivatives), len(steps), plan)
+
+
+def load_make(source: str, functions: dict, name: str) -> Callable:
+    """The ``make(p)`` factory of generated ``source`` (which names its system ``name``),
+    with the table functions it calls (``functions``: name in the code -> implementation)."""
     namespace = {"math": math, "np": np, "_newton": newton_solve, "_linalg_error": _linalg_error,
                  "_solve": _dense_solve}
     namespace.update(functions)
     exec(compile(source, f"<acausal {name}>", "exec"), namespace)
-    return GeneratedCode(source, namespace["make"], len(plan.derivatives), len(steps), plan)
+    return namespace["make"]
 
 
 def plan_functions(steps: Sequence, reads: Sequence[set[str]], states: Sequence[str],

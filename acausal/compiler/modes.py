@@ -103,15 +103,21 @@ class ModeSystem:
     shares : tuple or None
         The discrete state whose compiled system this one shares, when both
         specialise to the same equations (None: compiled for this state).
+    loaded_derivatives : tuple of str or None
+        For a system loaded from the persistent cache
+        (:mod:`~acausal.compiler.diskcache`): the derivatives of its states.
+        Such a system has its code and functions only: ``equations`` is
+        empty and the stages' outputs (``aliases`` ... ``algebraic``) are
+        None; what needs them compiles the state anew.
     """
 
     key: tuple
     description: str
     equations: tuple[FlatEquation, ...]
-    aliases: AliasResult
-    structure: StructuralResult
-    blt: BLTResult
-    algebraic: AlgebraicResult
+    aliases: AliasResult | None
+    structure: StructuralResult | None
+    blt: BLTResult | None
+    algebraic: AlgebraicResult | None
     code: GeneratedCode
     passes: tuple[tuple[str, float], ...]
     derivatives: Any = field(repr=False, compare=False)
@@ -121,6 +127,7 @@ class ModeSystem:
     unknowns: tuple[str, ...] = ()
     alias_plan: AliasPlan = field(default=(), repr=False)
     shares: tuple | None = None
+    loaded_derivatives: tuple[str, ...] | None = None
 
     @property
     def timings(self) -> dict[str, float]:
@@ -141,6 +148,8 @@ class ModeSystem:
     @property
     def derivative_names(self) -> tuple[str, ...]:
         """The derivatives of the states the structure chose."""
+        if self.structure is None:
+            return tuple(self.loaded_derivatives or ())
         return tuple(self.structure.derivatives)
 
     def values(self, t: float, x) -> dict[str, float]:

@@ -1,0 +1,221 @@
+"""The persistent compile cache: hit, miss, corrupt entries, engine changes, concurrent writers.
+
+Every test has a cache folder of its own (``ACAUSAL_CACHE_DIR``) and turns
+the cache on; the in-process translation cache is emptied where a test
+needs a translation to come from the disk.
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import acausal.compiler.diskcache as diskcache
+import acausal.compiler.translate as translate_module
+from acausal import simulate
+from acausal.compiler.diskcache import DiskCache
+from acausal.compiler.translate import translate
+from examples.coupled_clutches import CoupledClutches
+from examples.first import First
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def folder(tmp_path, monkeypatch):
+    monkeypatch.setenv("ACAUSAL_DISK_CACHE", "on")
+    monkeypatch.setenv("ACAUSAL_CACHE_DIR", str(tmp_path / "cache"))
+    forget_translations()
+    yield tmp_path / "cache"
+    forget_translations()
+
+
+def forget_translations():
+    translate_module._CACHE.clear()
+    translate_module._STRUCTURES.clear()
+
+
+def entries(folder: Path) -> list[Path]:
+    return sorted(folder.rglob("*.json")) if folder.exists() else []
+
+
+def run(make, **options):
+    translation = translate(make())
+    return translation, simulate(translation, **options)
+
+
+def assert_same(a, b):
+    assert a.status == b.status == 0, (a.message, b.message)
+    np.testing.assert_array_equal(a.time, b.time)
+    assert sorted(a.names) == sorted(b.names)
+    for name in a.names:
+        np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+
+
+def loaded(translation) -> list:
+    systems = list(translation.systems.values()) + list(translation.initial_systems.values())
+    systems += list(translation.parts.values()) + list(translation.initial_parts.values())
+    return [s for s in systems if getattr(s, "passes", ()) and s.passes[0][0] == "load"]
+
+
+def test_a_miss_compiles_and_stores_a_hit_loads_the_same_systems(folder):
+    cold_translation, cold = run(CoupledClutches)
+    assert not loaded(cold_translation)
+    stored = entries(folder)
+    assert len(stored) >= len(cold_translation.systems) + len(cold_translation.initial_systems)
+    forget_translations()
+    warm_translation, warm = run(CoupledClutches)
+    assert warm_translation is not cold_translation
+    assert loaded(warm_translation), "nothing came from the disk"
+    assert all(s.structure is None for s in warm_translation.systems.values())
+    assert_same(cold, warm)
+    # the generated code is the same text
+    for key, system in warm_translation.systems.items():
+        assert system.code.source == cold_translation.systems[key].code.source
+
+
+def test_a_warm_fresh_process_loads_everything_and_gets_the_same_result(folder, tmp_path):
+    script = tmp_path / "run.py"
+    script.write_text(
+        "import sys, json, hashlib\n"
+        f"sys.path.insert(0, {str(ROOT)!r})\n"
+        "import numpy as np\n"
+        "from acausal import simulate\n"
+        "from acausal.compiler.translate import translate\n"
+        "from examples.first import First\n"
+        "t = translate(First())\n"
+        "r = simulate(t)\n"
+        "data = np.column_stack([r.time] + [r[n] for n in sorted(r.names)])\n"
+        "systems = list(t.systems.values()) + list(t.initial_systems.values())\n"
+        "print(json.dumps({'sha': hashlib.sha256(data.tobytes()).hexdigest(),\n"
+        "                  'passes': [s.passes[0][0] for s in systems]}))\n")
+    env = dict(os.environ)
+    outputs = []
+    for _ in range(2):
+        proc = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True,
+                              timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        outputs.append(json.loads(proc.stdout.strip().splitlines()[-1]))
+    cold, warm = outputs
+    assert "load" not in cold["passes"]
+    assert warm["passes"] and set(warm["passes"]) == {"load"}
+    assert cold["sha"] == warm["sha"]
+
+
+def test_a_corrupt_entry_is_deleted_and_compiled_anew(folder):
+    _, cold = run(First)
+    stored = entries(folder)
+    assert stored
+    stored[0].write_bytes(b"\x00garbage{")
+    # valid JSON whose payload was changed after its checksum was taken
+    if len(stored) > 1:
+        document = json.loads(stored[1].read_text())
+        document["payload"]["states"] = ["nonsense"]
+        stored[1].write_text(json.dumps(document))
+    forget_translations()
+    translation, warm = run(First)
+    disk = translation._disk_cache()
+    assert disk.rejected == min(len(stored), 2)
+    assert_same(cold, warm)
+    # rewritten, valid again
+    forget_translations()
+    again, _ = run(First)
+    assert again._disk_cache().rejected == 0 and again._disk_cache().hits == len(stored)
+
+
+def test_an_engine_change_is_another_key(folder, monkeypatch):
+    cold_translation, _ = run(First)
+    before = set(entries(folder))
+    monkeypatch.setattr(diskcache, "_ENGINE", "another engine version")
+    forget_translations()
+    translation, _ = run(First)
+    assert not loaded(translation)
+    assert translation._disk_cache().key != cold_translation._disk_cache().key
+    assert set(entries(folder)) > before
+
+
+def test_an_entry_of_another_engine_in_place_is_rejected(folder, monkeypatch):
+    run(First)
+    for path in entries(folder):
+        document = json.loads(path.read_text())
+        document["engine"] = "older"
+        path.write_text(json.dumps(document))
+    forget_translations()
+    translation, _ = run(First)
+    assert not loaded(translation)
+    assert translation._disk_cache().rejected > 0
+
+
+def test_a_changed_parameter_is_another_key(folder):
+    run(First)
+    forget_translations()
+    translation = translate(First(), parameters={"Jload": 3.0})
+    simulate(translation)
+    assert not loaded(translation)
+
+
+def test_off_writes_nothing(folder, monkeypatch):
+    monkeypatch.setenv("ACAUSAL_DISK_CACHE", "off")
+    run(First)
+    assert not entries(folder)
+    forget_translations()
+    monkeypatch.setenv("ACAUSAL_DISK_CACHE", "on")
+    translation = translate(First(), cache=False)
+    simulate(translation)
+    assert not entries(folder), "cache=False must not write either"
+
+
+def test_an_unwritable_folder_never_stops_a_run(folder, monkeypatch, tmp_path):
+    blocker = tmp_path / "a file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("ACAUSAL_CACHE_DIR", str(blocker))
+    _, result = run(First)
+    assert result.status == 0
+
+
+def test_clustered_parts_are_cached_too(folder):
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_clusters import storm
+
+    cold_translation, cold = run(lambda: storm(2), stop_time=1.0, interval=0.01)
+    assert cold_translation.clustering is not None
+    forget_translations()
+    warm_translation, warm = run(lambda: storm(2), stop_time=1.0, interval=0.01)
+    assert warm_translation.parts and all(p.passes[0][0] == "load" for p in warm_translation.parts.values())
+    assert_same(cold, warm)
+
+
+def _writer(folder: str, key: str, number: int, rounds: int) -> None:
+    cache = DiskCache(Path(folder), key)
+    for k in range(rounds):
+        cache.store("the entry", {"writer": number, "round": k, "text": "x" * (1000 * (number + 1))})
+
+
+def test_concurrent_writers_leave_one_whole_entry(tmp_path):
+    key = "f" * 64
+    context = multiprocessing.get_context("spawn")
+    writers = [context.Process(target=_writer, args=(str(tmp_path), key, n, 30)) for n in range(4)]
+    for w in writers:
+        w.start()
+    reader = DiskCache(tmp_path, key)
+    seen = []
+    while any(w.is_alive() for w in writers):
+        payload = reader.load("the entry")
+        if payload is not None:
+            seen.append(payload)
+    for w in writers:
+        w.join(timeout=60)
+        assert w.exitcode == 0
+    final = reader.load("the entry")
+    assert final is not None and final["round"] == 29
+    assert reader.rejected == 0, "a reader saw a partial entry"
+    for payload in seen + [final]:
+        assert payload["text"] == "x" * (1000 * (payload["writer"] + 1))
+    assert not list(tmp_path.rglob("*.tmp")), "temporary files left behind"
