@@ -62,6 +62,8 @@ __all__ = [
     "Model",
     "Experiment",
     "real_symbol",
+    "structural_names",
+    "with_structural",
 ]
 
 #: The independent variable.
@@ -791,6 +793,65 @@ class Model(Component):
 
     modelica_class: str | None = None
     experiment: Experiment = Experiment()
+
+
+def _resolve(model: Component, dotted: str) -> tuple[Component, str]:
+    """The component and the member name of a dotted path (building what it passes)."""
+    *path, member = dotted.split(".")
+    node = model
+    for part in path:
+        node.ensure_built()
+        child = node._children.get(part)
+        if child is None:
+            raise ModifierError(f"{type(model).__name__} has no component {'.'.join(path)!r}",
+                                hint="parameters are named by their dotted path, e.g. component.parameter")
+        node = child
+    return node, member
+
+
+def structural_names(model: Component, names) -> list[str]:
+    """Those of the dotted parameter ``names`` that are structural parameters of ``model``."""
+    out = []
+    for name in names:
+        try:
+            node, member = _resolve(model, name)
+        except ModifierError:
+            continue  # not a component path: flattening says what it is
+        declaration = node.declarations().get(member)
+        if isinstance(declaration, Parameter) and declaration.structural:
+            out.append(name)
+    return out
+
+
+def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
+    """A new, unbuilt instance of ``model``'s class with the structural parameters
+    ``values`` (dotted paths) set, as Modelica re-translates for a new value.
+
+    The new instance has the model's modifiers and its own attributes (those
+    that are not components); each component named gets its value before it
+    is built, so that its ``build()`` and its conditional declarations see
+    it.  ``model`` itself is not changed.
+    """
+    fresh = object.__new__(type(model))
+    tree = {"_name", "_parent", "_children", "_connections", "_built", "_modifiers", "_attribute_modifiers"}
+    for key, value in vars(model).items():
+        if key not in tree and key not in model._children:
+            object.__setattr__(fresh, key, value)
+    Component.__init__(fresh)
+    fresh._modifiers.update(model._modifiers)
+    for key, attributes in model._attribute_modifiers.items():
+        fresh._attribute_modifiers[key] = dict(attributes)
+    # the shallow ones first: a component's value is set before the components it builds
+    for name in sorted(values, key=lambda n: (n.count("."), n)):
+        node, member = _resolve(fresh, name)
+        declaration = node.declarations().get(member)
+        if not (isinstance(declaration, Parameter) and declaration.structural):
+            raise ModifierError(f"{name} is not a structural parameter of {type(model).__name__}")
+        if node._built and node is not fresh:
+            raise ModifierError(f"{name}: {node.path} was built before its structural parameter could be set",
+                                hint="set it where the component is created")
+        node._apply_modifier(member, values[name], node.declarations())
+    return fresh
 
 
 def own_method(klass: type, name: str) -> Callable | None:

@@ -24,7 +24,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelDefinitionError, StructuralError
-from ..language import Component
+from ..language import Component, structural_names, with_structural
 from ..names import is_derivative, parse
 from .cache import ModelCache
 from .codegen import GeneratedCode, load_make
@@ -710,10 +710,21 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         process for the same flat model are loaded, new ones are stored.
         False turns both off.
     parameters : mapping, optional
-        New values of numeric parameters by dotted name (see
-        :func:`~acausal.compiler.flatten.flatten`).
+        New values of parameters by dotted name.  Numeric ones are bound
+        in place of their modifiers (see
+        :func:`~acausal.compiler.flatten.flatten`); a structural one (it
+        decides which equations or connectors exist) makes a new instance of
+        the model's class with that value (:func:`~acausal.language.with_structural`),
+        translated anew.
     """
     t0 = _time.perf_counter()
+    if parameters:
+        # a structural parameter changes the equations: the model is rebuilt with it
+        # (a new instance; the one given is not changed) and translated anew
+        structural = structural_names(model, parameters)
+        if structural:
+            model = with_structural(model, {n: parameters[n] for n in structural})
+            parameters = {n: v for n, v in parameters.items() if n not in structural}
     flat = flatten(model, dict(parameters) if parameters else None)
     demand = _demand(flat, outputs)
     if not cache:

@@ -168,9 +168,13 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
 def _structural_notes(translation: Translation, parameters: Mapping[str, float] | None) -> list[str]:
     """Which of the parameters given change the equations, so that the model was translated for them."""
     notes = []
+    structural = translation.flat.structural_parameters
     for name in sorted(parameters or ()):
         value = translation.parameter_values.get(name)
-        if name in translation.partitioned.evaluated_parameters:
+        if name in structural:
+            notes.append(f"{name} = {structural[name]!r} is a structural parameter: the model was built "
+                         f"and translated anew for this value")
+        elif name in translation.partitioned.evaluated_parameters:
             notes.append(f"{name} = {value:g} decides a relation of parameters alone: it is structural, "
                          f"and the model was translated for this value")
         elif value == 0:

@@ -118,22 +118,46 @@ def test_a_parameter_a_relation_compares_with_a_constant_is_structural():
     assert any("p = -1" in note and "structural" in note for note in flipped.notes)
 
 
-def test_structural_and_unknown_names_are_refused():
-    from acausal.library.rotational import BearingFriction
+class _Bearing(Model):
+    """An inertia spinning down on a bearing (Coulomb friction tau0)."""
 
-    class Bearing(Model):
-        def build(self):
-            self.j = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=1, fixed=True))
-            self.b = BearingFriction()
-            self.connect(self.j.flange_b, self.b.flange_a)
+    def build(self):
+        from acausal.library.rotational import BearingFriction
 
-    with pytest.raises(ParameterError, match="structural"):
-        simulate(Bearing(), parameters={"b.useSupport": True})
+        self.j = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=1, fixed=True))
+        self.b = BearingFriction(**self.bearing_modifiers)
+        self.connect(self.j.flange_b, self.b.flange_a)
+
+    bearing_modifiers: dict = {}
+
+
+class _LowFrictionBearing(_Bearing):
+    bearing_modifiers = {"tau_pos": [[0.0, 0.25]]}
+
+
+def test_a_structural_parameter_translates_anew_and_says_so():
+    """tau_pos (a table: structural) given as a parameter equals the model built with it."""
+    model = _Bearing()
+    default = simulate(model, stop_time=5.0)
+    changed = simulate(model, stop_time=5.0, parameters={"b.tau_pos": [[0.0, 0.25]]})
+    built = simulate(_LowFrictionBearing(), stop_time=5.0, cache=False)
+    assert _same(changed, built)
+    assert any("b.tau_pos" in note and "structural" in note for note in changed.notes), changed.notes
+    # w = 1 - tau0*t until it stops: at t = 1 the default has stopped, the low friction not
+    k = int(np.searchsorted(changed.time, 1.0))
+    assert changed["j.w"][k] == pytest.approx(0.75, abs=1e-6)
+    assert default["j.w"][k] == pytest.approx(0.0, abs=1e-6)
+    # the model given is not changed
+    assert model.b.tau_pos == [[0.0, 1.0]]
+    assert _same(simulate(model, stop_time=5.0), default)
+
+
+def test_unknown_names_are_refused():
     with pytest.raises(ParameterError) as info:
-        simulate(Bearing(), parameters={"j.JJ": 2.0})
+        simulate(_Bearing(), parameters={"j.JJ": 2.0})
     assert "j.J" in info.value.hint
     with pytest.raises(SettingError):
-        simulate(translate(Bearing()), parameters={"j.J": 2.0})
+        simulate(translate(_Bearing()), parameters={"j.J": 2.0})
 
 
 def test_parameters_on_the_command_line(tmp_path):
