@@ -103,6 +103,9 @@ class DiscreteEvaluator:
         self._relation_names = [relation_name(k) for k in range(len(self.relations))]
         self._pre_names: dict[str, str] = {}
         self._selector_set = frozenset(s.name for s in translation.selectors)
+        #: the last full pass: (pre, initial, relations, environment, result)
+        self._last: tuple | None = None
+        self._kind_arrays: tuple | None = None
 
     def _downstream_equations(self) -> dict[int, list[int]]:
         """For each relation, the discrete equations (in order) its value can reach."""
@@ -152,6 +155,8 @@ class DiscreteEvaluator:
         if not self.relations:
             return ()
         raw = system.crossings(t, x)
+        if len(self._kinds) >= _VECTORISE_FROM:
+            return self._relation_values_vectorised(raw, previous, exact, fired)
         out = []
         epsilon = self.epsilon
         # Relation.holds and holds_with_hysteresis, inlined (see flipped_relations)
@@ -163,6 +168,31 @@ class DiscreteEvaluator:
                 v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(1.0, abs(lhs), abs(rhs))))
             out.append(v > 0 if strict else v >= 0)
         return tuple(out)
+
+    def _relation_values_vectorised(self, raw, previous, exact: bool, fired) -> tuple[bool, ...]:
+        """:meth:`relation_values` for many relations at once, with numpy: the same
+        operations on the same doubles, so the same decisions."""
+        if self._kind_arrays is None:
+            d = np.array([k[0] for k in self._kinds])
+            strict = np.array([k[1] for k in self._kinds], dtype=bool)
+            timed = np.array([k[2] for k in self._kinds], dtype=bool)
+            self._kind_arrays = (d, strict, timed)
+        d, strict, timed = self._kind_arrays
+        with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
+            values = np.asarray(raw, dtype=float)
+            lhs, rhs = values[0::2], values[1::2]
+            g = lhs - rhs
+            if exact:
+                v = d * g
+            else:
+                margin = np.maximum(np.maximum(np.abs(lhs), np.abs(rhs)), 1.0) * self.epsilon
+                toward = np.where(np.asarray(previous, dtype=bool), d, -d)
+                plain = timed.copy()
+                if fired:
+                    plain[list(fired)] = True
+                v = d * np.where(plain, g, g + toward * margin)
+            holds = np.where(strict, v > 0, v >= 0)
+        return tuple(holds.tolist())
 
     def flipped_relations(self, system: ModeSystem, t: float, x, relations,
                           watched: tuple[int, ...]) -> tuple[int, ...]:
@@ -341,6 +371,10 @@ class DiscreteEvaluator:
         With ``relation_free`` only the equations that read no relation are
         evaluated; the others keep their values.
         """
+        if not relation_free:
+            found = self._evaluate_again(discrete, pre, relations, initial)
+            if found is not None:
+                return found
         current = dict(discrete)
         env = self._environment(relations, initial, pre)
         env.update(current)
@@ -350,6 +384,40 @@ class DiscreteEvaluator:
             value = fn(*[env[a] for a in args])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
             current[variable] = env[variable] = value
+        if not relation_free:
+            self._last = (dict(pre), initial, tuple(relations), env, dict(current))
+        return current
+
+    def _evaluate_again(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> dict | None:
+        """The pass after the last full one, re-evaluating only the equations downstream of
+        the relations that changed (None: evaluate all).
+
+        Valid when the pre values and initial() are those of the last pass and the
+        discrete values given are its result: every equation not downstream of a
+        changed relation then reads what it read before.  With many independent
+        parts this keeps a pass of event iteration local to the parts concerned.
+        """
+        last = self._last
+        if last is None or last[1] != initial or last[4] != discrete or last[0] != pre:
+            return None
+        before = last[2]
+        if len(before) != len(relations):
+            return None
+        changed = [k for k, (a, b) in enumerate(zip(relations, before)) if a != b]
+        if len(changed) * 4 > len(relations):  # most of it changed: evaluate all
+            return None
+        env = dict(last[3])
+        current = dict(last[4])
+        chosen: set[int] = set()
+        for k in changed:
+            env[self._relation_names[k]] = relations[k]
+            chosen.update(self._downstream[k])
+        for i in sorted(chosen):
+            variable, args, fn, origin = self.equations[i]
+            value = fn(*[env[a] for a in args])
+            value = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            current[variable] = env[variable] = value
+        self._last = (last[0], initial, tuple(relations), env, dict(current))
         return current
 
     def _environment(self, relations, initial: bool, pre: Mapping) -> dict:
