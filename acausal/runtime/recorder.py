@@ -163,14 +163,14 @@ class Recorder:
         systems = np.fromiter(map(id, map(itemgetter(1), rows)), np.uint64, n)
         discretes = np.fromiter(map(id, map(itemgetter(3), rows)), np.uint64, n)
         starts = np.flatnonzero((systems[1:] != systems[:-1]) | (discretes[1:] != discretes[:-1])) + 1
-        plans, bad = {}, None
+        plans, bad, part_plans = {}, None, {}
         names_of = {ident: name for name, ident in translation.cache.identifiers.items()}
         for start, stop in zip([0, *starts.tolist()], [*starts.tolist(), n]):
             if start >= stop:
                 continue
             _, system, _, discrete = rows[start]
             if system.key not in plans:
-                plans[system.key] = fill_plan(system, index)
+                plans[system.key] = fill_plan(system, index, part_plans)
             found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key],
                           names_of, times[start:stop])
             if found is not None and bad is None:
@@ -236,10 +236,11 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
             names = [own[k] for k in np.flatnonzero(~finite[r])]
             failed = (r, names, ", ".join(f"{n} = {values[r, own.index(n)]}" for n in names[:4]))
     block[:, targets] = values[:, sources]
-    for column, coeff, source in aliases:
-        block[:, column] = coeff if source < 0 else coeff * values[:, source]
-    for name, value in discrete.items():
-        block[:, index[name]] = float(value)
+    (const_cols, const_vals), (var_cols, var_coeffs, var_srcs) = aliases
+    block[:, const_cols] = const_vals
+    block[:, var_cols] = var_coeffs * values[:, var_srcs]
+    if discrete:
+        block[:, [index[name] for name in discrete]] = np.array([float(v) for v in discrete.values()])
     return failed
 
 
@@ -277,25 +278,64 @@ def generated_line(exc: BaseException, sources, identifiers) -> tuple[str, str]:
     return "a value", ""
 
 
-def fill_plan(system: ModeSystem, index: dict[str, int]):
+def fill_plan(system: ModeSystem, index: dict[str, int], memo: dict | None = None):
     """Where a system's values go in the result: ``(targets, sources, aliases)``.
 
     The system's values are its states then its unknowns; ``targets`` are
     their result columns and ``sources`` their positions (for those the
-    result keeps); ``aliases`` are ``(column, coefficient, position or -1)``
-    with -1 for a constant.
+    result keeps); ``aliases`` are ``(columns, coefficients)`` of the
+    constants and ``(columns, coefficients, positions)`` of the others.  A
+    composed system's plan is put together from its parts' (kept in ``memo``
+    by part, with the part).
     """
+    parts = getattr(system, "parts", None)
+    if parts is not None:
+        return _composed_plan(parts, index, {} if memo is None else memo)
     own = list(system.states) + list(system.unknowns)
     position = {n: k for k, n in enumerate(own)}
     pairs = [(index[n], k) for k, n in enumerate(own) if n in index]
-    aliases = []
+    constants, varying = [], []
     for name, coeff, source in system.alias_plan:
         column = index.get(name)
         if column is None:
             continue
         if source is None:
-            aliases.append((column, coeff, -1))
+            constants.append((column, coeff))
         elif source in position:  # with an output demand, some are not computed
-            aliases.append((column, coeff, position[source]))
+            varying.append((column, coeff, position[source]))
     return (np.array([c for c, _ in pairs], dtype=int), np.array([k for _, k in pairs], dtype=int),
-            aliases)
+            ((np.array([c for c, _ in constants], dtype=int), np.array([v for _, v in constants], dtype=float)),
+             (np.array([c for c, _, _ in varying], dtype=int), np.array([v for _, v, _ in varying], dtype=float),
+              np.array([k for _, _, k in varying], dtype=int))))
+
+
+def _composed_plan(parts, index: dict[str, int], memo: dict):
+    n_states = sum(len(p.states) for p in parts)
+    state_at, unknown_at = 0, n_states
+    targets, sources, const_cols, const_vals, var_cols, var_coeffs, var_srcs = ([] for _ in range(7))
+    for part in parts:
+        found = memo.get(id(part))
+        if found is None or found[0] is not part:
+            found = memo[id(part)] = (part, fill_plan(part, index))
+        t, src, ((cc, cv), (vc, vk, vs)) = found[1]
+        ns = len(part.states)
+
+        def shift(positions):
+            return np.where(positions < ns, positions + state_at, positions - ns + unknown_at)
+
+        targets.append(t)
+        sources.append(shift(src))
+        const_cols.append(cc)
+        const_vals.append(cv)
+        var_cols.append(vc)
+        var_coeffs.append(vk)
+        var_srcs.append(shift(vs))
+        state_at += ns
+        unknown_at += len(part.unknowns)
+
+    def joined(arrays, dtype):
+        return np.concatenate(arrays).astype(dtype, copy=False) if arrays else np.empty(0, dtype)
+
+    return (joined(targets, int), joined(sources, int),
+            ((joined(const_cols, int), joined(const_vals, float)),
+             (joined(var_cols, int), joined(var_coeffs, float), joined(var_srcs, int))))
