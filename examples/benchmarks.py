@@ -44,6 +44,19 @@ module (with ``examples/`` on ``sys.path``) and uses:
 ``scaling_model(n, stop_time)``, ``SCALING_DESCRIPTION``, ``SCALING_SIZE_LABEL``
     The model of size ``n`` of the *scaling* section (the drive train
     without heat ports) and the words describing it in the table and plot.
+``storm_model(n)`` and the ``STORM_*`` constants
+    The model of the *storm* section: ``n`` independent stick-slip units
+    (independent parts, each with its own modes and events), simulated for
+    ``STORM_STOP_TIME`` with output interval ``STORM_INTERVAL``; the words
+    describing it in the table (``STORM_DESCRIPTION``), on the plot's axis
+    (``STORM_SIZE_LABEL``) and in the reading of the events' growth
+    (``STORM_EVENTS_GROWTH``); ``STORM_WATCHED``, the variable whose final
+    value each storm point records (the same with and without clusters).
+``floor_case()``
+    The *floors* section's hand-coded floor (:class:`acausal.tools.bench.FloorCase`):
+    ``StickSlip`` written by hand on ``scipy.integrate.RK45``
+    (:func:`stick_slip_floor`), the speed whose final values are compared,
+    the agreement required, and the words describing the floor.
 ``COMMAND_TARGETS``
     The examples whose ``acausal compare`` command is timed in a fresh process.
 ``soak_case()``
@@ -198,6 +211,110 @@ def evaluate_stick_slip(result, translation) -> dict:
     return {"error": error, "event_error": event_error}
 
 
+def stick_slip_floor(stop_time: float, interval: float, rtol: float = 1e-6, atol: float = 1e-6,
+                     bisections: int = 40) -> dict:
+    """:class:`StickSlip` written by hand on ``scipy.integrate.RK45``: the floor of its simulation.
+
+    One inertia ``J`` driven by ``A sin(2 pi f t)`` against Coulomb friction
+    ``tau0`` with static limit ``peak*tau0`` (the ``SS_*`` constants), states
+    ``(phi, w)`` and three modes: *stuck* (``w' = 0``), *forward* (``J w' =
+    drive - tau0``) and *backward* (``J w' = drive + tau0``).  The switching
+    functions: stuck -> sliding when ``|drive|`` exceeds the static limit;
+    sliding -> the next mode when ``w`` changes sign, then stuck if
+    ``|drive|`` is within the static limit, else sliding the way the drive
+    pushes (what the friction state machine does at a stop).  Each accepted
+    step's dense output fills the output grid points in the step and samples
+    the mode's switching function there and at the step's end (at least 4
+    samples a step); a sign change is narrowed by ``bisections`` bisection
+    steps on the dense output and the solver is restarted at the switch.
+    Returns ``time``, ``w`` on the output grid, the switch ``events`` as
+    ``(t, old mode, new mode)``, ``final`` (the last ``w``), ``steps`` and
+    ``rhs_evaluations`` -- what :class:`acausal.tools.bench.FloorCase` asks of
+    a floor.
+    """
+    from scipy.integrate import RK45
+
+    A, om, J, tau0 = SS_A, 2.0 * math.pi * SS_F, SS_J, SS_TAU0
+    tau_max = SS_PEAK * SS_TAU0
+    STUCK, FORWARD, BACKWARD = 0, 1, -1
+
+    def rhs(mode):
+        if mode == STUCK:
+            return lambda t, y: np.zeros(2)
+        friction = tau0 if mode == FORWARD else -tau0
+        return lambda t, y: np.array([y[1], (A * math.sin(om * t) - friction) / J])
+
+    def switching(mode, t, y):
+        """Positive while the mode holds (vectorised over sample times, states as columns)."""
+        if mode == STUCK:
+            return tau_max - np.abs(A * np.sin(om * np.asarray(t)))
+        return y[1] if mode == FORWARD else -y[1]
+
+    def next_mode(t):
+        drive = A * math.sin(om * t)
+        return FORWARD if drive > tau_max else BACKWARD if drive < -tau_max else STUCK
+
+    n_out = int(math.floor((stop_time - 0.0) / interval + 1e-9)) + 1
+    grid = np.arange(n_out) * interval
+    if stop_time - grid[-1] > 1e-12 * max(1.0, stop_time):
+        grid = np.append(grid, stop_time)
+    out_w = np.empty(len(grid))
+    out_w[0] = 0.0
+    filled = 1
+    t, y, mode = 0.0, np.array([0.0, 0.0]), next_mode(0.0)
+    events, steps, nfev = [], 0, 0
+    while t < stop_time:
+        solver = RK45(rhs(mode), t, y, stop_time, rtol=rtol, atol=atol)
+        switched = False
+        while solver.status == "running":
+            t_old = solver.t
+            solver.step()
+            steps += 1
+            if solver.status == "failed":
+                raise RuntimeError(f"RK45 failed at t = {solver.t}: {solver.message}")
+            t_new = solver.t
+            dense = solver.dense_output()
+            hi = int(np.searchsorted(grid, t_new, side="right"))
+            inside = grid[filled:hi]
+            samples = np.union1d(np.linspace(t_old, t_new, 5)[1:], inside)
+            states = dense(samples)
+            g = np.asarray(switching(mode, samples, states))
+            crossed = np.nonzero(g < 0)[0]
+            if crossed.size:
+                i = int(crossed[0])
+                lo_t, hi_t = (samples[i - 1] if i > 0 else t_old), samples[i]
+                for _ in range(bisections):
+                    mid = 0.5 * (lo_t + hi_t)
+                    if switching(mode, mid, dense(mid)) < 0:
+                        hi_t = mid
+                    else:
+                        lo_t = mid
+                t_event = hi_t
+                keep = int(np.searchsorted(grid, t_event, side="right"))
+                if keep > filled:
+                    out_w[filled:keep] = dense(grid[filled:keep])[1]
+                    filled = keep
+                y = dense(t_event)
+                t = t_event
+                new = next_mode(t)
+                if new == mode:  # cannot happen (the switch is where the mode stops holding)
+                    raise RuntimeError(f"stick_slip_floor: mode {mode} switched to itself at t = {t}")
+                events.append((t, mode, new))
+                mode = new
+                switched = True
+                break
+            if hi > filled:  # the output points of the step (samples too)
+                out_w[filled:hi] = states[1][np.searchsorted(samples, inside)]
+                if grid[hi - 1] == t_new:
+                    out_w[hi - 1] = solver.y[1]
+                filled = hi
+        nfev += solver.nfev
+        if not switched:
+            t, y = solver.t, solver.y
+    return {"time": grid, "w": out_w, "events": events, "final": float(out_w[-1]), "steps": steps,
+            "rhs_evaluations": nfev}
+
+
 #: How the exact cases' error is measured (the bench's table explains its columns with it).
 EXACT_ERROR_TEXT = "CoastDown and StickSlip: max |w - w_exact| in rad/s on the output grid"
 
@@ -299,6 +416,53 @@ SCALING_DESCRIPTION = ("Drive train of N units Inertia–BearingFriction–Sprin
                        "sine-driven, all bearings sliding")
 SCALING_SIZE_LABEL = "N (units Inertia–BearingFriction–SpringDamper)"
 
+def storm_model(n: int) -> Model:
+    """``n`` independent units, each Sine -> Torque -> Inertia -> BearingFriction.
+
+    Unit ``k`` (1..n) is driven by ``Sine(amplitude=2, f=1 + 0.13 k)``, so
+    the units stick and slip at different instants: a storm of events, each
+    changing the discrete state of one unit only.  Nothing couples the units,
+    so the continuous equations fall into ``n`` independent parts (clusters);
+    the whole model has ``3^n``-ish discrete states, of which a run visits a
+    few dozen, while each part has only its own few modes.
+    """
+
+    class Storm(Model):
+        experiment = Experiment(start_time=0.0, stop_time=STORM_STOP_TIME, interval=STORM_INTERVAL)
+
+        def build(self):
+            from acausal.library.blocks import Sine
+            from acausal.library.rotational import BearingFriction, Inertia, Torque
+
+            for k in range(1, n + 1):
+                sine = Sine(amplitude=2.0, f=1.0 + 0.13 * k)
+                torque = Torque()
+                inertia = Inertia(J=1.0, phi=dict(start=0.0, fixed=True), w=dict(start=0.0, fixed=True))
+                bearing = BearingFriction(tau_pos=[[0.0, 1.0]], peak=1.2)
+                setattr(self, f"sine{k}", sine)
+                setattr(self, f"torque{k}", torque)
+                setattr(self, f"inertia{k}", inertia)
+                setattr(self, f"bearing{k}", bearing)
+                self.connect(sine.y, torque.tau)
+                self.connect(torque.flange, inertia.flange_a)
+                self.connect(inertia.flange_b, bearing.flange_a)
+
+    Storm.__name__ = Storm.__qualname__ = f"Storm{n}"
+    return Storm()
+
+
+#: How the storm section simulates :func:`storm_model`.
+STORM_STOP_TIME, STORM_INTERVAL = 1.0, 0.01
+#: The storm model in the words of the storm table and plot.
+STORM_DESCRIPTION = ("N independent units Sine(amplitude 2, f = 1 + 0.13 k) -> Torque -> Inertia(J = 1, at rest) "
+                     "-> BearingFriction(tau0 = 1, peak 1.2): every unit sticks and slips at its own instants, "
+                     "so events come in a storm and each changes the discrete state of one unit")
+STORM_SIZE_LABEL = "N (independent units Sine–Torque–Inertia–BearingFriction)"
+#: Why the storm's events grow faster than N (the storm table's reading).
+STORM_EVENTS_GROWTH = "unit k is driven at 1 + 0.13 k Hz, so the larger N, the faster its units stick and slip"
+#: The variable whose final value every storm point records (with and without clusters alike).
+STORM_WATCHED = "inertia1.w"
+
 #: ``(case, example file)``: the ``acausal compare`` commands timed in a fresh process.
 COMMAND_TARGETS = (("First", "examples/first.py"), ("TwoMasses", "examples/two_masses.py"),
                    ("CoupledClutches", "examples/coupled_clutches.py"))
@@ -317,3 +481,21 @@ def soak_case() -> tuple:
     from acausal.tools.bench import example_factory
 
     return "CoupledClutches", example_factory("coupled_clutches", "CoupledClutches")
+
+
+def floor_case():
+    """The floors section's hand-coded floor: :class:`StickSlip` on ``scipy.integrate.RK45``."""
+    from acausal.tools.bench import FloorCase
+
+    return FloorCase(
+        case="StickSlip", floor=stick_slip_floor, output="inertia.w", unit="rad/s",
+        agreement=1e-4,  # rad/s: the largest difference of the final speeds that counts as agreeing
+        description=("The suite's StickSlip (sine torque on an inertia against Coulomb friction with sticking). "
+                     "Floor: the same ODE and stick/slip switching written directly on `scipy.integrate.RK45` "
+                     "(`stick_slip_floor` in `examples/benchmarks.py`): each step's dense output fills the "
+                     "output grid and samples the switching function, a sign change is bisected on the dense "
+                     "output, the solver restarted."),
+        events_note=("acausal's events include the initial one and the intermediate start-of-sliding "
+                     "(startForward, then mode = Forward once w > 0); the floor switches straight into a "
+                     "sliding mode"),
+        method="RK45")

@@ -12,12 +12,17 @@ the examples folder on ``sys.path``.  The suite provides ``cases()`` (the
 work-precision cases as :class:`Case`, in table order), ``QUICK_CASES``,
 ``EXACT_ERROR_TEXT``, ``effects_cases(n_units)``, ``scaling_model(n,
 stop_time)`` with ``SCALING_DESCRIPTION`` and ``SCALING_SIZE_LABEL``,
-``COMMAND_TARGETS`` and ``soak_case()``.
+``COMMAND_TARGETS``, ``soak_case()``, ``parameter_case()``,
+``storm_model(n)`` with ``STORM_DESCRIPTION``, ``STORM_SIZE_LABEL``,
+``STORM_EVENTS_GROWTH``, ``STORM_WATCHED``, ``STORM_STOP_TIME`` and
+``STORM_INTERVAL``, and ``floor_case()`` (a :class:`FloorCase`: one of its
+cases written by hand without the engine).
 
-Five sections (``--only`` picks some: ``work-precision``, ``effects``,
-``commands``, ``scaling``, ``soak``; the files of the others are then left
-as they are), each written into ``--out`` (default ``bench-out``) as
-Markdown and CSV, and printed at the end:
+Eight sections (``--only`` picks some: ``work-precision``, ``effects``,
+``commands``, ``scaling``, ``soak``, ``parameters``, ``storm``,
+``floors``; the files of the others are then left as they are), each
+written into ``--out`` (default ``bench-out``) as Markdown and CSV, and
+printed at the end:
 
 1. **Work-precision** (``bench.md``, ``bench.csv``, ``work_precision.png``;
    also ``work_precision_events.png`` for the event-time error and
@@ -66,6 +71,33 @@ Markdown and CSV, and printed at the end:
    time of the last 10 runs is within 1.5x of that of runs 2-11 and the RSS
    grows less than 20 MB per 100 runs after run 10.
 
+6. **A changed parameter** (``parameters.md``, ``parameters.csv``;
+   :func:`run_parameter_change`): the suite's ``parameter_case()`` translated
+   anew, from the cache, and with new values of a tunable parameter.
+
+7. **Storm** (``storm.md``, ``storm.csv``, ``storm.png``; :func:`run_storm`):
+   the suite's ``storm_model(N)`` -- N independent units, each a part of
+   its own with its own events -- for N = 5 ... 200 (3, 6 with
+   ``--quick``), each point in a fresh process stopped after 240 s (60 s
+   quick); every N with clusters (one system per independent part and part
+   mode, the default) and, for N <= 20 (6 quick), with
+   ``acausal.compiler.translate.USE_CLUSTERS = False`` (the whole model
+   compiled per discrete state).  Wall and translation seconds, compiled
+   systems, events, peak RSS; the growth exponent ``b`` of ``wall = a N^b``
+   per mode and the goals "N = 200 under 10 s, N = 1000 under a minute".
+   Each point records the final value of the suite's ``STORM_WATCHED``
+   (the same with and without clusters).
+
+8. **Floors** (``floors.md``, ``floors.csv``; :func:`run_floors`): ``python
+   -c "import numpy"`` and ``python -c "import numpy, scipy.integrate"`` in
+   fresh processes (as many runs as the commands), each ``acausal compare``
+   command's median as a multiple of both (the commands section's runs when
+   it ran too, else timed here); and the warm case of the suite's
+   ``floor_case()`` (its method, rtol 1e-6, best of 5) against the same
+   model written by hand (the floor case's ``floor``;
+   :func:`run_hand_coded_floor`), whose final value of the floor case's
+   ``output`` must agree within its ``agreement``.
+
 The timings measure whole ``simulate`` calls (setup of the discrete
 evaluator, integration, event handling and building the result on the
 output grid) by ``time.perf_counter``.
@@ -96,6 +128,8 @@ __all__ = [
     "BenchResult", "cases", "get_case", "run_case", "run_effects", "scaling_point", "run_scaling",
     "run_bench", "main", "suite", "reference_case", "example_factory", "fit_power_law",
     "SECTIONS", "run_parameter_change", "SoakRun", "SoakSummary", "SoakResult", "run_soak", "write_soak",
+    "storm_point", "run_storm", "storm_fits", "write_storm", "run_import_floors", "command_floor_ratios",
+    "FloorCase", "HAND_CODED_FLOOR_REPEATS", "run_hand_coded_floor", "run_floors", "write_floors",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -114,7 +148,7 @@ SLOW_RUN_SECONDS = 5.0
 #: Smallest error shown in the work-precision plots (exact results are clipped to it).
 ERROR_FLOOR = 1e-16
 #: The sections of the bench, as ``acausal bench --only`` names them.
-SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak", "parameters")
+SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors")
 
 
 def _ensure_path() -> None:
@@ -301,7 +335,7 @@ class CaseRun:
 
 def _stage_sums(translation) -> dict:
     sums: dict = {}
-    for system in translation.systems.values():
+    for system in translation.mode_systems():
         for stage, seconds in system.passes:
             sums[stage] = sums.get(stage, 0.0) + seconds
     return sums
@@ -408,6 +442,11 @@ def _first_system(translation):
     return next(iter(translation.systems.values()))
 
 
+def _own_systems(system) -> tuple:
+    """The compiled systems behind ``system``: its clusters' (composed) or itself."""
+    return getattr(system, "parts", (system,))
+
+
 def _max_difference(t_full, y_full, t_pruned, y_pruned) -> float:
     same_grid = len(t_full) == len(t_pruned) and np.allclose(t_full, t_pruned, rtol=0,
                                                              atol=1e-9 * max(1.0, t_full[-1]))
@@ -434,11 +473,11 @@ def run_effects_case(name: str, make: Callable[[], Model], output: str, rtol: fl
         pruned = _first_system(pr_tr)
         full = full_tr.systems.get(pruned.key) or _first_system(full_tr)
         record.states_kept = len(pruned.states)
-        record.states_total = len(pruned.structure.states)
-        record.derivative_steps_kept = pruned.code.n_derivative_steps
-        record.derivative_steps_full = full.code.n_derivative_steps
-        record.steps_kept = pruned.code.n_steps
-        record.steps_full = full.code.n_steps
+        record.states_total = sum(len(p.structure.states) for p in _own_systems(pruned))
+        record.derivative_steps_kept = sum(p.code.n_derivative_steps for p in _own_systems(pruned))
+        record.derivative_steps_full = sum(p.code.n_derivative_steps for p in _own_systems(full))
+        record.steps_kept = sum(p.code.n_steps for p in _own_systems(pruned))
+        record.steps_full = sum(p.code.n_steps for p in _own_systems(full))
         record.sim_seconds_full, record.sim_seconds_pruned = full_s, pr_s
         record.translate_seconds_full = full_tr.translation_seconds
         record.translate_seconds_pruned = pr_tr.translation_seconds
@@ -544,7 +583,7 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     point["equations"] = len(system.equations)
     point["derivative_steps"] = system.code.n_derivative_steps
     compiled = translation.translation_seconds - translation.flatten_seconds
-    point["initial_systems"] = sum(s.seconds for s in translation.initial_systems.values())
+    point["initial_systems"] = translation.initial_seconds
     point["initialization"] = max(init_wall - compiled, 0.0)
     report("simulating (first run)")
     first, point["first_simulate"] = _timed_simulate(translation, method=method, rtol=rtol)
@@ -1478,6 +1517,560 @@ def write_soak(soak: SoakResult, out_dir: Path) -> dict:
 
 
 # ---------------------------------------------------------------------------
+# Storm: many independent hybrid parts
+# ---------------------------------------------------------------------------
+
+#: Sizes of the storm section (``--quick`` and full), and the largest N also run as a whole model.
+QUICK_STORM = (3, 6)
+FULL_STORM = (5, 10, 20, 50, 100, 200)
+QUICK_STORM_WHOLE_UP_TO = 6
+FULL_STORM_WHOLE_UP_TO = 20
+#: Wall-time limit of one storm point (a fresh process), full and ``--quick``.
+STORM_TIMEOUT_SECONDS = 240.0
+QUICK_STORM_TIMEOUT_SECONDS = 60.0
+#: The two ways a storm point is compiled.
+STORM_MODES = ("clusters", "whole model")
+#: ``(N, wall seconds)``: the goals of the storm model with clusters (the issue's).
+STORM_GOALS = ((200, 10.0), (1000, 60.0))
+
+
+def storm_point(n: int, clusters: bool = True, progress: Callable[[dict], None] | None = None) -> dict:
+    """Translate and simulate the suite's ``storm_model(n)`` once, with or without clusters.
+
+    ``translate(model, cache=False)`` then ``simulate(translation, stop_time,
+    interval)`` -- what ``simulate(model)`` does in a fresh process -- with
+    ``acausal.compiler.translate.USE_CLUSTERS`` set to ``clusters`` while the
+    model is translated (restored afterwards).  ``wall`` is the time of both
+    calls; ``translation`` the translation's ``translation_seconds`` at the
+    end (flattening, every system compiled, the initialization systems);
+    ``simulate`` the rest (integration, events, result); ``final_watched``
+    the final value of the suite's ``STORM_WATCHED`` (NaN if the result has
+    no such variable).
+    """
+    from ..compiler import translate as translate_module
+    from ..runtime.simulate import simulate
+
+    benchmarks = suite()
+    progress = progress or (lambda _p: None)
+    point: dict = {"n": n, "mode": STORM_MODES[0] if clusters else STORM_MODES[1]}
+    model = benchmarks.storm_model(n)
+    watched = benchmarks.STORM_WATCHED
+    progress(dict(point, phase="translating and simulating"))
+    gc.collect()
+    previous = translate_module.USE_CLUSTERS
+    translate_module.USE_CLUSTERS = bool(clusters)
+    try:
+        t0 = time.perf_counter()
+        translation = translate_module.translate(model, cache=False)
+        result = simulate(translation, stop_time=benchmarks.STORM_STOP_TIME, interval=benchmarks.STORM_INTERVAL)
+        wall = time.perf_counter() - t0
+    finally:
+        translate_module.USE_CLUSTERS = previous
+    clustering = translation.clustering
+    point.update({
+        "status": int(result.status),
+        "message": "" if result.status == 0 else result.message,
+        "parts": len(clustering.clusters) if clustering is not None else 1,
+        "states_visited": len(result.modes),
+        "events": len(result.events),
+        "compiled_systems": int(result.compiled_modes),
+        "steps": int(result.stats.get("steps", 0)),
+        "translation": translation.translation_seconds,
+        "simulate": wall - translation.translation_seconds,
+        "wall": wall,
+        "final_watched": result.final(watched) if watched in result else math.nan,
+        "max_rss_mb": _rss_mb(),
+    })
+    return point
+
+
+def _storm_point_subprocess(n: int, clusters: bool, timeout: float) -> dict:
+    code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.tools.collector import GC_THRESHOLD; "
+            "gc.set_threshold(*GC_THRESHOLD); from acausal.tools.bench import storm_point; "
+            "report = lambda p: print('@@' + json.dumps(p), flush=True); "
+            "report(storm_point({n}, {clusters}, progress=report))").format(root=str(ROOT), n=n,
+                                                                            clusters=bool(clusters))
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    env["ACAUSAL_DISK_CACHE"] = "off"  # cold: nothing compiled by an earlier process (translate(cache=False) too)
+    mode = STORM_MODES[0] if clusters else STORM_MODES[1]
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
+                              cwd=str(ROOT), env=env)
+    except subprocess.TimeoutExpired:
+        return {"n": n, "mode": mode, "status": f"not finished in {timeout:.0f} s",
+                "process_wall": time.perf_counter() - t0}
+    last = _last_report(proc.stdout)
+    if last is not None and proc.returncode == 0 and "status" in last:
+        last["process_wall"] = time.perf_counter() - t0
+        return last
+    tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
+    return {"n": n, "mode": mode, "status": f"failed (exit {proc.returncode}): {tail}",
+            "process_wall": time.perf_counter() - t0}
+
+
+def run_storm(sizes: Sequence[int] = FULL_STORM, whole_up_to: int = FULL_STORM_WHOLE_UP_TO,
+              timeout: float = STORM_TIMEOUT_SECONDS, isolate: bool = True,
+              log: Callable[[str], None] | None = None) -> list[dict]:
+    """The storm points: the suite's ``storm_model(N)`` for every N in ``sizes``.
+
+    Each N with clusters (the default engine) and, for ``N <= whole_up_to``,
+    once more with ``USE_CLUSTERS = False`` (the whole model compiled per
+    discrete state).  With ``isolate`` (default) each point runs in a fresh
+    process stopped after ``timeout`` seconds (status ``"not finished in T
+    s"``); once a mode has a point that did not finish, its larger sizes are
+    skipped.  Without ``isolate`` the points run in this process (no
+    timeout).  Rows: :func:`storm_point`'s keys, ``status`` 0 for a run
+    that reached the stop time.
+    """
+    log = log or (lambda _s: None)
+    points: list[dict] = []
+    stopped: dict[str, str] = {}
+    for n in sizes:
+        for clusters in (True, False):
+            mode = STORM_MODES[0] if clusters else STORM_MODES[1]
+            if not clusters and n > whole_up_to:
+                continue
+            if mode in stopped:
+                points.append({"n": n, "mode": mode, "status": f"skipped ({stopped[mode]})"})
+                continue
+            if isolate:
+                point = _storm_point_subprocess(n, clusters, timeout)
+            else:
+                try:
+                    point = storm_point(n, clusters)
+                except Exception as exc:  # noqa: BLE001 - a bench never crashes on a model
+                    point = {"n": n, "mode": mode, "status": f"failed: {type(exc).__name__}: {exc}"}
+            points.append(point)
+            if point["status"] != 0:
+                stopped[mode] = f"N={n} {point['status'] if isinstance(point['status'], str) else 'failed'}"
+            log(f"  storm N={n} {mode}: wall {point.get('wall', math.nan):.2f} s, translation "
+                f"{point.get('translation', math.nan):.2f} s, {point.get('events', '-')} events, "
+                f"{point.get('compiled_systems', '-')} systems compiled (status {point['status']})")
+    return points
+
+
+def _storm_finished(points: Sequence[dict], mode: str) -> list[dict]:
+    return [p for p in points if p.get("mode") == mode and p.get("status") == 0]
+
+
+def storm_fits(points: Sequence[dict]) -> dict:
+    """``mode -> (a, b)`` of ``wall ≈ a N^b`` over the finished points of each mode."""
+    fits = {}
+    for mode in STORM_MODES:
+        done = _storm_finished(points, mode)
+        fits[mode] = fit_power_law([p["n"] for p in done], [p["wall"] for p in done])
+    return fits
+
+
+def _local_exponents(done: Sequence[dict], key: str = "wall") -> list[tuple[int, int, float]]:
+    """``(N1, N2, b)`` of the power law through each two consecutive finished points."""
+    return [(p["n"], q["n"], fit_power_law([p["n"], q["n"]], [p[key], q[key]])[1]) for p, q in zip(done, done[1:])]
+
+
+def _storm_goal_lines(points: Sequence[dict]) -> list[str]:
+    """The goals (:data:`STORM_GOALS`) against the clustered points: met, not met, or a prediction.
+
+    A size not run is predicted by the power law through the two largest
+    finished sizes (the local growth, steeper than the fit over all sizes
+    when the growth accelerates).
+    """
+    lines = []
+    finished = _storm_finished(points, STORM_MODES[0])
+    done = {p["n"]: p for p in finished}
+    unfinished = {p["n"]: p for p in points if p.get("mode") == STORM_MODES[0] and p.get("status") != 0}
+    a, b = (fit_power_law([p["n"] for p in finished[-2:]], [p["wall"] for p in finished[-2:]])
+            if len(finished) >= 2 else (math.nan, math.nan))
+    basis = (f"the power law through N = {finished[-2]['n']} and {finished[-1]['n']} (b = {b:.2f})"
+             if math.isfinite(b) else "")
+    for n, limit in STORM_GOALS:
+        goal = f"N = {n} under {limit:g} s"
+        predicted = a * n ** b if math.isfinite(b) else math.nan
+        prediction = (f"; {basis} predicts {predicted:.3g} s" if math.isfinite(predicted) and n not in done else "")
+        if n in done:
+            wall = done[n]["wall"]
+            lines.append(f"- {goal}: {'met' if wall < limit else '**not met**'} (with clusters: {wall:.3g} s).")
+        elif n in unfinished:
+            lines.append(f"- {goal}: **not met** (with clusters: {unfinished[n]['status']}{prediction}).")
+        elif math.isfinite(predicted):
+            lines.append(f"- {goal}: not measured (N = {n} not run){prediction}: "
+                         + ("it would be met if that growth held (an extrapolation, not a measurement)."
+                            if predicted < limit else "**not met** by that estimate."))
+        else:
+            lines.append(f"- {goal}: not measured.")
+    return lines
+
+
+def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
+    rows = []
+    for p in points:
+        status = p.get("status", "")
+        status_text = ("ok" if status == 0 else f"status {status}: {p.get('message', '')}"
+                       if isinstance(status, int) else status)
+        per_event = (1e3 * p["simulate"] / p["events"] if p.get("events") and isinstance(p.get("simulate"), float)
+                     else math.nan)
+        rows.append((p["n"], p["mode"], p.get("parts", math.nan), p.get("states_visited", math.nan),
+                     p.get("events", math.nan), p.get("compiled_systems", math.nan),
+                     p.get("translation", math.nan), p.get("simulate", math.nan), per_event, p.get("wall", math.nan),
+                     p.get("max_rss_mb", math.nan), status_text))
+    table = _md_table(("N", "mode", "parts", "discrete states visited", "events", "compiled systems",
+                       "translation [s]", "integration+events [s]", "per event [ms]", "wall [s]", "max RSS [MB]",
+                       "status"), rows)
+    fit_rows = []
+    for mode in STORM_MODES:
+        a, b = fits.get(mode, (math.nan, math.nan))
+        ns = [p["n"] for p in _storm_finished(points, mode)]
+        fit_rows.append((mode, _fmt(a), _fmt(b), ", ".join(map(str, ns)) or "-"))
+    fit_table = _md_table(("mode", "a", "b (wall ≈ a·N^b)", "fitted on N ="), fit_rows)
+    reading = []
+    for mode in STORM_MODES:
+        a, b = fits.get(mode, (math.nan, math.nan))
+        done = _storm_finished(points, mode)
+        if math.isfinite(b):
+            local = ", ".join(f"{b2:.2f} ({n1}→{n2})" for n1, n2, b2 in _local_exponents(done))
+            reading.append(f"- {mode}: wall ≈ {a:.3g}·N^{b:.2f} over N = {done[0]['n']} ... {done[-1]['n']}; "
+                           f"between consecutive sizes b = {local}.")
+    clustered = {p["n"]: p for p in _storm_finished(points, STORM_MODES[0])}
+    whole = {p["n"]: p for p in _storm_finished(points, STORM_MODES[1])}
+    both = sorted(set(clustered) & set(whole))
+    if both:
+        reading.append("- Clusters against the whole model (wall, compiled systems): " + "; ".join(
+            f"N = {n}: {whole[n]['wall'] / clustered[n]['wall']:.2g}x faster, "
+            f"{clustered[n]['compiled_systems']} vs {whole[n]['compiled_systems']} systems" for n in both) + ".")
+        mismatched = [n for n in both if clustered[n]["events"] != whole[n]["events"]]
+        reading.append("- Events: " + ("the same number in both modes at every N." if not mismatched else
+                                       "**different numbers** at N = " + ", ".join(map(str, mismatched)) + "."))
+    benchmarks = suite()
+    done = list(clustered.values())
+    if len(done) >= 2:
+        _, b_events = fit_power_law([p["n"] for p in done], [p["events"] for p in done])
+        reading.append(f"- The events themselves grow as N^{b_events:.2f} ({benchmarks.STORM_EVENTS_GROWTH}); "
+                       "with clusters the integration+events time per event goes from "
+                       f"{1e3 * done[0]['simulate'] / done[0]['events']:.3g} ms (N = {done[0]['n']}) to "
+                       f"{1e3 * done[-1]['simulate'] / done[-1]['events']:.3g} ms (N = {done[-1]['n']}), and "
+                       f"the peak RSS from {done[0]['max_rss_mb']:.0f} MB to {done[-1]['max_rss_mb']:.0f} MB.")
+    reading += _storm_goal_lines(points)
+    return "\n".join([
+        "# Storm: many independent parts with events", "",
+        benchmarks.STORM_DESCRIPTION + ". "
+        f"Simulated for {benchmarks.STORM_STOP_TIME:g} s with output interval {benchmarks.STORM_INTERVAL:g} s "
+        "(RK45, rtol 1e-6), each point in a fresh process (sympy's caches cold, the persistent compile "
+        f"cache off, the garbage collector as in an `acausal` command) stopped after {timeout:.0f} s. "
+        "*clusters*: the default engine, one system per independent part and part mode; *whole model*: "
+        "`acausal.compiler.translate.USE_CLUSTERS = False`, the whole model compiled per discrete state "
+        "(the old behaviour). Wall: `translate(model, cache=False)` and `simulate(translation)`, what "
+        "`simulate(model)` does; translation: the translation's `translation_seconds` at the end "
+        "(flattening, every system compiled, the initialization systems); integration+events: the rest. "
+        "Parts: the independent parts the translation found (1: none used). Compiled systems: "
+        "`result.compiled_modes` (with clusters, every part's systems count). Max RSS: the process's peak.",
+        "", table, "", fit_table, "", "## Reading", ""] + reading + [""])
+
+
+def _plot_storm(points: Sequence[dict], fits: dict, path: Path, timeout: float) -> Path | None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if not any(p.get("mode") in STORM_MODES for p in points):
+        return None
+    fig, ax = plt.subplots(figsize=(8.5, 5.5))
+    styles = {STORM_MODES[0]: ("tab:blue", "o"), STORM_MODES[1]: ("tab:red", "s")}
+    for mode in STORM_MODES:
+        color, marker = styles[mode]
+        done = _storm_finished(points, mode)
+        if done:
+            ns = np.array([p["n"] for p in done], dtype=float)
+            label = f"{mode}: wall"
+            a, b = fits.get(mode, (math.nan, math.nan))
+            if math.isfinite(b):
+                label += f" (b={b:.2f})"
+                grid = np.geomspace(ns.min(), ns.max(), 50)
+                ax.plot(grid, a * grid ** b, ":", color=color, lw=1)
+            ax.plot(ns, [p["wall"] for p in done], "-", marker=marker, color=color, lw=2, label=label)
+            ax.plot(ns, [p["translation"] for p in done], "--", marker=marker, color=color, lw=1, alpha=0.6,
+                    mfc="none", label=f"{mode}: translation")
+        stopped = [p for p in points if p.get("mode") == mode and isinstance(p.get("status"), str)
+                   and p["status"].startswith("not finished")]
+        if stopped:
+            ax.plot([p["n"] for p in stopped], [timeout] * len(stopped), "^", color=color, ms=10,
+                    label=f"{mode}: not finished in {timeout:.0f} s")
+    for n, limit in STORM_GOALS:
+        ax.plot([n], [limit], "*", color="tab:green", ms=12)
+        ax.annotate(f"goal N={n}: {limit:g} s", (n, limit), textcoords="offset points", xytext=(-10, 8),
+                    ha="right", fontsize=8, color="tab:green")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator
+
+    ticks = sorted({p["n"] for p in points} | {n for n, _ in STORM_GOALS})
+    ax.xaxis.set_major_locator(FixedLocator(ticks))
+    ax.xaxis.set_major_formatter(FixedFormatter([str(n) for n in ticks]))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel(suite().STORM_SIZE_LABEL)
+    ax.set_ylabel("seconds (fresh process)")
+    ax.set_title("Storm: translation + simulation with and without clusters (dotted: power-law fits)")
+    ax.grid(True, which="major", alpha=0.4)
+    ax.grid(True, which="minor", alpha=0.12)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def write_storm(points: Sequence[dict], out_dir: Path, timeout: float = STORM_TIMEOUT_SECONDS) -> dict:
+    """Write ``storm.md``, ``storm.csv`` and ``storm.png`` into ``out_dir``; their paths."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    fits = storm_fits(points)
+    files = {"storm.md": out_dir / "storm.md", "storm.csv": out_dir / "storm.csv"}
+    files["storm.md"].write_text(_storm_markdown(points, fits, timeout))
+    _write_dict_csv(files["storm.csv"], points)
+    path = _plot_storm(points, fits, out_dir / "storm.png", timeout)
+    if path is not None:
+        files["storm.png"] = path
+    return files
+
+
+# ---------------------------------------------------------------------------
+# Floors: what the same work costs without the engine
+# ---------------------------------------------------------------------------
+
+#: ``(label, code)``: the fresh-process floors the commands are divided by.
+IMPORT_FLOORS = (("import numpy", "import numpy"),
+                 ("import numpy, scipy.integrate", "import numpy, scipy.integrate"))
+#: Warm runs of the hand-coded floor's case (acausal and the floor); the best counts.
+HAND_CODED_FLOOR_REPEATS = 5
+
+
+@dataclass(frozen=True)
+class FloorCase:
+    """The floors section's hand-coded floor: one of the suite's cases written without the engine.
+
+    ``case`` names a work-precision case of the suite (its model and stop
+    time; the output interval is its model's experiment's).  ``floor(stop_time,
+    interval, rtol=..., atol=...)`` simulates the same model written by hand
+    and returns a dict with ``final`` (the last value of ``output``),
+    ``events`` (its switches, each a tuple whose first item is the time),
+    ``steps`` and ``rhs_evaluations``.  acausal's and the floor's final values
+    of ``output`` (in ``unit``) agree when they differ by at most
+    ``agreement``.  ``description`` (Markdown) says what the model is and how
+    the floor is written; ``events_note`` how acausal's events and the
+    floor's switches correspond.  Both run with ``method``, the same rtol and
+    atol.
+    """
+
+    case: str
+    floor: Callable[..., dict]
+    output: str
+    unit: str
+    agreement: float
+    description: str
+    events_note: str = ""
+    method: str = "RK45"
+
+
+def _fresh_process_env() -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    return env
+
+
+def run_import_floors(repeats: int = 5, log: Callable[[str], None] | None = None) -> list[dict]:
+    """Wall time of ``python -c "import numpy"`` and ``python -c "import numpy, scipy.integrate"``.
+
+    In new processes, like the commands (same interpreter, folder and
+    environment): what any command built on numpy and scipy pays before
+    doing anything.
+    """
+    log = log or (lambda _s: None)
+    env = _fresh_process_env()
+    records = []
+    for label, code in IMPORT_FLOORS:
+        walls, statuses = [], []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            proc = subprocess.run([sys.executable, "-c", code], cwd=str(ROOT), env=env, capture_output=True,
+                                  text=True, timeout=60)
+            walls.append(time.perf_counter() - t0)
+            statuses.append(proc.returncode)
+        record = {"kind": "import floor", "what": f'python -c "{code}"', "label": label, "runs": repeats,
+                  "min_wall": min(walls), "median_wall": float(np.median(walls)), "max_wall": max(walls),
+                  "exit_statuses": " ".join(map(str, statuses))}
+        records.append(record)
+        log(f"  {record['what']}: min {record['min_wall']:.3f} s, median {record['median_wall']:.3f} s")
+    return records
+
+
+def command_floor_ratios(command_records: Sequence[dict], import_records: Sequence[dict]) -> list[dict]:
+    """The commands' rows with their median wall time as a multiple of each import floor's median.
+
+    Keys ``x_import_numpy`` and ``x_numpy_scipy`` (the columns "× import
+    numpy", "× numpy+scipy.integrate").
+    """
+    floors = {r["label"]: r["median_wall"] for r in import_records}
+    rows = []
+    for record in command_records:
+        row = {"kind": "command", "what": record["command"], **{k: v for k, v in record.items() if k != "command"}}
+        for key, label in (("x_import_numpy", IMPORT_FLOORS[0][0]), ("x_numpy_scipy", IMPORT_FLOORS[1][0])):
+            floor = floors.get(label, math.nan)
+            row[key] = record["median_wall"] / floor if floor and math.isfinite(floor) else math.nan
+        rows.append(row)
+    return rows
+
+
+def run_hand_coded_floor(repeats: int = HAND_CODED_FLOOR_REPEATS, rtol: float = 1e-6,
+                         log: Callable[[str], None] | None = None, floor_case: FloorCase | None = None) -> dict:
+    """A warm case in acausal against the same model written by hand (default: the suite's ``floor_case()``).
+
+    The case's stop time and its model's output interval, the floor's method
+    at ``rtol``: acausal translated once and simulated once to warm up, then
+    the best of ``repeats`` runs with the translation reused; the floor
+    likewise (one warm-up, best of ``repeats``).  ``agree``: the final values
+    of the floor case's ``output`` differ by at most its ``agreement``.
+    """
+    log = log or (lambda _s: None)
+    fc = floor_case if floor_case is not None else suite().floor_case()
+    case = get_case(fc.case)
+    translation = _fresh_translate(case.make())
+    options = {"method": fc.method, "rtol": rtol}
+    if case.stop_time is not None:
+        options["stop_time"] = case.stop_time
+    result, _ = _timed_simulate(translation, **options)  # warm-up (compiles the modes visited)
+    acausal_times = [_timed_simulate(translation, **options)[1] for _ in range(repeats)]
+    stop = case.stop_time if case.stop_time is not None else translation.flat.experiment.stop_time
+    interval = translation.flat.experiment.interval or stop / 500
+    floor = fc.floor(stop, interval, rtol=rtol, atol=rtol)
+    floor_times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fc.floor(stop, interval, rtol=rtol, atol=rtol)
+        floor_times.append(time.perf_counter() - t0)
+    final_acausal, final_floor = result.final(fc.output), float(floor["final"])
+    difference = abs(final_acausal - final_floor)
+    row = {"kind": "in-process", "what": f"{fc.case} {fc.method} rtol {rtol:g}, warm, to t = {stop:.6g} s",
+           "case": fc.case, "method": fc.method, "output": fc.output, "unit": fc.unit,
+           "repeats": repeats, "acausal_seconds": min(acausal_times), "floor_seconds": min(floor_times),
+           "ratio": min(acausal_times) / min(floor_times), "acausal_final": final_acausal,
+           "floor_final": final_floor, "final_difference": difference, "agreement": fc.agreement,
+           "agree": difference <= fc.agreement,
+           "acausal_status": result.status, "acausal_events": len(result.events),
+           "floor_switches": len(floor["events"]),
+           "floor_switch_times": " ".join(f"{event[0]:.9g}" for event in floor["events"]),
+           "acausal_steps": int(result.stats.get("steps", 0)), "floor_steps": floor["steps"],
+           "acausal_rhs_evaluations": int(result.stats.get("rhs_evaluations", 0)),
+           "floor_rhs_evaluations": floor["rhs_evaluations"]}
+    log(f"  {fc.case} warm: acausal {row['acausal_seconds'] * 1e3:.2f} ms, hand-coded floor "
+        f"{row['floor_seconds'] * 1e3:.2f} ms (x{row['ratio']:.1f}); final {fc.output} {final_acausal:.9g} "
+        f"vs {final_floor:.9g}")
+    return row
+
+
+def run_floors(repeats: int = 5, command_records: Sequence[dict] | None = None, commands: bool = True,
+               log: Callable[[str], None] | None = None,
+               floor_repeats: int = HAND_CODED_FLOOR_REPEATS) -> list[dict]:
+    """The floors section: import floors, the commands against them, and the hand-coded floor.
+
+    ``repeats`` runs of each import floor; ``command_records`` (from
+    :func:`run_commands`) are reused when given, otherwise the commands are
+    timed here with ``repeats`` (unless not ``commands``); the suite's
+    hand-coded floor (:func:`run_hand_coded_floor`) is the best of
+    ``floor_repeats``.  Rows with a ``kind``: ``import floor``, ``command``,
+    ``in-process``.
+    """
+    log = log or (lambda _s: None)
+    imports = run_import_floors(repeats, log=log)
+    if command_records is None and commands:
+        command_records = run_commands(repeats, log=log)
+    rows = list(imports) + command_floor_ratios(command_records or [], imports)
+    rows.append(run_hand_coded_floor(floor_repeats, log=log))
+    return rows
+
+
+def _disk_cache_text() -> str:
+    """Whether the commands could load compiled systems from the persistent compile cache."""
+    try:
+        from ..compiler.diskcache import disk_cache_enabled
+    except ImportError:  # an engine without it
+        return ""
+    if disk_cache_enabled():
+        return ("The persistent compile cache was on (`ACAUSAL_DISK_CACHE`), as for a user: after the first "
+                "run a command loads its compiled systems from disk.")
+    return "The persistent compile cache was off (`ACAUSAL_DISK_CACHE`): every run compiled its systems."
+
+
+def _floors_markdown(rows: Sequence[dict], floor_case: FloorCase | None = None) -> str:
+    """The floors table; the hand-coded floor described by ``floor_case`` (default: the suite's)."""
+    imports = [r for r in rows if r["kind"] == "import floor"]
+    commands = [r for r in rows if r["kind"] == "command"]
+    in_process = [r for r in rows if r["kind"] == "in-process"]
+    parts = ["# Floors", "",
+             "What the same work costs without the engine: the commands against a bare interpreter that "
+             "imports numpy (and scipy's integrators), and a warm simulation against the same model written "
+             "by hand (the suite's `floor_case()`).", ""]
+    if imports:
+        parts += ["## Fresh-process floors", "",
+                  "Each in a new Python process (same interpreter, folder and environment as the commands), "
+                  "timed from outside.", "",
+                  _md_table(("floor", "runs", "min wall [s]", "median wall [s]", "max wall [s]"),
+                            [(r["what"].replace("|", "\\|"), r["runs"], f"{r['min_wall']:.3f}",
+                              f"{r['median_wall']:.3f}", f"{r['max_wall']:.3f}") for r in imports]), ""]
+    if commands:
+        parts += ["## Commands against the floors", "",
+                  "Median wall time of each `acausal compare` command (as in the commands section) divided by "
+                  "each floor's median. " + _disk_cache_text(), "",
+                  _md_table(("command", "runs", "median wall [s]", "× import numpy", "× numpy+scipy.integrate",
+                             "comparison passed"),
+                            [(r["what"], r["runs"], f"{r['median_wall']:.2f}", f"{r['x_import_numpy']:.1f}",
+                              f"{r['x_numpy_scipy']:.1f}", "yes" if r["passed"] else f"**no**: {r['failure']}")
+                             for r in commands]), ""]
+    if in_process and floor_case is None:
+        floor_case = suite().floor_case()
+    for r in in_process:
+        unit = r["unit"]
+        check = "agree" if r["agree"] else f"**WARNING: differ by more than {r['agreement']:g} {unit}**"
+        switches = f"at t = {r['floor_switch_times']} s" if r["floor_switch_times"] else "none"
+        note = (f"{floor_case.events_note} (its switches {switches})." if floor_case.events_note
+                else f"The floor's switches: {switches}.")
+        parts += [f"## Warm {r['case']} against a hand-coded floor", "",
+                  floor_case.description + f" Both with {r['method']}, the same rtol and atol, the same output "
+                  "grid. acausal: translated once, simulated once to warm up, best of the repeats with the "
+                  "translation reused (`simulate(translation)`: event evaluator, initialization, integration, "
+                  "events, the result's columns for every variable); the floor: best of the repeats after one "
+                  "warm-up.", "",
+                  _md_table(("run", "repeats", "acausal [ms]", "hand-coded floor [ms]", "acausal / floor",
+                             "steps (acausal / floor)", "rhs evaluations (acausal / floor)", "events / switches",
+                             f"final {r['output']} acausal [{unit}]", f"final {r['output']} floor [{unit}]",
+                             "\\|Δ\\|", "check"),
+                            [(r["what"], r["repeats"], f"{r['acausal_seconds'] * 1e3:.2f}",
+                              f"{r['floor_seconds'] * 1e3:.2f}", f"{r['ratio']:.1f}",
+                              f"{r['acausal_steps']} / {r['floor_steps']}",
+                              f"{r['acausal_rhs_evaluations']} / {r['floor_rhs_evaluations']}",
+                              f"{r['acausal_events']} / {r['floor_switches']}",
+                              f"{r['acausal_final']:.9g}", f"{r['floor_final']:.9g}",
+                              _fmt(r["final_difference"]), check)]), "",
+                  note, ""]
+    return "\n".join(parts)
+
+
+def write_floors(rows: Sequence[dict], out_dir: Path, floor_case: FloorCase | None = None) -> dict:
+    """Write ``floors.md`` and ``floors.csv`` into ``out_dir``; their paths.
+
+    ``floor_case`` describes the hand-coded floor's row (default: the suite's ``floor_case()``).
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    files = {"floors.md": out_dir / "floors.md", "floors.csv": out_dir / "floors.csv"}
+    files["floors.md"].write_text(_floors_markdown(rows, floor_case))
+    _write_dict_csv(files["floors.csv"], rows)
+    return files
+
+
+# ---------------------------------------------------------------------------
 # The whole bench
 # ---------------------------------------------------------------------------
 
@@ -1497,6 +2090,9 @@ class BenchResult:
     #: What was not measured, and why (reference results missing).
     skipped: dict = field(default_factory=dict)
     soak: SoakResult | None = None
+    #: The storm section's points (:func:`run_storm`) and the floors section's rows (:func:`run_floors`).
+    storm: list = field(default_factory=list)
+    floors: list = field(default_factory=list)
 
     @property
     def records(self) -> list[RunRecord]:
@@ -1566,7 +2162,8 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               effects: bool = True, scaling_sizes: Sequence[int] | None = None,
               repeats: int | None = None, isolate_scaling: bool = True,
               commands: bool = True, soak_runs: int | None = None, verbose: bool = False,
-              parameters: bool = True) -> BenchResult:
+              parameters: bool = True, storm: bool = True, storm_sizes: Sequence[int] | None = None,
+              floors: bool = True) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -1582,6 +2179,11 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         ``bench.md`` then), whether to run the effects section, the scaling
         sizes (``()`` for none), whether to time the fresh-process commands,
         the soak's runs per mode (default 20 quick, 200 full; 0 for none).
+    parameters, storm, floors : bool
+        Whether to run the parameter-change, storm and floors sections.
+    storm_sizes : optional
+        The storm's N (default 3, 6 quick; 5 ... 200 full); each N <= 6
+        (quick) or 20 (full) also without clusters.
     isolate_scaling : bool
         Run each scaling point in a fresh process (default), so that every
         translation starts with sympy's caches cold, as a user's first
@@ -1647,10 +2249,11 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
                 commands = False
                 break
     command_records = []
+    command_repeats = 3 if quick else 7
     if commands:
         log("fresh-process commands")
         start = (time.perf_counter(), cpu())
-        command_records = run_commands(3 if quick else 7, log=log)
+        command_records = run_commands(command_repeats, log=log)
         section("commands", start)
     if sizes:
         log("scaling")
@@ -1669,6 +2272,25 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     soak = timed("soak", lambda: run_soak(soak_runs, log=log)) if soak_runs else None
     parameter_rows = (timed("parameters", lambda: run_parameter_change(3 if quick else 5, log=log))
                       if parameters else [])
+    storm_timeout = QUICK_STORM_TIMEOUT_SECONDS if quick else STORM_TIMEOUT_SECONDS
+    if storm_sizes is None:
+        storm_sizes = QUICK_STORM if quick else FULL_STORM
+    storm_points = (timed("storm", lambda: run_storm(
+        tuple(storm_sizes), QUICK_STORM_WHOLE_UP_TO if quick else FULL_STORM_WHOLE_UP_TO, storm_timeout, log=log))
+        if storm and storm_sizes else [])
+    floor_rows: list[dict] = []
+    if floors:
+        # the commands compare with the reference results: without them only the other floors are measured
+        floor_commands = True
+        if not command_records:
+            for name, _example_file in suite().COMMAND_TARGETS:
+                missing = _reference_missing(all_cases[name].reference)
+                if missing:
+                    skipped["floors: fresh-process commands"] = missing
+                    floor_commands = False
+                    break
+        floor_rows = timed("floors", lambda: run_floors(command_repeats, command_records or None,
+                                                        commands=floor_commands, log=log))
     fits = {}
     for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
                 "evaluator_setup", "initial_systems", "initialization", "simulate"):
@@ -1716,11 +2338,18 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
             files["scaling.png"] = path
     if parameter_rows:
         table("parameters", _parameters_markdown(parameter_rows), parameter_rows)
+    if storm_points:
+        files.update(write_storm(storm_points, out_dir, storm_timeout))
+        tables["storm"] = files["storm.md"].read_text()
+    if floor_rows:
+        files.update(write_floors(floor_rows, out_dir))
+        tables["floors"] = files["floors.md"].read_text()
     if soak is not None:
         files.update(write_soak(soak, out_dir))
         tables["soak"] = _soak_markdown(soak).split("\n## Runs")[0].rstrip() + "\n"
     wall = time.perf_counter() - wall0
-    return BenchResult(quick, runs, effect_records, points, fits, files, tables, wall, skipped, soak)
+    return BenchResult(quick, runs, effect_records, points, fits, files, tables, wall, skipped, soak,
+                       storm_points, floor_rows)
 
 
 def _split(text: str) -> list[str]:
@@ -1735,10 +2364,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     gc.set_threshold(*GC_THRESHOLD)
     parser = argparse.ArgumentParser(prog="acausal bench",
                                      description="Work-precision benchmark of the adaptive methods, "
-                                                 "effects of output demand, scaling with model size, and a "
-                                                 "soak (one model simulated many times in one process).")
+                                                 "effects of output demand, scaling with model size, a "
+                                                 "soak (one model simulated many times in one process), "
+                                                 "a storm of independent hybrid parts, and floors (the "
+                                                 "same work without the engine).")
     parser.add_argument("--quick", action="store_true",
-                        help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40); under a minute")
+                        help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40; storm N = 3, 6)")
     parser.add_argument("--out", default="bench-out", metavar="DIR", help="output folder (default bench-out)")
     parser.add_argument("--methods", metavar="M,...",
                         help=f"comma-separated methods (default {','.join(ADAPTIVE_METHODS)})")
@@ -1783,13 +2414,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         reduced["scaling_sizes"] = ()
     if "parameters" not in only:
         reduced["parameters"] = False
+    if "storm" not in only:
+        reduced["storm"] = False
+    if "floors" not in only:
+        reduced["floors"] = False
     if "soak" not in only:
         reduced["soak_runs"] = 0
     elif args.soak_runs is not None:
         reduced["soak_runs"] = args.soak_runs
     result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True, **reduced)
     print()
-    for key in ("bench", "effects", "commands", "scaling", "soak", "parameters"):
+    for key in ("bench", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors"):
         if key in result.tables:
             print(result.tables[key])
             print()

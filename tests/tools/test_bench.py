@@ -62,7 +62,7 @@ def test_run_bench_writes_files(tmp_path):
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-4, 1e-7],
                              case_names=["CoastDown", "StickSlip"], effects=False, scaling_sizes=(2, 4),
                              isolate_scaling=False, commands=False, soak_runs=0, parameters=False,
-                             repeats=1)
+                             storm=False, floors=False, repeats=1)
     for name in ("bench.md", "bench.csv", "work_precision.png", "scaling.md", "scaling.csv", "scaling.png"):
         assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
     assert not (tmp_path / "soak.md").exists() and result.soak is None
@@ -103,7 +103,7 @@ def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeyp
     monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-6],
                              case_names=["StickSlip", "First"], effects=False, scaling_sizes=(),
-                             soak_runs=0, parameters=False, repeats=1)
+                             soak_runs=0, parameters=False, storm=False, floors=False, repeats=1)
     assert [run.case.name for run in result.runs] == ["StickSlip"]
     assert set(result.skipped) == {"case First", "fresh-process commands"}
     assert all("no-reference" in why for why in result.skipped.values())
@@ -193,3 +193,113 @@ def test_parameter_change_rows_rebind_and_cost_less_than_translating():
     rebound = [r["translate_seconds"] for r in rows if "rebound" in r["run"]]
     # a new value binds the compiled systems: far less than translating (flattening is left)
     assert max(rebound) < anew
+
+
+def test_storm_clusters_and_whole_model_agree(tmp_path):
+    """Each storm point in a fresh process, with and without clusters: the same events, fewer systems."""
+    points = bench.run_storm((2, 3), whole_up_to=3, timeout=120)
+    assert [(p["n"], p["mode"]) for p in points] == [(2, "clusters"), (2, "whole model"),
+                                                     (3, "clusters"), (3, "whole model")]
+    assert [p["status"] for p in points] == [0, 0, 0, 0], [p.get("message") or p["status"] for p in points]
+    for n in (2, 3):
+        clustered, whole = [p for p in points if p["n"] == n]
+        assert clustered["parts"] == n and whole["parts"] == 1
+        assert clustered["events"] == whole["events"] > n
+        assert clustered["compiled_systems"] <= whole["compiled_systems"]
+        assert clustered["final_watched"] == pytest.approx(whole["final_watched"], abs=1e-9)
+        for p in (clustered, whole):
+            assert p["translation"] > 0 and p["wall"] > p["translation"] and p["max_rss_mb"] > 0
+    files = bench.write_storm(points, tmp_path, timeout=120)
+    assert set(files) == {"storm.md", "storm.csv", "storm.png"}
+    assert all(path.stat().st_size > 0 for path in files.values())
+    text = (tmp_path / "storm.md").read_text()
+    assert "| 3 | whole model |" in text and "## Reading" in text and "N = 200 under 10 s" in text
+    with (tmp_path / "storm.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 4 and {"n", "mode", "status", "wall", "translation", "compiled_systems",
+                               "events", "max_rss_mb"} <= set(rows[0])
+
+
+def test_storm_point_that_does_not_finish_is_recorded(monkeypatch):
+    """A point over its time limit is recorded as not finished, and the larger sizes of its mode skipped."""
+    monkeypatch.setattr(bench, "_storm_point_subprocess",
+                        lambda n, clusters, timeout: {"n": n, "mode": "clusters" if clusters else "whole model",
+                                                      "status": f"not finished in {timeout:.0f} s"})
+    points = bench.run_storm((4, 8), whole_up_to=0, timeout=7)
+    assert [p["status"] for p in points] == ["not finished in 7 s", "skipped (N=4 not finished in 7 s)"]
+    text = bench._storm_markdown(points, bench.storm_fits(points), 7)
+    assert "N = 200 under 10 s: not measured" in text
+
+
+def test_bench_only_storm_writes_only_the_storm(tmp_path, monkeypatch):
+    calls = []
+    run_storm = bench.run_storm
+
+    def small_storm(sizes, whole_up_to, timeout, log=None):
+        calls.append((tuple(sizes), whole_up_to, timeout))
+        return run_storm((2,), 2, timeout, log=log)
+
+    monkeypatch.setattr(bench, "run_storm", small_storm)
+    assert bench.main(["--only", "storm", "--quick", "--out", str(tmp_path)]) == 0
+    assert calls == [(bench.QUICK_STORM, bench.QUICK_STORM_WHOLE_UP_TO, bench.QUICK_STORM_TIMEOUT_SECONDS)]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["storm.csv", "storm.md", "storm.png"]
+
+
+def test_hand_coded_stick_slip_floor_agrees_with_acausal():
+    """The floor is the same model: it matches the exact solution and acausal's final speed."""
+    t_b, t_s = benchmarks.stick_slip_times()
+    floor = benchmarks.stick_slip_floor(benchmarks.stick_slip_stop_time(), 0.001)
+    assert [(old, new) for _, old, new in floor["events"]] == [(0, 1), (1, -1)]
+    assert floor["events"][0][0] == pytest.approx(t_b, abs=1e-8)
+    assert floor["events"][1][0] == pytest.approx(t_s, abs=1e-5)  # rtol 1e-6: acausal is as far off
+    assert floor["final"] == floor["w"][-1]
+    window = floor["time"] <= t_s
+    # acausal's own error at rtol 1e-6 is 1.6e-5 rad/s (bench.md): the same integrator, the same error
+    assert np.max(np.abs(floor["w"][window] - benchmarks.stick_slip_exact(floor["time"][window]))) < 1e-4
+    case = benchmarks.floor_case()
+    assert isinstance(case, bench.FloorCase) and case.case in bench.cases()
+    assert case.floor is benchmarks.stick_slip_floor
+    row = bench.run_hand_coded_floor(repeats=1)
+    assert row["acausal_status"] == 0 and row["agree"], row
+    assert (row["case"], row["output"], row["agreement"]) == (case.case, case.output, case.agreement)
+    assert row["final_difference"] <= case.agreement
+    assert row["acausal_seconds"] > 0 and row["floor_seconds"] > 0
+
+
+def test_hand_coded_floor_is_read_from_the_floor_case(tmp_path):
+    """bench.py runs whatever floor the floor case gives it, and words its table with the case's words."""
+    calls = []
+
+    def constant_floor(stop_time, interval, rtol, atol):
+        calls.append((stop_time, interval, rtol, atol))
+        return {"final": 0.0, "events": [], "steps": 1, "rhs_evaluations": 1}
+
+    case = bench.FloorCase(case="CoastDown", floor=constant_floor, output="inertia.w", unit="u",
+                           agreement=1e-3, description="A constant floor.")
+    row = bench.run_hand_coded_floor(repeats=1, floor_case=case)
+    assert len(calls) == 2 and calls[0][2] == calls[0][3] == 1e-6
+    assert calls[0][0] == pytest.approx(benchmarks.CD_STOP)
+    assert row["case"] == "CoastDown" and row["floor_switches"] == 0
+    assert row["agree"] == (abs(row["acausal_final"]) <= 1e-3)  # the inertia stops at t = 4 s
+    files = bench.write_floors([row], tmp_path, floor_case=case)
+    text = files["floors.md"].read_text()
+    assert "## Warm CoastDown against a hand-coded floor" in text and "A constant floor." in text
+    assert "final inertia.w floor [u]" in text and "The floor's switches: none." in text
+
+
+def test_floors_rows_and_files(tmp_path):
+    imports = bench.run_import_floors(repeats=1)
+    assert [r["label"] for r in imports] == ["import numpy", "import numpy, scipy.integrate"]
+    assert all(r["exit_statuses"] == "0" and r["median_wall"] > 0 for r in imports)
+    command = {"model": "First", "command": "acausal compare examples/first.py", "runs": 1, "min_wall": 2.0,
+               "median_wall": 2.0, "max_wall": 2.0, "exit_statuses": "0", "passed": True, "failure": "",
+               "target": 1.0, "met": False}
+    (ratio,) = bench.command_floor_ratios([command], imports)
+    assert ratio["x_import_numpy"] == pytest.approx(2.0 / imports[0]["median_wall"])
+    assert ratio["x_numpy_scipy"] == pytest.approx(2.0 / imports[1]["median_wall"])
+    rows = bench.run_floors(repeats=1, command_records=[command])
+    assert [r["kind"] for r in rows] == ["import floor", "import floor", "command", "in-process"]
+    files = bench.write_floors(rows, tmp_path)
+    assert set(files) == {"floors.md", "floors.csv"}
+    text = (tmp_path / "floors.md").read_text()
+    assert "× import numpy" in text and "× numpy+scipy.integrate" in text and "| agree |" in text
