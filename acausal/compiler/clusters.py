@@ -264,6 +264,35 @@ class ComposedSystem:
     crossing_counts: tuple[int, ...] = field(default=(), repr=False)
     passes: tuple[tuple[str, float], ...] = ()
     shares: tuple | None = None
+    #: the relations of each part (the model's indices)
+    part_relations: tuple[tuple[int, ...], ...] = field(default=(), repr=False)
+    _few: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def crossings_for(self, relations: tuple[int, ...]) -> Callable:
+        """A ``crossings`` that computes only the values of ``relations`` (the model's
+        indices; the other values are NaN): it calls the parts that own them only."""
+        found = self._few.get(relations)
+        if found is not None:
+            return found
+        if len(self._few) >= 64:
+            self._few.clear()
+        owner = {k: p for p, rels in enumerate(self.part_relations) for k in rels}
+        slices = _state_slices(self.parts)
+        calls = []
+        for p in sorted({owner[k] for k in relations}):
+            positions = [2 * k + side for k in self.part_relations[p] for side in (0, 1)]
+            calls.append((self.parts[p].crossings, slices[p], positions))
+        empty = [float("nan")] * (2 * sum(len(r) for r in self.part_relations))
+
+        def crossings(t, x):
+            out = empty.copy()
+            for f, sl, positions in calls:
+                for where, value in zip(positions, f(t, x[sl])):
+                    out[where] = value
+            return out
+
+        self._few[relations] = crossings
+        return crossings
 
     @property
     def seconds(self) -> float:
@@ -374,7 +403,7 @@ def compose(key: tuple, description: str, parts: Sequence[ModeSystem],
     plan = tuple(chain.from_iterable([p.alias_plan for p in parts]))
     counts = tuple(2 * len(c.relations) for c in clustering.clusters)
     return ComposedSystem(key, description, parts, states, unknowns, plan, derivatives, crossings,
-                          outputs, gather, counts)
+                          outputs, gather, counts, part_relations=tuple(c.relations for c in clustering.clusters))
 
 
 def compose_initial(key: tuple, parts: Sequence) -> ComposedInitialSystem:

@@ -144,7 +144,8 @@ def step_samples(t_old: float, t_new: float, interval: float, grid: np.ndarray, 
 
 def locate_flip(t_old: float, samples: np.ndarray, dense: Callable, y_new: np.ndarray,
                 flipped: Callable, first_flip: Callable | None = None,
-                states: np.ndarray | None = None) -> tuple[float, np.ndarray, tuple] | None:
+                states: np.ndarray | None = None,
+                narrow: Callable | None = None) -> tuple[float, np.ndarray, tuple] | None:
     """The first instant in the step at which a watched relation has flipped.
 
     Parameters
@@ -166,6 +167,12 @@ def locate_flip(t_old: float, samples: np.ndarray, dense: Callable, y_new: np.nd
     states : ndarray, optional
         The states at the samples as rows (default: :func:`states_at` inside the
         step, ``y_new`` at its end).
+    narrow : callable, optional
+        ``narrow(indices)`` -> a ``flipped`` that looks at those relations only:
+        the bisection then follows the relations that flipped at the sample
+        (a relation that flips and flips back between two samples is not seen
+        by the sampling either), and a model of many independent parts
+        evaluates only the parts that own them.
 
     Returns
     -------
@@ -185,10 +192,10 @@ def locate_flip(t_old: float, samples: np.ndarray, dense: Callable, y_new: np.nd
         found = first_flip(samples, states)
     if found is None:
         return None
-    i, _ = found
+    i, hit = found
     lo = samples[i - 1] if i else t_old
     # bisection starts from the very state that flipped
-    return bisect_flip(lo, samples[i], dense, flipped, states[i])
+    return bisect_flip(lo, samples[i], dense, flipped if narrow is None else narrow(tuple(hit)), states[i])
 
 
 def sample_states(dense: Callable, samples: np.ndarray, y_new: np.ndarray) -> np.ndarray:

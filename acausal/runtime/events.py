@@ -19,6 +19,7 @@ References
 
 from __future__ import annotations
 
+import heapq
 import itertools
 from dataclasses import dataclass
 from typing import Mapping
@@ -36,6 +37,16 @@ __all__ = ["DiscreteEvaluator", "EventOutcome", "evaluator_for", "mode_values"]
 
 #: From this many watched relations on, they are checked with numpy at once.
 _VECTORISE_FROM = 48
+
+#: Whether a pass of event iteration re-evaluates only what changed since the
+#: last (:meth:`DiscreteEvaluator._evaluate_again`) and the relevant relations
+#: are found again only where something changed.  False evaluates everything;
+#: the results are the same.
+INCREMENTAL = True
+
+#: Up to this many watched relations, a composed system computes the crossing
+#: functions of the parts that own them only.
+_FEW_PARTS = 8
 
 #: Samples times (watched relations + 2) from which the relations at the samples of a
 #: step are decided in one numpy call rather than sample by sample.
@@ -103,8 +114,25 @@ class DiscreteEvaluator:
         self._relation_names = [relation_name(k) for k in range(len(self.relations))]
         self._pre_names: dict[str, str] = {}
         self._selector_set = frozenset(s.name for s in translation.selectors)
-        #: the last full pass: (pre, initial, relations, environment, result)
+        #: the last pass: (pre, initial, relations, environment, result)
         self._last: tuple | None = None
+        #: the equations reading each name, in evaluation order
+        self._readers: dict[str, list[int]] = {}
+        for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
+            for a in args:
+                self._readers.setdefault(a, []).append(i)
+        self._relation_free = [eq for eq in self.equations if not any(is_relation(a) for a in eq[1])]
+        self._relation_free_indices = {i for i, eq in enumerate(self.equations)
+                                       if not any(is_relation(a) for a in eq[1])}
+        self._equation_of = {eq[0]: i for i, eq in enumerate(self.equations)}
+        #: the relations whose relevance check (:meth:`_flip_changes`) reads each name
+        self._checks_reading: dict[str, set[int]] = {}
+        for k in range(len(self.relations)):
+            for i in self._downstream[k]:
+                variable, args, _fn, _origin = self.equations[i]
+                for name in (*args, variable, relation_name(k)):
+                    self._checks_reading.setdefault(name, set()).add(k)
+        self._last_relevance: tuple | None = None
         self._kind_arrays: tuple | None = None
 
     def _downstream_equations(self) -> dict[int, list[int]]:
@@ -203,7 +231,8 @@ class DiscreteEvaluator:
         """
         if not watched:
             return ()
-        raw = system.crossings(t, x)
+        few = getattr(system, "crossings_for", None) if len(watched) <= _FEW_PARTS else None
+        raw = (few(watched) if few is not None else system.crossings)(t, x)
         if len(watched) >= _VECTORISE_FROM:
             return self._flipped_vectorised(raw, relations, watched)
         # Relation.holds_with_hysteresis, inlined: g = lhs - rhs moved by the margin
@@ -371,16 +400,13 @@ class DiscreteEvaluator:
         With ``relation_free`` only the equations that read no relation are
         evaluated; the others keep their values.
         """
-        if not relation_free:
-            found = self._evaluate_again(discrete, pre, relations, initial)
-            if found is not None:
-                return found
+        found = self._evaluate_again(discrete, pre, relations, initial, relation_free)
+        if found is not None:
+            return found
         current = dict(discrete)
         env = self._environment(relations, initial, pre)
         env.update(current)
-        for variable, args, fn, origin in self.equations:
-            if relation_free and any(is_relation(a) for a in args):
-                continue
+        for variable, args, fn, origin in (self._relation_free if relation_free else self.equations):
             value = fn(*[env[a] for a in args])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
             current[variable] = env[variable] = value
@@ -388,36 +414,69 @@ class DiscreteEvaluator:
             self._last = (dict(pre), initial, tuple(relations), env, dict(current))
         return current
 
-    def _evaluate_again(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> dict | None:
-        """The pass after the last full one, re-evaluating only the equations downstream of
-        the relations that changed (None: evaluate all).
+    def _evaluate_again(self, discrete: Mapping, pre: Mapping, relations, initial: bool,
+                        relation_free: bool = False) -> dict | None:
+        """A pass computed from the last full one, re-evaluating only the equations
+        whose inputs changed (None: evaluate all).
 
-        Valid when the pre values and initial() are those of the last pass and the
-        discrete values given are its result: every equation not downstream of a
-        changed relation then reads what it read before.  With many independent
-        parts this keeps a pass of event iteration local to the parts concerned.
+        The inputs of a pass are the relations, the ``pre()`` values, initial() and
+        the discrete values it starts from (an equation that reads a variable
+        before the variable's own equation reads that).  The equations reading a
+        changed input are evaluated, in evaluation order, then those reading a
+        variable whose value changed after its equation; every other equation
+        reads what it read in the last full pass, so it keeps its value.  With many
+        independent parts this keeps event iteration local to the parts concerned.
         """
         last = self._last
-        if last is None or last[1] != initial or last[4] != discrete or last[0] != pre:
+        if last is None or last[1] != initial or not INCREMENTAL:
             return None
-        before = last[2]
-        if len(before) != len(relations):
+        last_pre, _, before, old_env, old_result = last
+        if len(before) != len(relations) or len(old_result) != len(discrete):
             return None
-        changed = [k for k, (a, b) in enumerate(zip(relations, before)) if a != b]
-        if len(changed) * 4 > len(relations):  # most of it changed: evaluate all
-            return None
-        env = dict(last[3])
-        current = dict(last[4])
-        chosen: set[int] = set()
-        for k in changed:
-            env[self._relation_names[k]] = relations[k]
-            chosen.update(self._downstream[k])
-        for i in sorted(chosen):
+        changed = {self._relation_names[k]: relations[k]
+                   for k, (a, b) in enumerate(zip(relations, before)) if a != b}
+        pre_names = self._pre_names
+        for name, value in pre.items():
+            if last_pre.get(name, not value) != value:
+                key = pre_names.get(name)
+                if key is None:
+                    key = pre_names[name] = pre_name(name)
+                changed[key] = value
+        start = [name for name, value in discrete.items() if old_result.get(name, not value) != value]
+        if (len(changed) + len(start)) * 4 > len(self.equations) + len(relations):
+            return None  # most of it changed: evaluate all
+        env = dict(old_env)
+        env.update(changed)
+        readers, own = self._readers, self._equation_of
+        todo = {i for name in changed for i in readers.get(name, ())}
+        for name in start:
+            env[name] = discrete[name]
+            todo.update(readers.get(name, ()))
+            if name in own:
+                todo.add(own[name])
+        if relation_free:
+            todo &= self._relation_free_indices
+        current = dict(discrete)
+        heap = sorted(todo)
+        done: set[int] = set()
+        while heap:
+            i = heapq.heappop(heap)
+            if i in done:
+                continue
+            done.add(i)
             variable, args, fn, origin = self.equations[i]
             value = fn(*[env[a] for a in args])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
-            current[variable] = env[variable] = value
-        self._last = (last[0], initial, tuple(relations), env, dict(current))
+            if value != env[variable]:
+                current[variable] = env[variable] = value
+                for j in readers.get(variable, ()):
+                    # an earlier reader read the value the pass started with
+                    if j > i and (not relation_free or j in self._relation_free_indices):
+                        heapq.heappush(heap, j)
+            else:
+                current[variable] = value
+        if not relation_free:
+            self._last = (dict(pre), initial, tuple(relations), env, dict(current))
         return current
 
     def _environment(self, relations, initial: bool, pre: Mapping) -> dict:
@@ -444,16 +503,44 @@ class DiscreteEvaluator:
         # the values every flip is tried against: relations as they are, pre = current
         env = self._environment(relations, False, discrete)
         env.update(discrete)
+        checked = self._relevance_again(discrete, relations)
+        if checked is None:
+            checked = {}
+            for k, rel in enumerate(self.relations):
+                if not rel.is_time_event and rel.symbol.name not in selector_names:
+                    checked[k] = self._flip_changes(k, env, discrete, relations)
+        else:
+            for k in checked.pop(None):
+                checked[k] = self._flip_changes(k, env, discrete, relations)
+        self._last_relevance = (dict(discrete), tuple(relations), dict(checked))
         out = []
         for k, rel in enumerate(self.relations):
             if rel.is_time_event:
                 continue
-            if rel.symbol.name in selector_names:
-                out.append(k)
-                continue
-            if self._flip_changes(k, env, discrete, relations):
+            if rel.symbol.name in selector_names or checked[k]:
                 out.append(k)
         return tuple(out)
+
+    def _relevance_again(self, discrete: Mapping, relations) -> dict | None:
+        """The last answers of :meth:`_flip_changes`, and under the key None the relations
+        to check again: those whose check reads a discrete value or a relation that
+        changed since (None: check all)."""
+        last = self._last_relevance
+        if last is None or not INCREMENTAL or len(last[1]) != len(relations) or len(last[0]) != len(discrete):
+            return None
+        old_discrete, old_relations, answers = last
+        names = [self._relation_names[k] for k, (a, b) in enumerate(zip(relations, old_relations)) if a != b]
+        for name, value in discrete.items():
+            if old_discrete.get(name, not value) != value:
+                names += [name, pre_name(name)]
+        if len(names) * 4 > len(relations) + len(discrete):
+            return None
+        again = set()
+        for name in names:
+            again.update(self._checks_reading.get(name, ()))
+        out = dict(answers)
+        out[None] = sorted(k for k in again if k in answers)
+        return out
 
     def _flip_changes(self, k: int, env: Mapping, discrete: Mapping, relations) -> bool:
         """Whether flipping relation k alone changes a discrete variable (pre = current).

@@ -509,6 +509,11 @@ class _Run:
         def first_flip(times, states):
             return evaluator.first_flip(system, times, states, relations, watched)
 
+        def narrow(candidates):
+            def flipped_among(tt, xx):
+                return evaluator.flipped_relations(system, tt, xx, relations, candidates)
+            return flipped_among
+
         try:
             while True:
                 t_old = solver.t
@@ -543,7 +548,7 @@ class _Run:
                     samples, at_samples, at_rows = step_samples(
                         t_old, t_new, recorder.interval, recorder.grid, dense, y_new, recorder.next_grid,
                         recorder.next_grid + len(rows))
-                    event = locate_flip(t_old, samples, dense, y_new, flipped, first_flip, at_samples)
+                    event = locate_flip(t_old, samples, dense, y_new, flipped, first_flip, at_samples, narrow)
                 else:
                     at_rows = None  # evaluated as they are written
                 if event is not None:
