@@ -218,7 +218,12 @@ class Translation:
             return None
         # compiled by the first translation of the structure, with its memos (its values
         # decide nothing the structure does not, but which coefficients are non-zero)
-        source = self.rebound_from.system(key)
+        base = self.rebound_from
+        source = base.system(key)
+        if source.structure is None and not isinstance(source, ComposedSystem):
+            # loaded from disk: rebinding needs its stages (compiled once, then every value rebinds)
+            source = base._build_whole(key)
+            base._store(base.systems, key, source)
         if not self._guards_hold(source.algebraic):
             return None
         t0 = _time.perf_counter()
@@ -374,6 +379,9 @@ class Translation:
         if source_translation is None or source_translation.clustering is not self.clustering:
             return None
         source = source_translation._part(cluster, key)
+        if source.structure is None:  # loaded from disk: compiled once, then every value rebinds
+            source = source_translation._build_part(cluster, key, source_translation._cluster_cache(cluster))
+            source_translation._store(source_translation.parts, (cluster.index, cluster.project(key)), source)
         if not self._guards_hold(source.algebraic):
             return None
         t0 = _time.perf_counter()

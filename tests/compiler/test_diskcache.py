@@ -219,3 +219,21 @@ def test_concurrent_writers_leave_one_whole_entry(tmp_path):
     for payload in seen + [final]:
         assert payload["text"] == "x" * (1000 * (payload["writer"] + 1))
     assert not list(tmp_path.rglob("*.tmp")), "temporary files left behind"
+
+
+def test_new_parameter_values_rebind_after_a_load(folder):
+    """A fresh process that loaded its systems still rebinds other parameter values
+    (the loaded system is compiled once for its stages, not once per value)."""
+    run(CoupledClutches)
+    forget_translations()
+    base, _ = run(CoupledClutches)
+    assert loaded(base)
+    values = [50.0, 80.0, 120.0]
+    for value in values:
+        translation = translate(CoupledClutches(), parameters={"clutch1.fn_max": value})
+        assert translation.rebound_from is base
+        result = simulate(translation)
+        fresh = simulate(translate(CoupledClutches(), cache=False, parameters={"clutch1.fn_max": value}))
+        assert_same(result, fresh)
+        rebound = [s for s in translation.systems.values() if s.passes[0][0] == "rebind"]
+        assert rebound, f"fn_max = {value}: nothing rebound"
