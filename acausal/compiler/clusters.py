@@ -249,11 +249,9 @@ class ComposedSystem:
     """
 
     key: tuple
-    description: str
+    #: the discrete state in words, or a function giving it (made when first asked for)
+    describe: Any = field(repr=False, compare=False)
     parts: tuple[ModeSystem, ...]
-    states: tuple[str, ...]
-    unknowns: tuple[str, ...]
-    alias_plan: AliasPlan = field(repr=False)
     derivatives: Any = field(repr=False, compare=False)
     crossings: Any = field(repr=False, compare=False)
     outputs: Any = field(repr=False, compare=False)
@@ -267,6 +265,29 @@ class ComposedSystem:
     #: the relations of each part (the model's indices)
     part_relations: tuple[tuple[int, ...], ...] = field(default=(), repr=False)
     _few: dict = field(default_factory=dict, repr=False, compare=False)
+
+    # The names are put together from the parts when asked for, not kept: a storm
+    # of events visits thousands of discrete states, each composed of all parts.
+
+    @property
+    def description(self) -> str:
+        """The discrete state in words."""
+        found = self._few.get("description")
+        if found is None:
+            found = self._few["description"] = self.describe if isinstance(self.describe, str) else self.describe()
+        return found
+
+    @property
+    def states(self) -> tuple[str, ...]:
+        return tuple(chain.from_iterable([p.states for p in self.parts]))
+
+    @property
+    def unknowns(self) -> tuple[str, ...]:
+        return tuple(chain.from_iterable([p.unknowns for p in self.parts]))
+
+    @property
+    def alias_plan(self) -> AliasPlan:
+        return tuple(chain.from_iterable([p.alias_plan for p in self.parts]))
 
     def crossings_for(self, relations: tuple[int, ...]) -> Callable:
         """A ``crossings`` that computes only the values of ``relations`` (the model's
@@ -367,9 +388,10 @@ def _state_slices(parts: Sequence[ModeSystem]) -> list[slice]:
     return out
 
 
-def compose(key: tuple, description: str, parts: Sequence[ModeSystem],
+def compose(key: tuple, description, parts: Sequence[ModeSystem],
             clustering: Clustering) -> ComposedSystem:
-    """One system from the clusters' systems ``parts`` (in cluster order) for ``key``."""
+    """One system from the clusters' systems ``parts`` (in cluster order) for ``key``
+    (``description``: the state in words, or a function giving it when first asked for)."""
     parts = tuple(parts)
     slices = _state_slices(parts)
     derivative_calls = [(p.derivatives, sl) for p, sl in zip(parts, slices) if p.states]
@@ -398,11 +420,8 @@ def compose(key: tuple, description: str, parts: Sequence[ModeSystem],
             out.extend(f(t, x[sl]))
         return [out[i] for i in gather] if ordered else out
 
-    states = tuple(chain.from_iterable([p.states for p in parts]))
-    unknowns = tuple(chain.from_iterable([p.unknowns for p in parts]))
-    plan = tuple(chain.from_iterable([p.alias_plan for p in parts]))
     counts = tuple(2 * len(c.relations) for c in clustering.clusters)
-    return ComposedSystem(key, description, parts, states, unknowns, plan, derivatives, crossings,
+    return ComposedSystem(key, description, parts, derivatives, crossings,
                           outputs, gather, counts, part_relations=tuple(c.relations for c in clustering.clusters))
 
 

@@ -15,6 +15,7 @@ before in this process are reused when their flat models are the same
 from __future__ import annotations
 
 import dataclasses
+import functools
 import difflib
 import time as _time
 from collections import OrderedDict
@@ -317,7 +318,7 @@ class Translation:
             self.clustering = None
             return None
         t0 = _time.perf_counter()
-        composed = compose(key, self.describe(key), parts, self.clustering)
+        composed = compose(key, functools.partial(self.describe, key), parts, self.clustering)
         return dataclasses.replace(composed, passes=(("compose", _time.perf_counter() - t0),))
 
     def _cluster_cache(self, cluster: Cluster) -> ModelCache:

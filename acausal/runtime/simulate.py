@@ -485,12 +485,13 @@ class _Run:
         Returns ``(t_end, x_end, event)``, event = ``(t_e, x_e, fired names)`` or None.
         """
         recorder = self.recorder
-        nominal = np.array([self.translation.continuous[base_name(s)].nominal for s in system.states])
+        states = system.states
+        nominal = np.array([self.translation.continuous[base_name(s)].nominal for s in states])
         atol = self.rtol * nominal if self.atol is None else self.atol
         # A derivative that is not finite at the start would give the solver a
         # NaN first step, and some of scipy's solvers then never return.
-        _check_finite(t, system.states, x, "the states")
-        derivative_names = [der_name(s) for s in system.states]
+        _check_finite(t, states, x, "the states")
+        derivative_names = [der_name(s) for s in states]
         _check_finite(t, derivative_names, system.derivatives(t, x), "the derivatives")
         evaluator = self.evaluator
         watched = evaluator.relevant_relations(discrete, relations)
@@ -527,7 +528,7 @@ class _Run:
                                            "or a max_step")
                 t_new = solver.t
                 # an accepted step: finite states and derivatives, and time moving on
-                _check_finite(t_new, system.states, solver.y, "the states")
+                _check_finite(t_new, states, solver.y, "the states")
                 f_new = getattr(solver, "f", None)
                 _check_finite(t_new, derivative_names, fun(t_new, solver.y) if f_new is None else f_new,
                               "the derivatives")
