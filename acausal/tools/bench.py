@@ -644,60 +644,68 @@ COMMAND_TARGET_SECONDS = 1.0
 
 
 def run_commands(repeats: int = 5, log: Callable[[str], None] | None = None,
-                 disk_cache: str = "warm") -> list[dict]:
+                 disk_caches: Sequence[str] = ("cold", "warm")) -> list[dict]:
     """Wall time of ``acausal compare EXAMPLE`` in a new Python process, ``repeats`` times each.
 
     The whole command as a user runs it: interpreter start, imports,
     translation, simulation, reading the reference and the tube test.  Each
     record has the smallest and the median wall time and the exit status
     (0 = the comparison passed; without reference data it cannot).
-    ``disk_cache``: ``"cold"`` runs with the persistent compile cache off
+    ``disk_caches``: ``"cold"`` runs with the persistent compile cache off
     (every run compiles), ``"warm"`` with a cache folder of its own, filled
-    by one run that is not timed (every timed run loads its systems).
+    by one run that is not timed (every timed run loads its systems).  The
+    runs of the kinds alternate, so that a machine getting busier or quieter
+    meanwhile weighs on all alike.
     """
     log = log or (lambda _s: None)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-    folder = None
-    if disk_cache == "cold":
-        env["ACAUSAL_DISK_CACHE"] = "off"
-    else:
-        folder = tempfile.TemporaryDirectory(prefix="acausal-bench-cache-")
-        env["ACAUSAL_DISK_CACHE"] = "on"
-        env["ACAUSAL_CACHE_DIR"] = folder.name
+    base = dict(os.environ)
+    base["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([base["PYTHONPATH"]] if base.get("PYTHONPATH") else []))
+    folder = tempfile.TemporaryDirectory(prefix="acausal-bench-cache-")
+    envs = {}
+    for kind in disk_caches:
+        env = dict(base)
+        env["ACAUSAL_DISK_CACHE"] = "off" if kind == "cold" else "on"
+        if kind != "cold":
+            env["ACAUSAL_CACHE_DIR"] = folder.name
+        envs[kind] = env
     records = []
     try:
         for name, example in suite().COMMAND_TARGETS:
             command = [sys.executable, "-m", "acausal", "compare", example]
-            if folder is not None:  # fill the cache
-                subprocess.run(command, cwd=str(ROOT), env=env, capture_output=True, text=True, timeout=60)
-            walls, statuses, failure = [], [], ""
+            if "warm" in envs:  # fill the cache
+                subprocess.run(command, cwd=str(ROOT), env=envs["warm"], capture_output=True, text=True,
+                               timeout=60)
+            walls = {kind: [] for kind in envs}
+            statuses = {kind: [] for kind in envs}
+            failures = {kind: "" for kind in envs}
             for _ in range(repeats):
-                t0 = time.perf_counter()
-                try:
-                    proc = subprocess.run(command, cwd=str(ROOT), env=env, capture_output=True, text=True,
-                                          timeout=60)
-                    status, stderr = proc.returncode, proc.stderr
-                except subprocess.TimeoutExpired:
-                    status, stderr = "timeout", "no result within 60 s"
-                walls.append(time.perf_counter() - t0)
-                statuses.append(status)
-                if status != 0 and not failure:
-                    lines = stderr.strip().splitlines() or [f"exit status {status}"]
-                    # the command's own error line, or the last line of a traceback
-                    failure = next((line for line in lines if line.startswith("acausal")), lines[-1])
-            ok = all(status == 0 for status in statuses)
-            record = {"model": name, "command": f"acausal compare {example}", "disk_cache": disk_cache,
-                      "runs": repeats, "min_wall": min(walls), "median_wall": float(np.median(walls)),
-                      "max_wall": max(walls), "exit_statuses": " ".join(map(str, statuses)),
-                      "passed": ok, "failure": failure, "target": COMMAND_TARGET_SECONDS,
-                      "met": ok and float(np.median(walls)) < COMMAND_TARGET_SECONDS}
-            records.append(record)
-            log(f"  {record['command']} ({disk_cache} disk cache): min {record['min_wall']:.2f} s, "
-                f"median {record['median_wall']:.2f} s, " + ("passed" if ok else f"FAILED: {failure}"))
+                for kind, env in envs.items():
+                    t0 = time.perf_counter()
+                    try:
+                        proc = subprocess.run(command, cwd=str(ROOT), env=env, capture_output=True, text=True,
+                                              timeout=60)
+                        status, stderr = proc.returncode, proc.stderr
+                    except subprocess.TimeoutExpired:
+                        status, stderr = "timeout", "no result within 60 s"
+                    walls[kind].append(time.perf_counter() - t0)
+                    statuses[kind].append(status)
+                    if status != 0 and not failures[kind]:
+                        lines = stderr.strip().splitlines() or [f"exit status {status}"]
+                        # the command's own error line, or the last line of a traceback
+                        failures[kind] = next((line for line in lines if line.startswith("acausal")), lines[-1])
+            for kind in envs:
+                w = walls[kind]
+                ok = all(status == 0 for status in statuses[kind])
+                record = {"model": name, "command": f"acausal compare {example}", "disk_cache": kind,
+                          "runs": repeats, "min_wall": min(w), "median_wall": float(np.median(w)),
+                          "max_wall": max(w), "exit_statuses": " ".join(map(str, statuses[kind])),
+                          "passed": ok, "failure": failures[kind], "target": COMMAND_TARGET_SECONDS,
+                          "met": ok and float(np.median(w)) < COMMAND_TARGET_SECONDS}
+                records.append(record)
+                log(f"  {record['command']} ({kind} disk cache): min {record['min_wall']:.2f} s, "
+                    f"median {record['median_wall']:.2f} s, " + ("passed" if ok else f"FAILED: {failures[kind]}"))
     finally:
-        if folder is not None:
-            folder.cleanup()
+        folder.cleanup()
     return records
 
 
@@ -2006,8 +2014,7 @@ def run_floors(repeats: int = 5, command_records: Sequence[dict] | None = None, 
     log = log or (lambda _s: None)
     imports = run_import_floors(repeats, log=log)
     if command_records is None and commands:
-        command_records = (run_commands(repeats, log=log, disk_cache="cold")
-                           + run_commands(repeats, log=log, disk_cache="warm"))
+        command_records = run_commands(repeats, log=log)
     rows = list(imports) + command_floor_ratios(command_records or [], imports)
     rows.append(run_hand_coded_floor(floor_repeats, log=log))
     return rows
@@ -2265,8 +2272,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     if commands:
         log("fresh-process commands")
         start = (time.perf_counter(), cpu())
-        command_records = (run_commands(command_repeats, log=log, disk_cache="cold")
-                           + run_commands(command_repeats, log=log, disk_cache="warm"))
+        command_records = run_commands(command_repeats, log=log)
         section("commands", start)
     if sizes:
         log("scaling")
