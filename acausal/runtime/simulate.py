@@ -590,9 +590,10 @@ class _Run:
                   "writing output points": f"{len(self.recorder.rows)} rows",
                   "event iteration": f"{len(self.events)} events",
                   "integrating": f"{self.steps} steps"}
-        hints = {"compiling discrete states": "many discrete states are visited; a model whose "
-                                              "elements switch independently compiles one system "
-                                              "per combination",
+        hints = {"compiling discrete states": "many discrete states are visited; each new combination "
+                                              "of modes of elements that share equations needs a "
+                                              "system of its own (independent parts are compiled "
+                                              "apart)",
                  "writing output points": "choose a coarser interval",
                  "event iteration": "events come thick and fast; check the relations that fire",
                  "integrating": "the model may be stiff: try an implicit method (Radau, BDF)"}
