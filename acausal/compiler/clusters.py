@@ -146,25 +146,27 @@ def find_clusters(partitioned: PartitionedModel, continuous: Mapping[str, Any]) 
     parameters = set(partitioned.flat.parameter_values)
     selector_position = {s: k for k, s in enumerate(partitioned.selectors)}
     sets = _UnionFind()
+    base_of: dict[str, str | None] = {}  # symbol name -> its continuous variable, or None
 
-    def variables_of(expr) -> list[str]:
+    def variables_of(symbols) -> list[str]:
         out = []
-        for s in expr.free_symbols:
+        for s in symbols:
             name = s.name
-            base = parse(name).base if is_derivative(name) else name
-            if base in continuous:
+            base = base_of.get(name, "")
+            if base == "":
+                base = parse(name).base if is_derivative(name) else name
+                base = base_of[name] = base if base in continuous else None
+            if base is not None:
                 out.append(base)
-        return sorted(out)
+        return out
 
-    equation_roots = []
-    for eq in partitioned.equations:
-        equation_roots.append(sets.union(variables_of(eq.residual)))
-    initial_roots = []
-    for eq in partitioned.initial_equations:
-        initial_roots.append(sets.union(variables_of(eq.residual)))
-    relation_roots = []
-    for r in partitioned.relations:
-        relation_roots.append(sets.union(variables_of(r.lhs) + variables_of(r.rhs)))
+    # (the union order does not matter: the clusters are sorted below)
+    equation_symbols = [eq.residual.free_symbols for eq in partitioned.equations]
+    initial_symbols = [eq.residual.free_symbols for eq in partitioned.initial_equations]
+    relation_symbols = [r.lhs.free_symbols | r.rhs.free_symbols for r in partitioned.relations]
+    equation_roots = [sets.union(variables_of(fs)) for fs in equation_symbols]
+    initial_roots = [sets.union(variables_of(fs)) for fs in initial_symbols]
+    relation_roots = [sets.union(variables_of(fs)) for fs in relation_symbols]
 
     # clusters in the order of their first equation (deterministic), then of
     # variables no equation reads (structurally an error, reported by the stages)
@@ -198,12 +200,11 @@ def find_clusters(partitioned: PartitionedModel, continuous: Mapping[str, Any]) 
     for c in range(n):
         found: set = set()
         for i in equations[c]:
-            found |= partitioned.equations[i].residual.free_symbols
+            found |= equation_symbols[i]
         for i in initial[c]:
-            found |= partitioned.initial_equations[i].residual.free_symbols
+            found |= initial_symbols[i]
         for k in relations[c]:
-            r = partitioned.relations[k]
-            found |= r.lhs.free_symbols | r.rhs.free_symbols
+            found |= relation_symbols[k]
         symbols.append(found)
 
     # A part no discrete symbol reaches (a fixed support, a source with its
