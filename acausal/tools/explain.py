@@ -152,12 +152,7 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     if partitioned.is_hybrid:
         _write_hybrid(writer, translation, main, visited, names)
     if clustering is not None:
-        sizes = ", ".join(str(len(c.equations)) for c in clustering.clusters[:12])
-        more = ", ..." if len(clustering.clusters) > 12 else ""
-        notes.append(f"The model has {len(clustering.clusters)} independent parts (clusters of "
-                     f"{sizes}{more} equations): a simulation compiles one system per part and "
-                     f"discrete state of the part, and puts them together. What is shown here is the "
-                     f"whole model's system of each discrete state, which is the same.")
+        _write_parts(writer, translation, clustering, main)
     for note in notes:
         writer.note(note)
     if len(systems) > MAX_PICTURES:
@@ -445,6 +440,38 @@ def _write_code(w: _Writer, translation: Translation, main: ModeSystem) -> None:
         w.line(f"  p{k} = {name}")
     w.line()
     w.lines += ["    " + line if line else "" for line in main.code.source.rstrip("\n").split("\n")]
+    w.line()
+
+
+#: At most this many independent parts are listed one by one.
+MAX_PARTS_LISTED = 12
+
+
+def _write_parts(w: _Writer, translation: Translation, clustering, main: ModeSystem) -> None:
+    """The independent parts, each compiled for the discrete state explained."""
+    w.section("Independent parts")
+    w.paragraph(f"The continuous equations fall into {len(clustering.clusters)} parts that share no "
+                "variable (connected components of the incidence over every discrete state; parts "
+                "without discrete variables join the first one that has some).  A simulation "
+                "compiles one system per part and per discrete state of that part, and puts them "
+                "together: the sections above show the whole model's system, which is the same "
+                "computation in one piece.  Each part in the discrete state explained:")
+    parts = Translation(translation.flat, translation.partitioned, translation.flatten_seconds,
+                        translation.demand, clustering=clustering, disk=False)
+    for cluster in clustering.clusters[:MAX_PARTS_LISTED]:
+        system = parts._part(cluster, main.key)
+        st, blt, alg = system.structure, system.blt, system.algebraic
+        owners = list(dict.fromkeys(v.rpartition(".")[0] for v in cluster.variables))
+        w.line(f"  part {cluster.index + 1}: {len(cluster.equations)} equations, "
+               f"{len(cluster.variables)} variables, {len(cluster.selectors)} discrete symbols, "
+               f"{len(cluster.relations)} relations")
+        w.items("      components: ", owners[:10] + (["..."] if len(owners) > 10 else []))
+        w.items("      states: ", st.states)
+        w.line(f"      {len(blt.blocks)} BLT blocks, largest {blt.largest_block}; "
+               f"{alg.linear_blocks} torn linear, {alg.nonlinear_blocks} nonlinear")
+        w.items("      this state: ", system.description.split(", "))
+    if len(clustering.clusters) > MAX_PARTS_LISTED:
+        w.line(f"  ... and {len(clustering.clusters) - MAX_PARTS_LISTED} more parts")
     w.line()
 
 

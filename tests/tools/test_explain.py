@@ -172,3 +172,18 @@ def test_already_simulated_translation_is_not_simulated_again(tmp_path):
     assert list(translation.systems) == compiled
     assert "simulated the model first" not in explanation.text
     assert len(explanation.pictures) == len(compiled) <= MAX_PICTURES
+
+
+def test_independent_parts_are_listed_with_their_systems(tmp_path):
+    """A model of independent units: explain lists each part with its states and BLT."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "compiler"))
+    from test_clusters import storm
+
+    text = str(explain(storm(3), out_dir=tmp_path))
+    section = text[text.index("Independent parts"):]
+    assert "3 parts that share no variable" in section
+    for k in range(3):
+        assert f"part {k + 1}:" in section
+        assert f"states: j{k}.phi, j{k}.w" in section
