@@ -529,23 +529,20 @@ class Translation:
         make = load_make(source, functions, name)
         return GeneratedCode(source, make, payload["n_derivative_steps"], payload["n_steps"], None), make
 
-    def _save_mode(self, entry: str, system: ModeSystem, cache: ModelCache) -> None:
+    def _save(self, entry: str, system, cache: ModelCache, fields: dict) -> None:
+        """Store ``system``'s code and ``fields`` under ``entry`` (when the cache is on)."""
         disk = self._disk_cache()
         if disk is None or system.code is None:
             return
         functions = self._functions_payload(system.code.source, cache)
         if functions is None:
             return
-        disk.store(entry, {
-            "key": list(system.key), "description": system.description, "source": system.code.source,
-            "states": list(system.states), "unknowns": list(system.unknowns),
-            "derivatives": list(system.derivative_names),
-            "alias_plan": [list(a) for a in system.alias_plan],
-            "n_derivative_steps": system.code.n_derivative_steps, "n_steps": system.code.n_steps,
-            "functions": functions, "shares": None if system.shares is None else list(system.shares),
-        })
+        disk.store(entry, {"key": list(system.key), "source": system.code.source,
+                           "n_derivative_steps": system.code.n_derivative_steps, "n_steps": system.code.n_steps,
+                           "functions": functions, **fields})
 
-    def _load_mode(self, entry: str, cache: ModelCache) -> ModeSystem | None:
+    def _load(self, entry: str, cache: ModelCache, build):
+        """``build(payload, code, functions, passes)`` from the entry stored for ``entry``, or None."""
         disk = self._disk_cache()
         if disk is None:
             return None
@@ -555,47 +552,37 @@ class Translation:
             return None
         try:
             code, make = self._code_from(payload)
-            derivatives, crossings, outputs = make(cache.parameters.vector)
-            return ModeSystem(
-                tuple(payload["key"]), payload["description"], (), None, None, None, None, code,
-                (("load", _time.perf_counter() - t0),), derivatives, crossings, outputs,
-                tuple(payload["states"]), tuple(payload["unknowns"]),
-                tuple((n, c, s) for n, c, s in payload["alias_plan"]),
-                None if payload["shares"] is None else tuple(payload["shares"]),
-                loaded_derivatives=tuple(payload["derivatives"]))
+            return build(payload, code, make(cache.parameters.vector), (("load", _time.perf_counter() - t0),))
         except Exception:  # an entry that does not fit (its checksum matched): compile anew
             return None
 
+    def _save_mode(self, entry: str, system: ModeSystem, cache: ModelCache) -> None:
+        self._save(entry, system, cache, {
+            "description": system.description, "states": list(system.states),
+            "unknowns": list(system.unknowns), "derivatives": list(system.derivative_names),
+            "alias_plan": [list(a) for a in system.alias_plan],
+            "shares": None if system.shares is None else list(system.shares)})
+
+    def _load_mode(self, entry: str, cache: ModelCache) -> ModeSystem | None:
+        def build(payload, code, functions, passes):
+            return ModeSystem(
+                tuple(payload["key"]), payload["description"], (), None, None, None, None, code, passes,
+                *functions, tuple(payload["states"]), tuple(payload["unknowns"]),
+                tuple((n, c, s) for n, c, s in payload["alias_plan"]),
+                None if payload["shares"] is None else tuple(payload["shares"]),
+                loaded_derivatives=tuple(payload["derivatives"]))
+        return self._load(entry, cache, build)
+
     def _save_initial(self, entry: str, system: InitialSystem, cache: ModelCache) -> None:
-        disk = self._disk_cache()
-        if disk is None:
-            return
-        functions = self._functions_payload(system.code.source, cache)
-        if functions is None:
-            return
-        disk.store(entry, {
-            "key": list(system.key), "source": system.code.source, "unknowns": list(system.unknowns),
-            "relaxed": [list(r) for r in system.relaxed],
-            "n_derivative_steps": system.code.n_derivative_steps, "n_steps": system.code.n_steps,
-            "functions": functions,
-        })
+        self._save(entry, system, cache, {"unknowns": list(system.unknowns),
+                                          "relaxed": [list(r) for r in system.relaxed]})
 
     def _load_initial(self, entry: str, cache: ModelCache) -> InitialSystem | None:
-        disk = self._disk_cache()
-        if disk is None:
-            return None
-        t0 = _time.perf_counter()
-        payload = disk.load(entry)
-        if payload is None:
-            return None
-        try:
-            code, make = self._code_from(payload)
-            _, _, outputs = make(cache.parameters.vector)
+        def build(payload, code, functions, passes):
             return InitialSystem(tuple(payload["key"]), (), tuple(payload["unknowns"]),
                                  tuple((n, v) for n, v in payload["relaxed"]), None, None, code,
-                                 (("load", _time.perf_counter() - t0),), outputs)
-        except Exception:
-            return None
+                                 passes, functions[2])
+        return self._load(entry, cache, build)
 
     # -- summary --------------------------------------------------------------
 

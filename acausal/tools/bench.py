@@ -1141,6 +1141,17 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True)
         fit_table, ""])
 
 
+def _size_axis(ax, sizes, label: str) -> None:
+    """A logarithmic x axis of model sizes with a tick at each size measured."""
+    from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator
+
+    ax.xaxis.set_major_locator(FixedLocator(list(sizes)))
+    ax.xaxis.set_major_formatter(FixedFormatter([str(n) for n in sizes]))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel(label)
+
+
 def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None:
     import matplotlib
 
@@ -1179,13 +1190,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
                 va="top", fontsize=8, color="red")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator
-
-    ax.xaxis.set_major_locator(FixedLocator([p["n"] for p in points]))
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FixedFormatter([str(p["n"]) for p in points]))
-    ax.xaxis.set_minor_locator(NullLocator())
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel(suite().SCALING_SIZE_LABEL)
+    _size_axis(ax, [p["n"] for p in points], suite().SCALING_SIZE_LABEL)
     ax.set_ylabel("seconds")
     ax.set_title("Scaling of translation and simulation with model size (dotted: power-law fits)")
     ax.grid(True, which="major", alpha=0.4)
@@ -1831,14 +1836,7 @@ def _plot_storm(points: Sequence[dict], fits: dict, path: Path, timeout: float) 
                     ha="right", fontsize=8, color="tab:green")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator
-
-    ticks = sorted({p["n"] for p in points} | {n for n, _ in STORM_GOALS})
-    ax.xaxis.set_major_locator(FixedLocator(ticks))
-    ax.xaxis.set_major_formatter(FixedFormatter([str(n) for n in ticks]))
-    ax.xaxis.set_minor_locator(NullLocator())
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel(suite().STORM_SIZE_LABEL)
+    _size_axis(ax, sorted({p["n"] for p in points} | {n for n, _ in STORM_GOALS}), suite().STORM_SIZE_LABEL)
     ax.set_ylabel("seconds (fresh process)")
     ax.set_title("Storm: translation + simulation with and without clusters (dotted: power-law fits)")
     ax.grid(True, which="major", alpha=0.4)
