@@ -146,9 +146,22 @@ def component_hints(klass: type) -> dict[str, str]:
     return merged
 
 
+#: The real symbols made so far, by name.  sympy's own cache of symbols is bounded
+#: (1000 entries): a model of 100 000 names would make each anew (70 µs each).
+_REAL_SYMBOLS: dict[str, sp.Symbol] = {}
+
+#: Beyond this many names the memo starts afresh (a long session of many models).
+_REAL_SYMBOLS_MAX = 1_000_000
+
+
 def real_symbol(name: str) -> sp.Symbol:
     """The symbol of a continuous quantity (variable, parameter, derivative)."""
-    return sp.Symbol(name, real=True)
+    found = _REAL_SYMBOLS.get(name)
+    if found is None:
+        if len(_REAL_SYMBOLS) >= _REAL_SYMBOLS_MAX:
+            _REAL_SYMBOLS.clear()
+        found = _REAL_SYMBOLS[name] = sp.Symbol(name, real=True)
+    return found
 
 
 def parameter_symbols(values: Mapping[str, float]) -> dict[sp.Symbol, sp.Float]:

@@ -212,9 +212,10 @@ def find_clusters(partitioned: PartitionedModel, continuous: Mapping[str, Any]) 
     # that has discrete states, so that a model with one such part is not split.
     switching = [c for c in range(n) if any(s in selector_position for s in symbols[c])]
     into = switching[0] if switching else 0
-    groups = [c for c in range(n) if c in switching or c == into]
+    kept = set(switching) | {into}
+    groups = [c for c in range(n) if c in kept]
     for c in range(n):
-        if c not in groups:
+        if c not in kept:
             equations[into] += equations[c]
             initial[into] += initial[c]
             relations[into] += relations[c]

@@ -1416,9 +1416,15 @@ class _Renaming:
 
 def _symbol(name: str, assumptions: dict) -> sp.Symbol:
     """``sympy.Symbol(name, **assumptions)`` for assumptions sympy has already checked."""
+    if assumptions == _REAL_ASSUMPTIONS:  # a continuous quantity: from the unbounded memo
+        return real_symbol(name)
     if _new_symbol is None:
         return sp.Symbol(name, **assumptions)
     return _new_symbol(sp.Symbol, name, **assumptions)
+
+
+#: The assumptions of a real symbol as sympy completes them (``real_symbol``'s).
+_REAL_ASSUMPTIONS = real_symbol("_").assumptions0
 
 
 #: Symbol's cached constructor without the check of the assumptions (private to sympy: if it
