@@ -1423,8 +1423,8 @@ def _symbol(name: str, assumptions: dict) -> sp.Symbol:
     return _new_symbol(sp.Symbol, name, **assumptions)
 
 
-#: The assumptions of a real symbol as sympy completes them (``real_symbol``'s).
-_REAL_ASSUMPTIONS = real_symbol("_").assumptions0
+#: The constructor assumptions of a real symbol (``real_symbol``'s).
+_REAL_ASSUMPTIONS = _symbol_constructor_assumptions(real_symbol("_"))
 
 
 #: Symbol's cached constructor without the check of the assumptions (private to sympy: if it
