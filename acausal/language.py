@@ -148,7 +148,7 @@ def component_hints(klass: type) -> dict[str, str]:
 
 #: The real symbols made so far, by name.  sympy's own cache of symbols is bounded
 #: (1000 entries): a model of 100 000 names would make each anew (70 µs each).
-_REAL_SYMBOLS: dict[str, sp.Symbol] = {}
+_REAL_SYMBOLS: dict[str, sp.Symbol] = {"time": time}
 
 #: Beyond this many names the memo starts afresh (a long session of many models).
 _REAL_SYMBOLS_MAX = 1_000_000
@@ -160,6 +160,7 @@ def real_symbol(name: str) -> sp.Symbol:
     if found is None:
         if len(_REAL_SYMBOLS) >= _REAL_SYMBOLS_MAX:
             _REAL_SYMBOLS.clear()
+            _REAL_SYMBOLS["time"] = time
         found = _REAL_SYMBOLS[name] = sp.Symbol(name, real=True)
     return found
 
