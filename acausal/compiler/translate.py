@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import difflib
+import re
 import time as _time
 from collections import OrderedDict
 from typing import Any, Iterable, Mapping
@@ -38,6 +39,9 @@ from .partition import PartitionedModel, partition
 
 __all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "translate", "flat_signature",
            "describe_key"]
+
+#: A call of a table function in generated code (see ``codegen._Printer``).
+_CALLED_TABLE = re.compile(r"\b(_f_\w+)\(")
 
 #: Whether a hybrid model with independent parts compiles one system per part
 #: and part mode (:mod:`~acausal.compiler.clusters`).  False compiles the whole
@@ -120,9 +124,9 @@ class Translation:
             # explained in place (its compiled systems reused): systems loaded from
             # disk are dropped, and nothing more is loaded
             self._disk = False
-            for key in [k for k, s in self.systems.items() if s.structure is None]:
+            for key in [k for k, s in self.systems.items() if getattr(s, "structure", None) is None]:
                 del self.systems[key]
-            for key in [k for k, s in self.initial_systems.items() if s.algebraic is None]:
+            for key in [k for k, s in self.initial_systems.items() if getattr(s, "algebraic", None) is None]:
                 del self.initial_systems[key]
             return self
         return Translation(self.flat, self.partitioned, self.flatten_seconds, self.demand, clusters=False,
@@ -221,7 +225,9 @@ class Translation:
         # decide nothing the structure does not, but which coefficients are non-zero)
         base = self.rebound_from
         source = base.system(key)
-        if source.structure is None and not isinstance(source, ComposedSystem):
+        if isinstance(source, ComposedSystem):  # the other translation compiles by parts
+            return None
+        if source.structure is None:
             # loaded from disk: rebinding needs its stages (compiled once, then every value rebinds)
             source = base._build_whole(key)
             base._store(base.systems, key, source)
@@ -289,7 +295,7 @@ class Translation:
                                   self.continuous, self.cache, self.demand)
         except StructuralError as exc:
             hint = exc.hint
-            if self.partitioned.is_hybrid and self.systems:
+            if self.partitioned.is_hybrid and (self.systems or self.parts):
                 # only this discrete state fails: the components concerned may know why
                 own = self.flat.hints_for("mode", exc.components)
                 hint = "this discrete state only: " + ("; ".join(own) if own else (
@@ -314,8 +320,11 @@ class Translation:
         except StructuralError:
             # A cluster's equations cannot be solved: the whole model's message names
             # the failure as it does without clusters (and the whole model is compiled
-            # from now on, should it succeed after all).
+            # from now on, should it succeed after all; the composed systems go).
             self.clustering = None
+            for table in (self.systems, self.initial_systems):
+                for k in [k for k, v in table.items() if isinstance(v, (ComposedSystem, ComposedInitialSystem))]:
+                    del table[k]
             return None
         t0 = _time.perf_counter()
         composed = compose(key, functools.partial(self.describe, key), parts, self.clustering)
@@ -512,19 +521,24 @@ class Translation:
                     return None
         return found
 
-    def _functions_payload(self, source: str, cache: ModelCache) -> dict | None:
-        class_of = {impl: name for name, impl in self._tables.items()}
+    def _functions_payload(self, source: str) -> dict | None:
+        """The table functions ``source`` calls, as code name -> class name (None: one
+        is not a table of this model, and the system is not stored).  Names are read
+        from the source itself: a system rebound from another translation was printed
+        with that translation's names."""
         out = {}
-        for code_name, impl in cache.codegen.functions.items():
-            if f"{code_name}(" in source:
-                if impl not in class_of:
-                    return None
-                out[code_name] = class_of[impl]
+        for code_name in sorted(set(_CALLED_TABLE.findall(source))):
+            class_name = code_name[len("_f_"):]
+            if class_name not in self._tables:
+                return None
+            out[code_name] = class_name
         return out
 
     def _code_from(self, payload: dict) -> tuple[GeneratedCode, tuple] | None:
         source = payload["source"]
         functions = {name: self._tables[cls] for name, cls in payload["functions"].items()}
+        if set(_CALLED_TABLE.findall(source)) - set(functions):
+            raise ValueError("the entry's code calls a table it does not name")
         name = source.split("\n", 1)[0].removeprefix("# generated by acausal for ")
         make = load_make(source, functions, name)
         return GeneratedCode(source, make, payload["n_derivative_steps"], payload["n_steps"], None), make
@@ -534,7 +548,11 @@ class Translation:
         disk = self._disk_cache()
         if disk is None or system.code is None:
             return
-        functions = self._functions_payload(system.code.source, cache)
+        if system.passes[:1] and system.passes[0][0] == "rebind":
+            # compiled for other parameter values: a compilation for these could make
+            # other numeric choices; only what was compiled for the key is stored
+            return
+        functions = self._functions_payload(system.code.source)
         if functions is None:
             return
         disk.store(entry, {"key": list(system.key), "source": system.code.source,

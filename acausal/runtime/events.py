@@ -122,9 +122,19 @@ class DiscreteEvaluator:
             for a in args:
                 self._readers.setdefault(a, []).append(i)
         self._relation_free = [eq for eq in self.equations if not any(is_relation(a) for a in eq[1])]
-        self._relation_free_indices = {i for i, eq in enumerate(self.equations)
-                                       if not any(is_relation(a) for a in eq[1])}
         self._equation_of = {eq[0]: i for i, eq in enumerate(self.equations)}
+        # where each argument of each equation comes from in a pass: True for a variable
+        # whose own equation comes earlier (its value in this pass), False for what the
+        # pass starts from (relations, pre() values, initial(), later variables)
+        own = self._equation_of
+        self._argument_sources = [[(a, a in own and own[a] < i) for a in args]
+                                  for i, (_variable, args, _fn, _origin) in enumerate(self.equations)]
+        #: the equations that read a variable's value the pass starts from
+        self._early_readers: dict[str, list[int]] = {}
+        for i, sources in enumerate(self._argument_sources):
+            for a, late in sources:
+                if not late and a in self.kinds:
+                    self._early_readers.setdefault(a, []).append(i)
         #: the relations whose relevance check (:meth:`_flip_changes`) reads each name
         self._checks_reading: dict[str, set[int]] = {}
         for k in range(len(self.relations)):
@@ -400,37 +410,40 @@ class DiscreteEvaluator:
         With ``relation_free`` only the equations that read no relation are
         evaluated; the others keep their values.
         """
-        found = self._evaluate_again(discrete, pre, relations, initial, relation_free)
-        if found is not None:
-            return found
+        if not relation_free:
+            found = self._evaluate_again(discrete, pre, relations, initial)
+            if found is not None:
+                return found
         current = dict(discrete)
         env = self._environment(relations, initial, pre)
         env.update(current)
+        start = dict(env) if not relation_free else None
         for variable, args, fn, origin in (self._relation_free if relation_free else self.equations):
             value = fn(*[env[a] for a in args])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
             current[variable] = env[variable] = value
         if not relation_free:
-            self._last = (dict(pre), initial, tuple(relations), env, dict(current))
+            self._last = (dict(pre), initial, tuple(relations), start, dict(current))
         return current
 
-    def _evaluate_again(self, discrete: Mapping, pre: Mapping, relations, initial: bool,
-                        relation_free: bool = False) -> dict | None:
-        """A pass computed from the last full one, re-evaluating only the equations
-        whose inputs changed (None: evaluate all).
+    def _evaluate_again(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> dict | None:
+        """A pass computed from the last one, re-evaluating only the equations whose
+        inputs changed (None: evaluate all).
 
-        The inputs of a pass are the relations, the ``pre()`` values, initial() and
-        the discrete values it starts from (an equation that reads a variable
-        before the variable's own equation reads that).  The equations reading a
-        changed input are evaluated, in evaluation order, then those reading a
-        variable whose value changed after its equation; every other equation
-        reads what it read in the last full pass, so it keeps its value.  With many
-        independent parts this keeps event iteration local to the parts concerned.
+        What an equation reads in a pass: relations, ``pre()`` values and
+        initial(); the value a variable has in this pass when its own equation
+        comes earlier; and the value the pass *starts* from when it comes later
+        (or the variable has none: a discrete loop).  The equations for which
+        one of these changed since the last pass are evaluated, in evaluation
+        order, and then those reading a result that changed; every other
+        equation reads what it read in the last pass, so it keeps its value.
+        With many independent parts this keeps event iteration local to the
+        parts concerned.
         """
         last = self._last
         if last is None or last[1] != initial or not INCREMENTAL:
             return None
-        last_pre, _, before, old_env, old_result = last
+        last_pre, _, before, old_start, old_result = last
         if len(before) != len(relations) or len(old_result) != len(discrete):
             return None
         changed = {self._relation_names[k]: relations[k]
@@ -442,41 +455,40 @@ class DiscreteEvaluator:
                 if key is None:
                     key = pre_names[name] = pre_name(name)
                 changed[key] = value
-        start = [name for name, value in discrete.items() if old_result.get(name, not value) != value]
-        if (len(changed) + len(start)) * 4 > len(self.equations) + len(relations):
+        for name, value in discrete.items():
+            if old_start.get(name, not value) != value:
+                changed[name] = value
+        if len(changed) * 4 > len(self.equations) + len(relations):
             return None  # most of it changed: evaluate all
-        env = dict(old_env)
-        env.update(changed)
-        readers, own = self._readers, self._equation_of
-        todo = {i for name in changed for i in readers.get(name, ())}
-        for name in start:
-            env[name] = discrete[name]
-            todo.update(readers.get(name, ()))
-            if name in own:
-                todo.add(own[name])
-        if relation_free:
-            todo &= self._relation_free_indices
-        current = dict(discrete)
+        start = dict(old_start)
+        start.update(changed)
+        readers, early = self._readers, self._early_readers
+        todo = set()
+        for name in changed:
+            # a relation, pre() value or initial(): every reader; a variable: the
+            # readers that see the value the pass starts from
+            todo.update(early.get(name, ()) if name in self.kinds else readers.get(name, ()))
+        current = dict(old_result)
+        for name in changed:
+            if name in self.kinds and name not in self._equation_of:
+                current[name] = start[name]  # no equation: it keeps the value it starts with
         heap = sorted(todo)
         done: set[int] = set()
+        sources = self._argument_sources
         while heap:
             i = heapq.heappop(heap)
             if i in done:
                 continue
             done.add(i)
             variable, args, fn, origin = self.equations[i]
-            value = fn(*[env[a] for a in args])
+            value = fn(*[current[a] if late else start[a] for a, late in sources[i]])
             value = bool(value) if self.kinds[variable] == "boolean" else int(value)
-            if value != env[variable]:
-                current[variable] = env[variable] = value
-                for j in readers.get(variable, ()):
-                    # an earlier reader read the value the pass started with
-                    if j > i and (not relation_free or j in self._relation_free_indices):
-                        heapq.heappush(heap, j)
-            else:
+            if value != current[variable]:
                 current[variable] = value
-        if not relation_free:
-            self._last = (dict(pre), initial, tuple(relations), env, dict(current))
+                for j in readers.get(variable, ()):
+                    if j > i:  # an earlier reader sees the value the pass starts with
+                        heapq.heappush(heap, j)
+        self._last = (dict(pre), initial, tuple(relations), start, dict(current))
         return current
 
     def _environment(self, relations, initial: bool, pre: Mapping) -> dict:

@@ -174,3 +174,50 @@ def test_an_initial_equation_joins_the_parts_it_relates(monkeypatch):
     clustered, composed, _, whole = run_both(lambda: storm(3, coupled_start=True), monkeypatch,
                                              stop_time=1.0, interval=0.01)
     assert_same_results(composed, whole)
+
+
+class _LockedPairAndUnit(Model):
+    """Two bearings on one shaft (both stuck: a state the engine cannot solve) beside an
+    independent stick-slip unit: a part that fails mid-run."""
+
+    def build(self):
+        from acausal.library.rotational import ConstantTorque
+
+        rest = dict(start=0.0, fixed=True)
+        self.torque = ConstantTorque(tau_constant=0.0)
+        self.inertia = Inertia(J=1.0, phi=rest, w=dict(start=1.0, fixed=True))
+        self.bf1 = BearingFriction(tau_pos=[[0.0, 1.0]])
+        self.bf2 = BearingFriction(tau_pos=[[0.0, 2.0]])
+        self.connect(self.torque.flange, self.inertia.flange_a)
+        self.connect(self.inertia.flange_b, self.bf1.flange_a)
+        self.connect(self.bf1.flange_b, self.bf2.flange_a)
+        self.s = Sine(amplitude=2.0, f=1.0)
+        self.t = Torque()
+        self.j = Inertia(J=1.0, phi=rest, w=rest)
+        self.f = BearingFriction(tau_pos=[[0.0, 1.0]], peak=1.2)
+        self.connect(self.s.y, self.t.tau)
+        self.connect(self.t.flange, self.j.flange_a)
+        self.connect(self.j.flange_b, self.f.flange_a)
+
+
+def test_a_part_that_fails_mid_run_leaves_a_usable_translation(tmp_path, monkeypatch):
+    """The failing part sends the translation back to the whole model; what it composed
+    before goes, so that explain and a new parameter value still work."""
+    from acausal.tools.explain import explain
+
+    translation = translate(_LockedPairAndUnit(), cache=False)
+    assert translation.clustering is not None
+    result = simulate(translation, stop_time=2.0)
+    monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
+    whole = simulate(_LockedPairAndUnit(), stop_time=2.0, cache=False)
+    assert result.status == whole.status == -1
+    assert result.message == whole.message
+    assert translation.clustering is None
+    assert not any(isinstance(s, ComposedSystem) for s in translation.systems.values())
+    assert "Independent parts" not in str(explain(translation, out_dir=tmp_path))
+    monkeypatch.setattr(translate_module, "USE_CLUSTERS", True)
+    base = translate(_LockedPairAndUnit())
+    simulate(base, stop_time=2.0)
+    rebound = translate(_LockedPairAndUnit(), parameters={"j.J": 2.0})
+    assert rebound.rebound_from is base
+    assert simulate(rebound, stop_time=0.2).status == 0

@@ -19,7 +19,7 @@ import pytest
 
 import acausal.compiler.diskcache as diskcache
 import acausal.compiler.translate as translate_module
-from acausal import simulate
+from acausal import Model, simulate
 from acausal.compiler.diskcache import DiskCache
 from acausal.compiler.translate import translate
 from examples.coupled_clutches import CoupledClutches
@@ -237,3 +237,61 @@ def test_new_parameter_values_rebind_after_a_load(folder):
         assert_same(result, fresh)
         rebound = [s for s in translation.systems.values() if s.passes[0][0] == "rebind"]
         assert rebound, f"fn_max = {value}: nothing rebound"
+
+
+class _TableUnit(Model):
+    """Sine -> torque -> inertia on a bearing with a two-row friction table (a table function)."""
+
+    def build(self):
+        from acausal.library.blocks import Sine
+        from acausal.library.rotational import BearingFriction, Inertia, Torque
+
+        rest = dict(start=0.0, fixed=True)
+        self.s = Sine(amplitude=2.0, f=1.0)
+        self.t = Torque()
+        self.j = Inertia(J=1.0, phi=rest, w=rest)
+        self.f = BearingFriction(tau_pos=[[0.0, 0.5], [1.0, 1.0]], peak=1.2)
+        self.connect(self.s.y, self.t.tau)
+        self.connect(self.t.flange, self.j.flange_a)
+        self.connect(self.j.flange_b, self.f.flange_a)
+
+
+def test_systems_rebound_for_other_values_are_not_stored(folder):
+    """Only what was compiled for a key is stored under it: a rebound system (printed by
+    another translation, with numeric choices made for other values) is not."""
+    run(_TableUnit, stop_time=1.0)
+    rebound = translate(_TableUnit(), parameters={"j.J": 0.5})
+    assert rebound.rebound_from is not None
+    stored = set(entries(folder))
+    rebound_result = simulate(rebound, stop_time=1.0)
+    assert set(entries(folder)) == stored
+    forget_translations()
+    fresh = translate(_TableUnit(), parameters={"j.J": 0.5})
+    result = simulate(fresh, stop_time=1.0)
+    assert not loaded(fresh) and fresh._disk_cache().hits == 0
+    assert result.status == 0
+    np.testing.assert_allclose(result["j.w"], rebound_result["j.w"], rtol=0, atol=1e-9)
+    # its own compilation is stored, and loads with its table function
+    forget_translations()
+    again = translate(_TableUnit(), parameters={"j.J": 0.5})
+    assert_same(simulate(again, stop_time=1.0), result)
+    assert loaded(again)
+
+
+def test_an_entry_that_calls_a_table_it_does_not_name_is_not_used(folder):
+    cold_translation, cold = run(_TableUnit, stop_time=1.0)
+    disk = cold_translation._disk_cache()
+    tampered = 0
+    for path in entries(folder):
+        document = json.loads(path.read_text())
+        payload = document["payload"]
+        if payload["functions"]:
+            payload["functions"] = {}
+            disk.store(document["entry"], payload)  # a valid checksum over a wrong payload
+            tampered += 1
+    assert tampered
+    forget_translations()
+    translation, warm = run(_TableUnit, stop_time=1.0)
+    assert_same(cold, warm)
+    calls_a_table = translate_module._CALLED_TABLE.search
+    assert not [s for s in loaded(translation) if calls_a_table(s.code.source)]
