@@ -841,16 +841,18 @@ def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
     """A new, unbuilt instance of ``model``'s class with the structural parameters
     ``values`` (dotted paths) set, as Modelica re-translates for a new value.
 
-    The new instance has the model's modifiers and its own attributes (those
-    that are not components); each component named gets its value before it
-    is built, so that its ``build()`` and its conditional declarations see
-    it.  ``model`` itself is not changed.
+    The new instance has the model's modifiers and its own attributes, but
+    for those holding components (its ``build()`` makes them again); each
+    component named gets its value before it is built, so that its
+    ``build()`` and its conditional declarations see it.  ``model`` itself
+    is not changed.
     """
     fresh = object.__new__(type(model))
     tree = {"_name", "_parent", "_children", "_connections", "_built", "_modifiers", "_attribute_modifiers"}
     for key, value in vars(model).items():
-        if key not in tree and key not in model._children:
-            object.__setattr__(fresh, key, value)
+        if key in tree or key in model._children or _holds_components(value):
+            continue  # what build() makes is made again
+        object.__setattr__(fresh, key, value)
     Component.__init__(fresh)
     fresh._modifiers.update(model._modifiers)
     for key, attributes in model._attribute_modifiers.items():
@@ -866,6 +868,17 @@ def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
                                 hint="set it where the component is created")
         node._apply_modifier(member, values[name], node.declarations())
     return fresh
+
+
+def _holds_components(value: Any) -> bool:
+    """Whether ``value`` is a component or a list, tuple, set or dict holding one."""
+    if isinstance(value, Component):
+        return True
+    if isinstance(value, dict):
+        return any(_holds_components(v) for v in value.values())
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return any(_holds_components(v) for v in value)
+    return False
 
 
 def own_method(klass: type, name: str) -> Callable | None:

@@ -172,3 +172,21 @@ def test_parameters_on_the_command_line(tmp_path):
     assert float(last[column]) == 100.0
     assert main(["simulate", "examples/coupled_clutches.py", "--param", "clutch1.fn_max",
                  "--out", str(out)]) == 2
+
+
+def test_a_structural_parameter_rebuilds_what_build_keeps_in_lists():
+    """A model whose build() keeps its components in a list: the new instance makes its own."""
+    from acausal.language import with_structural
+
+    class Kept(_Bearing):
+        def build(self):
+            super().build()
+            self.kept = [self.j, self.b]
+
+    model = Kept()
+    simulate(model, stop_time=1.0)  # built
+    fresh = with_structural(model, {"b.tau_pos": [[0.0, 0.25]]})
+    result = simulate(fresh, stop_time=1.0, cache=False)
+    assert result.status == 0
+    assert all(c._parent is fresh for c in fresh.kept)
+    assert all(c._parent is model for c in model.kept)
