@@ -1089,6 +1089,16 @@ def _effects_markdown(records: Sequence[EffectsRecord]) -> str:
         "translation (RK45).", "", table, ""])
 
 
+def _per_equation_kb(point: dict) -> float:
+    """Peak resident memory per equation, in kB (what the process holds, the
+    interpreter and libraries included: the small sizes overstate it)."""
+    rss, equations = point.get("max_rss_mb", math.nan), point.get("equations", math.nan)
+    try:
+        return 1000.0 * float(rss) / float(equations)
+    except (TypeError, ValueError, ZeroDivisionError):
+        return math.nan
+
+
 def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True) -> str:
     rows = []
     for p in points:
@@ -1099,13 +1109,13 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True)
                      p.get("translation_all_modes", math.nan), p.get("evaluator_setup", math.nan),
                      p.get("initial_systems", math.nan), p.get("initialization", math.nan), p.get("first_simulate", math.nan),
                      p.get("simulate", math.nan), p.get("wall", math.nan), p.get("predicted_wall", math.nan),
-                     p.get("max_rss_mb", math.nan), p.get("status", "")))
+                     p.get("max_rss_mb", math.nan), _per_equation_kb(p), p.get("status", "")))
     table = _md_table(("N", "states", "equations", "modes", "flatten+partition [s]", "alias [s]",
                        "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "translation (1 mode) [s]",
                        "translation (all modes) [s]", "event setup [s]", "initialization systems [s]",
                        "initialization [s]",
                        "first simulate [s]", "simulate 0.2 s [s]", "wall [s]", "predicted wall [s]",
-                       "max RSS [MB]", "status"),
+                       "max RSS [MB]", "RSS per equation [kB]", "status"),
                       rows)
     fit_rows = []
     for name, (a, b) in fits.items():
