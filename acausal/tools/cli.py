@@ -365,7 +365,11 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--signals", metavar="a,b,...",
                      help="comma-separated variables to write; default: all")
     sim.add_argument("--param", metavar="NAME=VALUE", action="append", default=[],
-                     help="a numeric parameter's value for this run (repeatable), e.g. component.parameter=2.5")
+                     help="a parameter's value for this run (repeatable), e.g. component.parameter=2.5; "
+                          "a numeric one reuses the compiled systems, a structural one translates anew")
+    sim.add_argument("--no-disk-cache", action="store_true",
+                     help="compile everything: neither load nor store compiled systems on disk "
+                          "(as ACAUSAL_DISK_CACHE=off)")
     sim.set_defaults(run=_cmd_simulate)
 
     cmp_ = commands.add_parser("compare", help="tube-test a model against the MSL reference results",
@@ -383,6 +387,9 @@ def _parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--rtol", type=_positive_float, metavar="R",
                       help=f"relative tolerance (default {COMPARE_RTOL:g}, or the experiment's "
                            f"if tighter)")
+    cmp_.add_argument("--no-disk-cache", action="store_true",
+                      help="compile everything: neither load nor store compiled systems on disk "
+                           "(as ACAUSAL_DISK_CACHE=off)")
     cmp_.set_defaults(run=_cmd_compare)
 
     exp = commands.add_parser("explain", help="show how the model is translated, stage by stage",
@@ -630,6 +637,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
+    disk_cache = os.environ.get("ACAUSAL_DISK_CACHE")
+    if getattr(args, "no_disk_cache", False):
+        os.environ["ACAUSAL_DISK_CACHE"] = "off"
     try:
         return args.run(args)
     except CommandError as exc:
@@ -641,6 +651,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    finally:
+        if disk_cache is None:
+            os.environ.pop("ACAUSAL_DISK_CACHE", None)
+        else:
+            os.environ["ACAUSAL_DISK_CACHE"] = disk_cache
 
 
 def run() -> None:

@@ -295,3 +295,15 @@ def test_an_entry_that_calls_a_table_it_does_not_name_is_not_used(folder):
     assert_same(cold, warm)
     calls_a_table = translate_module._CALLED_TABLE.search
     assert not [s for s in loaded(translation) if calls_a_table(s.code.source)]
+
+
+def test_the_command_line_can_turn_the_disk_cache_off(folder, tmp_path):
+    from acausal.tools.cli import main
+
+    out = tmp_path / "first.csv"
+    assert main(["simulate", "examples/first.py", "--no-disk-cache", "--out", str(out)]) == 0
+    assert not entries(folder)
+    assert os.environ["ACAUSAL_DISK_CACHE"] == "on"  # as it was
+    forget_translations()
+    assert main(["simulate", "examples/first.py", "--out", str(out)]) == 0
+    assert entries(folder)
