@@ -393,7 +393,7 @@ LONG_RUN = """
 
 
     class Spin(Model):
-        experiment = Experiment(stop_time=1e7, interval=1e4)
+        experiment = Experiment(stop_time=1e7, interval=100.0)  # a row every few hundred steps
         x = Variable(start=1.0, fixed=True)
         v = Variable(start=0.0, fixed=True)
 
