@@ -22,7 +22,7 @@ from __future__ import annotations
 import heapq
 import itertools
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -264,6 +264,26 @@ class DiscreteEvaluator:
             if (v > 0 if strict else v >= 0) != previous:
                 out.append(k)
         return tuple(out)
+
+    def distance_to_flip(self, system: ModeSystem, relations, k: int) -> Callable:
+        """``distance(t, x)`` for relation ``k``: the margin-shifted ``g`` that
+        :meth:`flipped_relations` decides on, signed to be negative while the
+        relation keeps its value in ``relations`` and positive once it has
+        flipped (for the search of the flip instant)."""
+        d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])
+        few = getattr(system, "crossings_for", None)
+        crossings = few((k,)) if few is not None else system.crossings
+        epsilon, i = self.epsilon, 2 * k
+        sign = -1.0 if previous else 1.0
+
+        def distance(t, x) -> float:
+            raw = crossings(t, x)
+            lhs, rhs = raw[i], raw[i + 1]
+            if timed:
+                return sign * (d * (lhs - rhs))
+            return sign * (d * ((lhs - rhs) + toward * (epsilon * max(1.0, abs(lhs), abs(rhs)))))
+
+        return distance
 
     def _relation_kind(self, k: int, previous: bool) -> tuple[float, float, bool, bool, bool]:
         """``(d, toward, strict, timed, previous)`` of relation ``k``: ``d`` is +1 for ``>``

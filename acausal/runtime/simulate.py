@@ -242,6 +242,11 @@ def _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_eps
         number("timeout", timeout, 0.0, allow_inf=True)
 
 
+#: Whether the flip instant of a single relation is searched with regula falsi
+#: (Illinois) rather than by halving alone (:func:`~acausal.runtime.crossings.bisect_flip`).
+USE_SECANT = True
+
+
 class _Budget(Exception):
     """A budget ran out (internal: turned into a SolverError saying where the time went)."""
 
@@ -513,7 +518,8 @@ class _Run:
         def narrow(candidates):
             def flipped_among(tt, xx):
                 return evaluator.flipped_relations(system, tt, xx, relations, candidates)
-            return flipped_among
+            one = len(candidates) == 1 and USE_SECANT
+            return flipped_among, evaluator.distance_to_flip(system, relations, candidates[0]) if one else None
 
         try:
             while True:
