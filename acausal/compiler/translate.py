@@ -233,11 +233,7 @@ class Translation:
             base._store(base.systems, key, source)
         if not self._guards_hold(source.algebraic):
             return None
-        t0 = _time.perf_counter()
-        derivatives, crossings, outputs = source.code.make(self.parameter_vector)
-        plan = alias_plan(source.aliases, self.cache.parameters.symbols)
-        return dataclasses.replace(source, derivatives=derivatives, crossings=crossings, outputs=outputs,
-                                   alias_plan=plan, passes=(("rebind", _time.perf_counter() - t0),))
+        return _bind_mode(source, self.cache.parameters)
 
     def _guards_hold(self, algebraic) -> bool:
         if algebraic is None:  # a system loaded from the persistent cache: no guards known
@@ -260,13 +256,8 @@ class Translation:
             if composed is not None:
                 self._store(self.systems, key, composed)
                 return composed
-        entry = f"mode {key!r}"
-        system = self._load_mode(entry, self.cache)
-        if system is None:
-            system = self._build_whole(key)
-            self._save_mode(entry, system, self.cache)
-        self._store(self.systems, key, system)
-        return system
+        return self._made(self.systems, key, f"mode {key!r}", self.cache, self._load_mode,
+                          lambda: self._build_whole(key), self._save_mode)
 
     def _build_whole(self, key: tuple) -> ModeSystem:
         """Compile (or rebind, or share) the whole model's system of ``key``."""
@@ -389,11 +380,7 @@ class Translation:
             source_translation._store(source_translation.parts, (cluster.index, cluster.project(key)), source)
         if not self._guards_hold(source.algebraic):
             return None
-        t0 = _time.perf_counter()
-        derivatives, crossings, outputs = source.code.make(cache.parameters.vector)
-        plan = alias_plan(source.aliases, cache.parameters.symbols)
-        return dataclasses.replace(source, derivatives=derivatives, crossings=crossings, outputs=outputs,
-                                   alias_plan=plan, passes=(("rebind", _time.perf_counter() - t0),))
+        return _bind_mode(source, cache.parameters)
 
     def _initial_part(self, cluster: Cluster, key: tuple) -> InitialSystem:
         """The initialization problem of ``cluster`` for ``key`` (built on first use)."""
@@ -414,10 +401,7 @@ class Translation:
                   if source_translation is not None and source_translation.clustering is self.clustering
                   and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
         if source is not None and self._guards_hold(source.algebraic):
-            t0 = _time.perf_counter()
-            check_fixed_constants(mode.aliases, cache.parameters.symbols)
-            _, _, outputs = source.code.make(cache.parameters.vector)
-            return dataclasses.replace(source, outputs=outputs, passes=(("rebind", _time.perf_counter() - t0),))
+            return _bind_initial(source, mode, cache.parameters)
         context = f"initialization of {self.flat.name} [cluster {cluster.index + 1}: {mode.description}]"
         initial = [self.partitioned.initial_equations[i] for i in cluster.initial_equations]
         return compile_initial_system(mode, self.specialise(key, initial), context, cache)
@@ -457,25 +441,17 @@ class Translation:
             system = compose_initial(key, [self._initial_part(c, key) for c in self.clustering.clusters])
             self._store(self.initial_systems, key, system)
             return system
-        entry = f"initial {key!r}"
-        system = self._load_initial(entry, self.cache)
-        if system is None:
-            if mode.structure is None:  # loaded from disk: its stages are needed here
-                mode = self._build_whole(key)
-                self._store(self.systems, key, mode)
-            system = self._build_initial(key, mode)
-            self._save_initial(entry, system, self.cache)
-        self._store(self.initial_systems, key, system)
-        return system
+        return self._made(self.initial_systems, key, f"initial {key!r}", self.cache, self._load_initial,
+                          lambda: self._build_initial(key, mode), self._save_initial)
 
     def _build_initial(self, key: tuple, mode: ModeSystem) -> InitialSystem:
+        if mode.structure is None:  # loaded from disk: its stages are needed here
+            mode = self._build_whole(key)
+            self._store(self.systems, key, mode)
         source = (self.rebound_from.initial_system(key) if self.rebound_from is not None
                   and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
         if source is not None and self._guards_hold(source.algebraic):
-            t0 = _time.perf_counter()
-            check_fixed_constants(mode.aliases, self.cache.parameters.symbols)
-            _, _, outputs = source.code.make(self.parameter_vector)
-            return dataclasses.replace(source, outputs=outputs, passes=(("rebind", _time.perf_counter() - t0),))
+            return _bind_initial(source, mode, self.cache.parameters)
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
@@ -614,6 +590,23 @@ class Translation:
         """Seconds spent compiling initialization problems (the clusters' included)."""
         return (sum(s.seconds for s in self.initial_systems.values())
                 + sum(s.seconds for s in self.initial_parts.values()))
+
+
+def _bind_mode(source: ModeSystem, parameters) -> ModeSystem:
+    """``source``'s compiled system bound to the values of ``parameters`` (a ParameterTable)."""
+    t0 = _time.perf_counter()
+    derivatives, crossings, outputs = source.code.make(parameters.vector)
+    plan = alias_plan(source.aliases, parameters.symbols)
+    return dataclasses.replace(source, derivatives=derivatives, crossings=crossings, outputs=outputs,
+                               alias_plan=plan, passes=(("rebind", _time.perf_counter() - t0),))
+
+
+def _bind_initial(source: InitialSystem, mode: ModeSystem, parameters) -> InitialSystem:
+    """``source``'s initialization problem bound to ``parameters``, its fixed constants checked."""
+    t0 = _time.perf_counter()
+    check_fixed_constants(mode.aliases, parameters.symbols)
+    _, _, outputs = source.code.make(parameters.vector)
+    return dataclasses.replace(source, outputs=outputs, passes=(("rebind", _time.perf_counter() - t0),))
 
 
 def _shared(twin: ModeSystem, key: tuple, description: str, context: str, passes: PassLog) -> ModeSystem:
