@@ -46,7 +46,7 @@ INCREMENTAL = True
 
 #: Up to this many watched relations, a composed system computes the crossing
 #: functions of the parts that own them only.
-_FEW_PARTS = 8
+_FEW_RELATIONS = 8
 
 #: Samples times (watched relations + 2) from which the relations at the samples of a
 #: step are decided in one numpy call rather than sample by sample.
@@ -105,6 +105,11 @@ class DiscreteEvaluator:
                                       f"the discrete equations of {translation.flat.name}")
         self.equations = [(eq.variable, args, fn, eq.origin)
                           for eq, args, fn in zip(equations, arguments, functions)]
+        #: the equations reading each name, in evaluation order
+        self._readers: dict[str, list[int]] = {}
+        for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
+            for a in args:
+                self._readers.setdefault(a, []).append(i)
         self._downstream = self._downstream_equations()
         self._selector_names = tuple(parse(s.name) for s in translation.selectors)
         self._vector_plan = None
@@ -114,13 +119,8 @@ class DiscreteEvaluator:
         self._relation_names = [relation_name(k) for k in range(len(self.relations))]
         self._pre_names: dict[str, str] = {}
         self._selector_set = frozenset(s.name for s in translation.selectors)
-        #: the last pass: (pre, initial, relations, environment, result)
+        #: the last pass: (pre, initial, relations, the values it started from, result)
         self._last: tuple | None = None
-        #: the equations reading each name, in evaluation order
-        self._readers: dict[str, list[int]] = {}
-        for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
-            for a in args:
-                self._readers.setdefault(a, []).append(i)
         self._relation_free = [eq for eq in self.equations if not any(is_relation(a) for a in eq[1])]
         self._equation_of = {eq[0]: i for i, eq in enumerate(self.equations)}
         # where each argument of each equation comes from in a pass: True for a variable
@@ -147,10 +147,7 @@ class DiscreteEvaluator:
 
     def _downstream_equations(self) -> dict[int, list[int]]:
         """For each relation, the discrete equations (in order) its value can reach."""
-        readers: dict[str, list[int]] = {}
-        for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
-            for a in args:
-                readers.setdefault(a, []).append(i)
+        readers = self._readers
         out = {}
         for k, rel in enumerate(self.relations):
             reached, frontier = set(), [rel.symbol.name]
@@ -241,7 +238,7 @@ class DiscreteEvaluator:
         """
         if not watched:
             return ()
-        few = getattr(system, "crossings_for", None) if len(watched) <= _FEW_PARTS else None
+        few = getattr(system, "crossings_for", None) if len(watched) <= _FEW_RELATIONS else None
         raw = (few(watched) if few is not None else system.crossings)(t, x)
         if len(watched) >= _VECTORISE_FROM:
             return self._flipped_vectorised(raw, relations, watched)
@@ -468,13 +465,9 @@ class DiscreteEvaluator:
             return None
         changed = {self._relation_names[k]: relations[k]
                    for k, (a, b) in enumerate(zip(relations, before)) if a != b}
-        pre_names = self._pre_names
         for name, value in pre.items():
             if last_pre.get(name, not value) != value:
-                key = pre_names.get(name)
-                if key is None:
-                    key = pre_names[name] = pre_name(name)
-                changed[key] = value
+                changed[self._pre_key(name)] = value
         for name, value in discrete.items():
             if old_start.get(name, not value) != value:
                 changed[name] = value
@@ -515,13 +508,17 @@ class DiscreteEvaluator:
         """The names the discrete equations read: relation indicators, initial(), pre values."""
         env = dict(zip(self._relation_names, relations))
         env[INITIAL_NAME] = initial
-        pre_names = self._pre_names
+        pre_key = self._pre_key
         for name, value in pre.items():
-            key = pre_names.get(name)
-            if key is None:
-                key = pre_names[name] = pre_name(name)
-            env[key] = value
+            env[pre_key(name)] = value
         return env
+
+    def _pre_key(self, name: str) -> str:
+        """``pre(name)`` as the discrete equations name it (made once per name)."""
+        key = self._pre_names.get(name)
+        if key is None:
+            key = self._pre_names[name] = pre_name(name)
+        return key
 
     def relevant_relations(self, discrete: Mapping, relations) -> tuple[int, ...]:
         """State relations whose flip could change something in this discrete state.
@@ -532,17 +529,18 @@ class DiscreteEvaluator:
         always watched.  At the next event all relations are re-evaluated.
         """
         selector_names = self._selector_set
-        # the values every flip is tried against: relations as they are, pre = current
-        env = self._environment(relations, False, discrete)
-        env.update(discrete)
         checked = self._relevance_again(discrete, relations)
         if checked is None:
             checked = {}
-            for k, rel in enumerate(self.relations):
-                if not rel.is_time_event and rel.symbol.name not in selector_names:
-                    checked[k] = self._flip_changes(k, env, discrete, relations)
+            again = [k for k, rel in enumerate(self.relations)
+                     if not rel.is_time_event and rel.symbol.name not in selector_names]
         else:
-            for k in checked.pop(None):
+            again = checked.pop(None)
+        if again:
+            # the values every flip is tried against: relations as they are, pre = current
+            env = self._environment(relations, False, discrete)
+            env.update(discrete)
+            for k in again:
                 checked[k] = self._flip_changes(k, env, discrete, relations)
         self._last_relevance = (dict(discrete), tuple(relations), dict(checked))
         out = []
@@ -564,7 +562,7 @@ class DiscreteEvaluator:
         names = [self._relation_names[k] for k, (a, b) in enumerate(zip(relations, old_relations)) if a != b]
         for name, value in discrete.items():
             if old_discrete.get(name, not value) != value:
-                names += [name, pre_name(name)]
+                names += [name, self._pre_key(name)]
         if len(names) * 4 > len(relations) + len(discrete):
             return None
         again = set()
