@@ -605,29 +605,44 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     return point
 
 
-def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
-    # the collector set as in an `acausal` command: fewer pauses, landing in fewer stages at random
+def _point_in_subprocess(call: str, timeout: float, env_extra: dict | None = None):
+    """Run ``call`` (``scaling_point(...)`` or ``storm_point(...)``, given ``progress=report``)
+    in a fresh process, the collector set as in an ``acausal`` command (fewer pauses,
+    landing in fewer stages at random).
+
+    Returns ``(report, failure, wall, timed_out)``: the last report printed (the
+    point, or on a timeout the last progress), the failure's last stderr line
+    (None when it exited 0), the wall seconds, and whether the timeout ended it.
+    """
     code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.tools.collector import GC_THRESHOLD; "
-            "gc.set_threshold(*GC_THRESHOLD); from acausal.tools.bench import scaling_point; "
+            "gc.set_threshold(*GC_THRESHOLD); from acausal.tools.bench import scaling_point, storm_point; "
             "report = lambda p: print('@@' + json.dumps(p), flush=True); "
-            "report(scaling_point({n}, {stop}, progress=report))").format(root=str(ROOT), n=n, stop=stop_time)
+            "report({call})").format(root=str(ROOT), call=call)
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    env.update(env_extra or {})
     t0 = time.perf_counter()
     try:
         proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
                               cwd=str(ROOT), env=env)
     except subprocess.TimeoutExpired as exc:
-        partial = _last_report(exc.stdout) or {"n": n}
+        return _last_report(exc.stdout), None, time.perf_counter() - t0, True
+    failure = None if proc.returncode == 0 else \
+        f"failed (exit {proc.returncode}): {(proc.stderr.strip().splitlines() or ['no output'])[-1]}"
+    return _last_report(proc.stdout), failure, time.perf_counter() - t0, False
+
+
+def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
+    report, failure, wall, timed_out = _point_in_subprocess(
+        f"scaling_point({n}, {stop_time!r}, progress=report)", timeout)
+    if timed_out:
+        partial = report or {"n": n}
         phase = partial.pop("phase", "")
-        partial.update(status=f"stopped after {timeout:.0f} s" + (f" ({phase})" if phase else ""),
-                       wall=time.perf_counter() - t0)
+        partial.update(status=f"stopped after {timeout:.0f} s" + (f" ({phase})" if phase else ""), wall=wall)
         return partial
-    last = _last_report(proc.stdout)
-    if last is not None and proc.returncode == 0:
-        return last
-    tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
-    return {"n": n, "status": f"failed (exit {proc.returncode}): {tail}", "wall": time.perf_counter() - t0}
+    if report is not None and failure is None:
+        return report
+    return {"n": n, "status": failure or "failed: no report", "wall": wall}
 
 
 def _last_report(output) -> dict | None:
@@ -1629,29 +1644,16 @@ def storm_point(n: int, clusters: bool = True, progress: Callable[[dict], None] 
 
 
 def _storm_point_subprocess(n: int, clusters: bool, timeout: float) -> dict:
-    code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.tools.collector import GC_THRESHOLD; "
-            "gc.set_threshold(*GC_THRESHOLD); from acausal.tools.bench import storm_point; "
-            "report = lambda p: print('@@' + json.dumps(p), flush=True); "
-            "report(storm_point({n}, {clusters}, progress=report))").format(root=str(ROOT), n=n,
-                                                                            clusters=bool(clusters))
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-    env["ACAUSAL_DISK_CACHE"] = "off"  # cold: nothing compiled by an earlier process (translate(cache=False) too)
+    # cold: nothing compiled by an earlier process (translate(cache=False) too)
+    report, failure, wall, timed_out = _point_in_subprocess(
+        f"storm_point({n}, {bool(clusters)}, progress=report)", timeout, {"ACAUSAL_DISK_CACHE": "off"})
     mode = STORM_MODES[0] if clusters else STORM_MODES[1]
-    t0 = time.perf_counter()
-    try:
-        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
-                              cwd=str(ROOT), env=env)
-    except subprocess.TimeoutExpired:
-        return {"n": n, "mode": mode, "status": f"not finished in {timeout:.0f} s",
-                "process_wall": time.perf_counter() - t0}
-    last = _last_report(proc.stdout)
-    if last is not None and proc.returncode == 0 and "status" in last:
-        last["process_wall"] = time.perf_counter() - t0
-        return last
-    tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
-    return {"n": n, "mode": mode, "status": f"failed (exit {proc.returncode}): {tail}",
-            "process_wall": time.perf_counter() - t0}
+    if timed_out:
+        return {"n": n, "mode": mode, "status": f"not finished in {timeout:.0f} s", "process_wall": wall}
+    if report is not None and failure is None and "status" in report:
+        report["process_wall"] = wall
+        return report
+    return {"n": n, "mode": mode, "status": failure or "failed: no report", "process_wall": wall}
 
 
 def run_storm(sizes: Sequence[int] = FULL_STORM, whole_up_to: int = FULL_STORM_WHOLE_UP_TO,
