@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import gzip
 import math
+import os
 from pathlib import Path
 from types import MappingProxyType
 
@@ -46,7 +47,9 @@ BUNDLED_CLASSES = (
 )
 
 #: The team's full copy of MAP-LIB_ReferenceResults v4.1.0, beside the checkout (may be absent).
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0"
+#: The team's full copy of the reference results: $ACAUSAL_REFERENCE_DIR when set, else ../shared beside the checkout.
+SHARED = (Path(os.environ["ACAUSAL_REFERENCE_DIR"]) if os.environ.get("ACAUSAL_REFERENCE_DIR")
+          else Path(__file__).resolve().parents[3] / "shared" / "reference" / "msl-4.1.0")
 
 
 # ---------------------------------------------------------------------------
