@@ -266,7 +266,8 @@ class ComposedSystem:
     shares: tuple | None = None
     #: the relations of each part (the model's indices)
     part_relations: tuple[tuple[int, ...], ...] = field(default=(), repr=False)
-    _few: dict = field(default_factory=dict, repr=False, compare=False)
+    #: what is made on demand: the description, and :meth:`crossings_for`'s functions
+    _made: dict = field(default_factory=dict, repr=False, compare=False)
 
     # The names are put together from the parts when asked for, not kept: a storm
     # of events visits thousands of discrete states, each composed of all parts.
@@ -274,9 +275,9 @@ class ComposedSystem:
     @property
     def description(self) -> str:
         """The discrete state in words."""
-        found = self._few.get("description")
+        found = self._made.get("description")
         if found is None:
-            found = self._few["description"] = self.describe if isinstance(self.describe, str) else self.describe()
+            found = self._made["description"] = self.describe if isinstance(self.describe, str) else self.describe()
         return found
 
     @property
@@ -294,11 +295,12 @@ class ComposedSystem:
     def crossings_for(self, relations: tuple[int, ...]) -> Callable:
         """A ``crossings`` that computes only the values of ``relations`` (the model's
         indices; the other values are NaN): it calls the parts that own them only."""
-        found = self._few.get(relations)
+        found = self._made.get(relations)
         if found is not None:
             return found
-        if len(self._few) >= 64:
-            self._few.clear()
+        if len(self._made) >= 64:  # bounded: keep the description, drop the functions
+            for k in [k for k in self._made if k != "description"]:
+                del self._made[k]
         owner = {k: p for p, rels in enumerate(self.part_relations) for k in rels}
         slices = _state_slices(self.parts)
         calls = []
@@ -314,7 +316,7 @@ class ComposedSystem:
                     out[where] = value
             return out
 
-        self._few[relations] = crossings
+        self._made[relations] = crossings
         return crossings
 
     @property
