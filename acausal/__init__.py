@@ -33,6 +33,8 @@ from .language import (
     pre,
     time,
 )
+from .hybrid import (Assert, When, ceil, change, div, edge, floor, integer, mod, noEvent, reinit, rem,
+                     sample, smooth, terminal, terminate)
 from .runtime.result import Event, SimulationResult
 from .runtime.simulate import METHODS, simulate
 from .compiler.translate import Translation, translate
@@ -44,6 +46,9 @@ __all__ = [
     "Boolean", "Component", "Connector", "Eq", "Experiment", "Flow", "If", "Integer", "Model",
     "Parameter", "Potential", "RealInput", "RealOutput", "StateSelect", "Variable", "der", "initial",
     "pre", "time",
+    # the hybrid language (Modelica chapter 8)
+    "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "Assert", "terminate",
+    "floor", "ceil", "integer", "div", "mod", "rem",
     # the engine
     "METHODS", "Event", "SimulationResult", "Translation", "simulate", "translate",
     # the errors

@@ -30,6 +30,8 @@ __all__ = [
     "SimulationError",
     "EventIterationError",
     "ChatteringError",
+    "ZenoError",
+    "AssertionViolation",
     "SolverError",
     "SettingError",
     "SimulationInterrupted",
@@ -160,6 +162,14 @@ class EventIterationError(SimulationError):
 
 class ChatteringError(SimulationError):
     """Too many events in a vanishing window of time."""
+
+
+class ZenoError(ChatteringError):
+    """Events of one relation accumulate at a finite time (Zeno behaviour)."""
+
+
+class AssertionViolation(SimulationError):
+    """An ``Assert`` of level ``"error"`` is violated."""
 
 
 class SolverError(SimulationError):

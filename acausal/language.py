@@ -378,8 +378,11 @@ class Variable(Declaration):
     def __init__(self, *, start: Any = 0.0, fixed: bool = False, unit: str = "",
                  nominal: Any = None, state_select: Any = StateSelect.default,
                  min: float | None = None, max: float | None = None,
-                 description: str = "", condition=None, causality: str = "") -> None:
+                 description: str = "", condition=None, causality: str = "",
+                 discrete: bool = False) -> None:
         super().__init__(unit=unit, description=description, condition=condition)
+        #: Modelica's ``discrete Real``: changes only at events (assigned in a when-clause)
+        self.discrete = discrete
         self.start = start
         self.fixed = fixed
         self.nominal = nominal
@@ -400,7 +403,8 @@ class Variable(Declaration):
     def _doc_entry(self) -> tuple[str, str]:
         # Signal connectors (RealInput, RealOutput) are listed with the connectors.
         section = "Connectors" if self.causality else "Variables"
-        parts = ["Real" if type(self) is Variable else type(self).__name__]
+        parts = [("discrete Real" if self.discrete else "Real") if type(self) is Variable
+                 else type(self).__name__]
         if self.unit:
             parts.append(f"unit {self.unit}")
         changed = self._changed_attributes()
@@ -434,8 +438,9 @@ class Boolean(Variable):
     kind = "boolean"
 
     def __init__(self, *, start: bool = False, fixed: bool = False, description: str = "",
-                 condition=None) -> None:
-        super().__init__(start=start, fixed=fixed, description=description, condition=condition)
+                 condition=None, causality: str = "") -> None:
+        super().__init__(start=start, fixed=fixed, description=description, condition=condition,
+                         causality=causality)
 
     def make_symbol(self, path: str) -> sp.Symbol:
         return sp.Symbol(path)
@@ -447,9 +452,10 @@ class Integer(Variable):
     kind = "integer"
 
     def __init__(self, *, start: int = 0, fixed: bool = False, min: int | None = None,
-                 max: int | None = None, description: str = "", condition=None) -> None:
+                 max: int | None = None, description: str = "", condition=None,
+                 causality: str = "") -> None:
         super().__init__(start=start, fixed=fixed, min=min, max=max, description=description,
-                         condition=condition)
+                         condition=condition, causality=causality)
 
     def make_symbol(self, path: str) -> sp.Symbol:
         return sp.Symbol(path, integer=True)

@@ -12,8 +12,13 @@ kind                      name                  what it stands for
 derivative (order n)      ``der(der(x))``       the n-th time derivative of ``x``
 pre value                 ``pre(x)``            a discrete variable before the event
 relation indicator        ``$rel3``             the value of relation 3 (partition)
+sample clock              ``$sample2``          true at the ticks of clock 2 (partition)
 initial()                 ``initial()``         true while initializing
+terminal()                ``terminal()``        true at the end of a successful run
 ========================  ====================  =================================
+
+The engine's own variables (a when-condition, a value held between
+events) are plain variables named ``<component>.$when4``, ``$floor5``.
 
 Every stage asks this module what a name is (:func:`parse`) and builds names
 with it (:func:`der_name`, :func:`pre_name`, :func:`relation_name`), instead
@@ -30,6 +35,8 @@ from typing import Literal
 
 __all__ = [
     "INITIAL_NAME",
+    "TERMINAL_NAME",
+    "sample_name",
     "Name",
     "parse",
     "der_name",
@@ -44,9 +51,12 @@ __all__ = [
 #: The name of the symbol ``initial()`` becomes after flattening.
 INITIAL_NAME = "initial()"
 
-_DER, _PRE, _REL = "der(", "pre(", "$rel"
+#: The name of the symbol ``terminal()`` becomes after flattening.
+TERMINAL_NAME = "terminal()"
 
-Kind = Literal["variable", "derivative", "pre", "relation", "initial"]
+_DER, _PRE, _REL, _SAMPLE = "der(", "pre(", "$rel", "$sample"
+
+Kind = Literal["variable", "derivative", "pre", "relation", "sample", "initial", "terminal"]
 
 
 @dataclass(frozen=True)
@@ -57,14 +67,14 @@ class Name:
     ----------
     text : str
         The name itself.
-    kind : {'variable', 'derivative', 'pre', 'relation', 'initial'}
+    kind : {'variable', 'derivative', 'pre', 'relation', 'sample', 'initial', 'terminal'}
     base : str
         The variable it is about: ``x`` for ``der(der(x))`` and ``pre(x)``;
         the name itself for a variable, a relation indicator and ``initial()``.
     order : int
         How often ``base`` is differentiated (0 unless a derivative).
     index : int
-        The relation's number for a relation indicator, else -1.
+        The number of a relation indicator or a sample clock, else -1.
     """
 
     text: str
@@ -86,8 +96,12 @@ def parse(name: str) -> Name:
     """What ``name`` denotes (see the table in the module docstring)."""
     if name == INITIAL_NAME:
         return Name(name, "initial", name)
+    if name == TERMINAL_NAME:
+        return Name(name, "terminal", name)
     if name.startswith(_REL) and name[len(_REL):].isdigit():
         return Name(name, "relation", name, index=int(name[len(_REL):]))
+    if name.startswith(_SAMPLE) and name[len(_SAMPLE):].isdigit():
+        return Name(name, "sample", name, index=int(name[len(_SAMPLE):]))
     if name.startswith(_PRE) and name.endswith(")"):
         return Name(name, "pre", name[len(_PRE):-1])
     base, order = name, 0
@@ -111,6 +125,11 @@ def pre_name(name: str) -> str:
 def relation_name(index: int) -> str:
     """The name of relation ``index``'s indicator: ``$rel3``."""
     return f"{_REL}{index}"
+
+
+def sample_name(index: int) -> str:
+    """The name of sample clock ``index``'s value: ``$sample2``."""
+    return f"{_SAMPLE}{index}"
 
 
 def base_name(name: str) -> str:

@@ -2,9 +2,30 @@
 
 from __future__ import annotations
 
-from acausal.language import Component, Parameter, RealInput, RealOutput
+from acausal.language import Boolean, Component, Integer, Parameter, RealInput, RealOutput
 
-__all__ = ["SO", "SignalSource", "SI2SO", "SISO"]
+__all__ = ["SO", "SignalSource", "SI2SO", "SISO", "BooleanInput", "BooleanOutput", "IntegerInput",
+           "IntegerOutput"]
+
+
+def BooleanInput(**kw) -> Boolean:  # noqa: N802 - Modelica's connector name
+    """A Boolean signal input (Modelica.Blocks.Interfaces.BooleanInput)."""
+    return Boolean(causality="input", **kw)
+
+
+def BooleanOutput(**kw) -> Boolean:  # noqa: N802
+    """A Boolean signal output (Modelica.Blocks.Interfaces.BooleanOutput)."""
+    return Boolean(causality="output", **kw)
+
+
+def IntegerInput(**kw) -> Integer:  # noqa: N802
+    """An Integer signal input (Modelica.Blocks.Interfaces.IntegerInput)."""
+    return Integer(causality="input", **kw)
+
+
+def IntegerOutput(**kw) -> Integer:  # noqa: N802
+    """An Integer signal output (Modelica.Blocks.Interfaces.IntegerOutput)."""
+    return Integer(causality="output", **kw)
 
 
 class SO(Component):

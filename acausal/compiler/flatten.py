@@ -13,6 +13,7 @@ symbols (:class:`_Template`, which states when that is exact).
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import functools
 import math
@@ -27,9 +28,11 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from sympy.core.function import UndefinedFunction
+from sympy.core.function import AppliedUndef, UndefinedFunction
 
-from ..names import INITIAL_NAME, der_name, parse, pre_name
+from ..names import INITIAL_NAME, TERMINAL_NAME, der_name, parse, pre_name
+from .. import hybrid
+from ..hybrid import EVENT_FUNCTIONS, NoEvent, Reinit, Terminate, When
 from ..errors import AcausalError, ConnectionError_, EquationError, ModelDefinitionError, ParameterError
 from ..language import (
     Boolean,
@@ -57,6 +60,10 @@ __all__ = [
     "FlatVariable",
     "FlatEquation",
     "DiscreteEquation",
+    "FlatReinit",
+    "FlatAssert",
+    "FlatTermination",
+    "HybridPart",
     "FlatModel",
     "flatten",
     "INITIAL",
@@ -64,6 +71,27 @@ __all__ = [
 
 #: The symbol ``initial()`` becomes after flattening.
 INITIAL = sp.Symbol(INITIAL_NAME)
+
+#: The symbol ``terminal()`` becomes after flattening.
+TERMINAL = sp.Symbol(TERMINAL_NAME)
+
+
+_ORDER_RELATIONS = (sp.StrictGreaterThan, sp.GreaterThan, sp.StrictLessThan, sp.LessThan)
+
+
+def _needs_rewrite(expr: sp.Basic) -> bool:
+    """Whether ``expr`` has a der/pre/initial/sample/terminal application, noEvent or an
+    event-generating function (one walk of the tree)."""
+    stack, seen = [expr], set()
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (AppliedUndef, NoEvent, *EVENT_FUNCTIONS, *_ORDER_RELATIONS)):
+            return True
+        for arg in node.args:
+            if id(arg) not in seen:
+                seen.add(id(arg))
+                stack.append(arg)
+    return False
 
 
 #: Expression types rebuilt without evaluation while der/pre/initial are expanded:
@@ -124,7 +152,13 @@ class FlatVariable:
 
     @property
     def is_discrete(self) -> bool:
+        """A Boolean or an Integer: its values select the continuous equations."""
         return self.kind in ("boolean", "integer")
+
+    @property
+    def is_held(self) -> bool:
+        """A discrete Real: a state with ``der(v) = 0`` whose value changes only at events."""
+        return self.kind == "discrete"
 
 
 @dataclass(frozen=True, slots=True)
@@ -145,6 +179,53 @@ class DiscreteEquation:
     variable: str
     rhs: sp.Basic
     origin: Origin
+
+
+@dataclass(frozen=True)
+class FlatReinit:
+    """``reinit(variable, value)``, done at the event where ``fires`` is true."""
+
+    variable: str
+    value: sp.Basic
+    fires: sp.Basic
+    origin: Origin
+
+
+@dataclass(frozen=True)
+class FlatAssert:
+    """``assert(condition, message, level)``; checked where ``fires`` is true (always: None)."""
+
+    condition: sp.Basic
+    message: str
+    level: str
+    origin: Origin
+    fires: sp.Basic | None = None
+
+
+@dataclass(frozen=True)
+class FlatTermination:
+    """``terminate(message)``, at the event where ``fires`` is true."""
+
+    message: str
+    fires: sp.Basic
+    origin: Origin
+
+
+@dataclass(frozen=True)
+class HybridPart:
+    """What a model's when-clauses and assertions ask the runtime to do at events.
+
+    The assignments of when-clauses are discrete equations of the flat model
+    (``v = if <fires> then expr else pre(v)``); what is here acts on the
+    run itself.
+    """
+
+    reinits: tuple[FlatReinit, ...] = ()
+    asserts: tuple[FlatAssert, ...] = ()
+    terminations: tuple[FlatTermination, ...] = ()
+
+    def __bool__(self) -> bool:
+        return bool(self.reinits or self.asserts or self.terminations)
 
 
 @dataclass(frozen=True)
@@ -179,6 +260,7 @@ class FlatModel:
     initial_equations: tuple[FlatEquation, ...]
     functions: dict = field(default_factory=dict)
     hints: dict = field(default_factory=dict)
+    hybrid: HybridPart = field(default_factory=HybridPart)
 
     def hints_for(self, situation: str, components) -> tuple[str, ...]:
         """The distinct hints the ``components`` (dotted paths) declare for ``situation``.
@@ -271,6 +353,15 @@ class _Flattener:
         self._built_values: dict[int, tuple] = {}
         self._connector_variables: dict[type, dict] = {}
         self._forms: dict[tuple, list] = {}  # connection equations: kind -> [_Program or None, verified]
+        # the hybrid part (when-clauses, event-generating functions, assertions)
+        self.reinits: list[FlatReinit] = []
+        self.asserts: list[FlatAssert] = []
+        self.terminations: list[FlatTermination] = []
+        self.when_assigned: dict[str, Origin] = {}
+        self.hidden_count = 0  #: hidden variables made so far (when-conditions, held values)
+        self.hybrid_count = 0  #: hybrid items met (a component with some is built without template)
+        self.origin: Origin | None = None  #: the equation being added
+        self._mirrors: dict[str, sp.Symbol] = {}  #: discrete name -> its discrete Real mirror
 
     # -- declarations ---------------------------------------------------------
 
@@ -288,6 +379,7 @@ class _Flattener:
         for name in self.unknown_parameters:
             origin = Origin(name.rpartition(".")[0], "", "binding", 0, f"der({name}) = 0")
             self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
+        self._hold_discrete_reals()
         model = self.model
         return FlatModel(
             name=type(model).__name__,
@@ -302,6 +394,7 @@ class _Flattener:
             discrete_equations=tuple(self.discrete_equations),
             initial_equations=tuple(self.initial_equations),
             hints={c.path: h for c in self.components if (h := component_hints(type(c)))},
+            hybrid=HybridPart(tuple(self.reinits), tuple(self.asserts), tuple(self.terminations)),
         )
 
     def _declarations(self, component: Component) -> dict:
@@ -488,13 +581,13 @@ class _Flattener:
         label = key if key is not None else path[len(component.path) + 1:]
 
         kind = "boolean" if isinstance(decl, Boolean) else "integer" if isinstance(decl, Integer) \
-            else "continuous"
+            else "discrete" if getattr(decl, "discrete", False) else "continuous"
         nominal = attr("nominal")
         start = given_start = attr("start")
-        if kind == "continuous":
+        if kind in ("continuous", "discrete"):
             start = self._number(start, f"{path}.start")
         _check_finite_attribute(path, "start", start, given_start, component, key)
-        if kind != "continuous":
+        if kind in ("boolean", "integer"):
             start = int(bool(start)) if kind == "boolean" else int(start)
         if nominal is not None:
             given_nominal, nominal = nominal, abs(self._number(nominal, f"{path}.nominal"))
@@ -502,7 +595,7 @@ class _Flattener:
         variable = FlatVariable(
             name=path, kind=kind, start=start, fixed=bool(attr("fixed")),
             nominal=nominal or 1.0,
-            state_select=StateSelect(attr("state_select") if kind == "continuous" else 2),
+            state_select=StateSelect(attr("state_select") if kind in ("continuous", "discrete") else 2),
             unit=decl.unit, component=component.path, causality=decl.causality,
             role=getattr(decl, "connector_role", ""))
         self.variables[path] = variable
@@ -546,7 +639,10 @@ class _Flattener:
             return
         # no template applies: call equations(), recording what it reads, and keep the result
         start = self._sizes()
+        hybrid_before = self.hybrid_count
         reads = self._call_equations_recorded(component)
+        if self.hybrid_count != hybrid_before:
+            reads = None  # hidden variables and when-clauses are made per instance
         template = _Template.make(self, component, start, reads, self._plans[type(component)][2])
         if template is None:
             self.templates[key] = None
@@ -690,6 +786,22 @@ class _Flattener:
                     self._add_equation(item, origin, target)
 
     def _add_equation(self, item: Any, origin: Origin, target: list) -> None:
+        self.origin = origin
+        if isinstance(item, (When, hybrid.Assert, Reinit, Terminate)):
+            self.hybrid_count += 1
+            if target is not self.equations:
+                raise EquationError(f"{origin}: {type(item).__name__} among the initial equations",
+                                    hint="when-clauses, reinit, assert and terminate belong in equations()")
+            if isinstance(item, When):
+                self._add_when(item, origin)
+            elif isinstance(item, hybrid.Assert):
+                self.asserts.append(FlatAssert(self._expand(sp.sympify(item.condition)), item.message,
+                                               item.level, origin))
+            else:
+                raise EquationError(f"{origin}: {type(item).__name__.lower()}() outside a when-clause",
+                                    hint=f"write When(condition, {type(item).__name__.lower()}(...)); "
+                                         f"it acts at the event where the condition becomes true")
+            return
         if isinstance(item, (bool, np.bool_)) or item in (sp.true, sp.false):
             raise EquationError(
                 f"equation {origin.index + 1} of {origin.declared_in} in {origin.component or 'the model'} "
@@ -727,11 +839,18 @@ class _Flattener:
                                      "model (a disabled conditional connector has no variables)")
 
     def _expand(self, expr: sp.Basic) -> sp.Basic:
-        """Replace der(), pre() and initial() by plain symbols (chain rule for der)."""
-        if not isinstance(expr, sp.Basic) or not expr.has(der, pre, initial):
+        """Replace der(), pre() and initial() by plain symbols (chain rule for der), and
+        the event-generating functions by values held between events."""
+        if not isinstance(expr, sp.Basic) or not _needs_rewrite(expr):
             return expr
 
         def rewrite(node: sp.Basic) -> sp.Basic:
+            if isinstance(node, NoEvent):
+                return NoEvent(rewrite(hybrid.plain_form(node.args[0])))
+            if isinstance(node, EVENT_FUNCTIONS):
+                return self._held_event_function(node.func, [rewrite(a) for a in node.args])
+            if isinstance(node, sp.Function) and node.func.__name__ == "terminal" and not node.args:
+                return TERMINAL
             if isinstance(node, sp.Function) and node.func == pre:
                 (arg,) = node.args
                 arg = rewrite(arg)
@@ -746,6 +865,8 @@ class _Flattener:
             if not node.args:
                 return node
             new_args = [rewrite(a) for a in node.args]
+            if isinstance(node, _ORDER_RELATIONS):
+                return self._mirror_discrete(node, new_args)
             if all(a is b for a, b in zip(new_args, node.args)):
                 return node
             if isinstance(node, _UNEVALUATED):
@@ -753,6 +874,191 @@ class _Flattener:
             return node.func(*new_args)
 
         return rewrite(expr)
+
+    def _mirror_discrete(self, node: sp.Basic, args: list) -> sp.Basic:
+        """A relation between continuous and discrete values, with each discrete value
+        (``pre(n)``, an Integer) replaced by a discrete Real that mirrors it.
+
+        The relation's crossing function is computed by the continuous system,
+        which knows no Integers or Booleans (they select its equations); a
+        mirror is one of its states, set at events to the value mirrored.
+        """
+        relation = node if all(a is b for a, b in zip(args, node.args)) else node.func(*args)
+        symbols = relation.free_symbols
+        discrete, continuous = [], False
+        for sym in symbols:
+            what = parse(sym.name)
+            base = self.variables.get(what.base if what.kind in ("pre", "variable") else "")
+            if base is not None and base.is_discrete:
+                discrete.append(sym)
+            elif sym is time or what.kind == "derivative" or (
+                    base is not None and not base.is_discrete and what.kind == "variable"):
+                continuous = True
+        if not (discrete and continuous):
+            return relation
+        self.hybrid_count += 1
+        mirrors = {}
+        for sym in sorted(discrete, key=lambda s: s.name):
+            mirror = self._mirrors.get(sym.name)
+            if mirror is None:
+                component = self.origin.component if self.origin is not None else ""
+                mirror = self._mirrors[sym.name] = self._hidden_variable("mirror", "discrete", component)
+                origin = Origin(component, "", "mirror", 0, f"{mirror.name} = {sym.name}")
+                self.discrete_equations.append(DiscreteEquation(mirror.name, sym, origin))
+            mirrors[sym] = mirror
+        return relation.xreplace(mirrors)
+
+    # -- the hybrid part ----------------------------------------------------------
+
+    def _hidden_variable(self, stem: str, kind: str, component: str) -> sp.Symbol:
+        """A variable the engine introduces (a when-condition, a held value), named
+        ``<component>.$<stem><n>`` so that messages name its component."""
+        name = f"{component + '.' if component else ''}${stem}{self.hidden_count}"
+        self.hidden_count += 1
+        self.variables[name] = FlatVariable(
+            name=name, kind=kind, start=0, fixed=False, nominal=1.0,
+            state_select=StateSelect.prefer if kind == "discrete" else StateSelect(2), unit="",
+            component=component)
+        return real_symbol(name) if kind == "discrete" else sp.Symbol(name)
+
+    def _add_when(self, when: When, origin: Origin) -> None:
+        """A when-clause: each assigned variable becomes the discrete equation
+        ``v = if fires_1 then e_1 elseif fires_2 then e_2 ... else pre(v)``.
+
+        A condition ``c`` gets a hidden Boolean ``$when`` (= c); its element fires
+        where it becomes true after initialization: ``$when and not pre($when) and
+        not initial()``.  ``initial()`` itself fires during initialization.
+        """
+        component = origin.component
+        assignments: dict[str, list] = {}
+        branch_fires = []
+        for conditions, items in when.branches:
+            parts = []
+            for condition in conditions:
+                condition = self._expand(sp.sympify(condition))
+                if condition == INITIAL:
+                    parts.append(INITIAL)
+                    continue
+                hidden = self._hidden_variable("when", "boolean", component)
+                self.discrete_equations.append(DiscreteEquation(hidden.name, condition, origin))
+                parts.append(sp.And(hidden, sp.Not(sp.Symbol(pre_name(hidden.name))), sp.Not(INITIAL)))
+            fires = sp.Or(*parts)
+            branch_fires.append(fires)
+            reinitialized: set[str] = set()
+            for item in items:
+                if isinstance(item, sp.Equality):
+                    target = item.lhs
+                    if not isinstance(target, sp.Symbol) or target.name not in self.variables:
+                        raise EquationError(
+                            f"{origin}: the when-equation {item} does not assign a variable",
+                            hint="inside a when-clause write Eq(v, expression) with a declared "
+                                 "variable v on the left")
+                    assignments.setdefault(target.name, []).append((self._expand(item.rhs), fires))
+                elif isinstance(item, Reinit):
+                    name = item.variable.name
+                    if name not in self.variables or self.variables[name].kind != "continuous":
+                        raise EquationError(
+                            f"{origin}: reinit({name}) is not of a continuous variable",
+                            hint="reinit applies to continuous states (variables that appear "
+                                 "differentiated, der(x))", components=(component,))
+                    if name in reinitialized:
+                        raise EquationError(f"{origin}: {name} is reinitialized twice in one branch",
+                                            hint="one reinit per state and when-clause",
+                                            components=(component,))
+                    reinitialized.add(name)
+                    self.reinits.append(FlatReinit(name, self._expand(item.value), fires, origin))
+                elif isinstance(item, Terminate):
+                    self.terminations.append(FlatTermination(item.message, fires, origin))
+                elif isinstance(item, hybrid.Assert):
+                    # checked where the clause fires: "not fires or condition"
+                    self.asserts.append(FlatAssert(
+                        sp.Or(sp.Not(fires), self._expand(sp.sympify(item.condition))), item.message,
+                        item.level, origin, fires))
+                else:
+                    raise EquationError(
+                        f"{origin}: {item!r} cannot stand in a when-clause",
+                        hint="a when-clause holds Eq(v, expression), reinit(x, value), "
+                             "terminate(message) and Assert(...)")
+        for name, pieces in assignments.items():
+            earlier = self.when_assigned.get(name)
+            if earlier is not None:
+                raise ModelDefinitionError(
+                    f"{name} is assigned in two when-clauses: {earlier} and {origin}",
+                    hint="Modelica's single-assignment rule: a variable is assigned in one "
+                         "when-clause; put both conditions in one clause (a list of conditions, "
+                         "or elsewhen)", components=(component,))
+            self.when_assigned[name] = origin
+            variable = self.variables[name]
+            if variable.kind == "continuous":
+                # a Real assigned in a when-clause is a discrete Real (Modelica 3.8)
+                self.variables[name] = dataclasses.replace(variable, kind="discrete")
+            symbol = (real_symbol(name) if variable.kind in ("continuous", "discrete") else
+                      sp.Symbol(name, integer=True) if variable.kind == "integer" else sp.Symbol(name))
+            keep = sp.Symbol(pre_name(name), **symbol.assumptions0)
+            self.discrete_equations.append(DiscreteEquation(
+                name, sp.Piecewise(*pieces, (keep, True), evaluate=False), origin))
+
+    def _held_event_function(self, func: type, args: list) -> sp.Basic:
+        """An event-generating function of continuous arguments, as values held between
+        events (``floor`` is the one primitive; see :func:`_held_floor`)."""
+        if func in (hybrid.floor, hybrid.integer):
+            return self._held_floor(args[0])
+        if func is hybrid.ceil:
+            return -self._held_floor(-args[0])
+        x, y = args
+        quotient = x / y
+        if func is hybrid.mod:
+            return x - self._held_floor(quotient) * y
+        # truncation toward zero: floor of |q| with the sign of q; at q = 0 both are 0
+        truncated = NoEvent(sp.Piecewise((self._held_floor(quotient), quotient >= 0),
+                                         (-self._held_floor(-quotient), True)))
+        return truncated if func is hybrid.div else x - truncated * y
+
+    def _held_floor(self, q: sp.Basic) -> sp.Basic:
+        """``floor(q)`` held between events, with the two relations that end it.
+
+        The hidden discrete Real ``h`` is ``floor(q)`` at initialization; at an
+        event where ``q >= h + 1`` it steps up, where ``q < h`` it steps down, and
+        otherwise it keeps its value.  (Reading the relations, not floor(q) alone,
+        keeps a q one ulp short of the integer it just crossed from stepping back.)
+        """
+        if not q.has(time) and all(s.name in self.parameters for s in q.free_symbols):
+            return sp.floor(q)  # of parameters only: a constant
+        component = self.origin.component if self.origin is not None else ""
+        held = self._hidden_variable("floor", "discrete", component)
+        origin = self.origin or Origin(component, "", "floor", 0, f"floor({q})")
+        self.discrete_equations.append(DiscreteEquation(held.name, sp.Piecewise(
+            (sp.floor(q), INITIAL),
+            (sp.Max(sp.floor(q), held + 1), q >= held + 1),
+            (sp.Min(sp.floor(q), held - 1), q < held),
+            (held, True), evaluate=False), origin))
+        return held
+
+    def _hold_discrete_reals(self) -> None:
+        """``der(v) = 0`` for every discrete Real: the integrator carries its value
+        between events, and the event iteration sets it."""
+        assigned = {eq.variable for eq in self.discrete_equations}
+        for name, variable in list(self.variables.items()):
+            if variable.kind != "discrete":
+                continue
+            if name not in assigned:
+                raise ModelDefinitionError(
+                    f"discrete Real {name} is never assigned",
+                    hint="assign it in a when-clause: When(condition, Eq(v, expression))",
+                    components=(variable.component,))
+            self.variables[name] = dataclasses.replace(variable, fixed=True)
+            origin = Origin(variable.component, "", "discrete", 0, f"der({name}) = 0 (held between events)")
+            self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
+        # reinit only of states: of variables that appear differentiated
+        differentiated = {parse(s.name).base for eq in self.equations for s in eq.residual.free_symbols
+                          if parse(s.name).kind == "derivative"} if self.reinits else set()
+        for item in self.reinits:
+            if item.variable not in differentiated:
+                raise EquationError(
+                    f"{item.origin}: reinit({item.variable}): {item.variable} is not a state "
+                    f"(der({item.variable}) appears in no equation)",
+                    hint="reinit applies to continuous states only; reinitialize the state this "
+                         "variable is computed from", components=(item.origin.component,))
 
     def _time_derivative(self, expr: sp.Basic) -> sp.Basic:
         result = sp.diff(expr, time) if expr.has(time) else sp.Integer(0)
@@ -902,6 +1208,18 @@ class _Flattener:
             for name, decl in ((a, da), (b, db)):
                 if decl.causality == "input":
                     connected_inputs.add(name)
+            va, vb = self.variables[a], self.variables[b]
+            if va.is_discrete or vb.is_discrete:
+                # Boolean and Integer signals: the input is the output's value
+                if va.kind != vb.kind:
+                    raise ConnectionError_(f"{statement}: a {va.kind} signal cannot be connected to a "
+                                           f"{vb.kind} one", hint="convert it with a block (e.g. "
+                                                                  "BooleanToReal) first")
+                target, source = (b, a) if db.causality == "input" or da.causality == "output" else (a, b)
+                value = sp.Symbol(source, integer=True) if va.kind == "integer" else sp.Symbol(source)
+                self.discrete_equations.append(DiscreteEquation(
+                    target, value, Origin("", type(self.model).__name__, "connect", 0, f"{target} = {source}")))
+                continue
             self.equations.append(FlatEquation(
                 real_symbol(b) - real_symbol(a),
                 Origin("", type(self.model).__name__, "connect", 0, f"{b} = {a}")))

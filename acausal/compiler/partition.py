@@ -28,10 +28,11 @@ from sympy.printing.str import StrPrinter
 
 from ..errors import ModelDefinitionError
 from .flatten import DiscreteEquation, FlatEquation, FlatModel, _NotTemplatable, _Program, _Source
-from ..language import time
-from ..names import is_derivative, parse, relation_name
+from ..language import real_symbol, time
+from ..hybrid import NoEvent
+from ..names import TERMINAL_NAME, is_derivative, parse, pre_name, relation_name, sample_name
 
-__all__ = ["Relation", "PartitionedModel", "partition"]
+__all__ = ["Relation", "Clock", "PartitionedModel", "partition"]
 
 #: Whether partition treats the equations flattening built from one template
 #: (:class:`~acausal.compiler.flatten._Template`) alike (:class:`_RelationTemplate`).
@@ -97,6 +98,21 @@ class Relation:
 
 
 @dataclass(frozen=True)
+class Clock:
+    """``sample(start, interval)``: true at ``start + i*interval`` (i = 0, 1, ...).
+
+    Its ticks are time events computed from the parameter values when a run
+    starts (:func:`acausal.runtime.crossings.clock_ticks`).
+    """
+
+    index: int
+    symbol: sp.Symbol
+    start: sp.Expr
+    interval: sp.Expr
+    text: str
+
+
+@dataclass(frozen=True)
 class PartitionedModel:
     """The output of :func:`partition`.
 
@@ -113,9 +129,15 @@ class PartitionedModel:
         The discrete symbols the continuous equations depend on, sorted by
         name: the discrete state is their values in this order.
     discrete_variables : tuple of str
+        The Booleans and Integers.
     evaluated_parameters : frozenset of str
         Parameters of relations decided here, from the parameter values alone
         (``p > 0``): their values select equations, so they are structural.
+    clocks : tuple of Clock
+        The ``sample()`` clocks, numbered in the order met.
+    held_variables : tuple of str
+        The discrete Reals: states of the
+        continuous systems whose values only event iteration changes.
     """
 
     flat: FlatModel
@@ -126,6 +148,8 @@ class PartitionedModel:
     selectors: tuple[sp.Symbol, ...]
     discrete_variables: tuple[str, ...]
     evaluated_parameters: frozenset[str] = frozenset()
+    clocks: tuple[Clock, ...] = ()
+    held_variables: tuple[str, ...] = ()
 
     @property
     def is_hybrid(self) -> bool:
@@ -135,12 +159,17 @@ class PartitionedModel:
 _OPERATORS = {sp.StrictGreaterThan: ">", sp.GreaterThan: ">=", sp.StrictLessThan: "<", sp.LessThan: "<="}
 
 
+def _is_sample(node: sp.Basic) -> bool:
+    return isinstance(node, sp.Function) and node.func.__name__ == "sample" and len(node.args) == 2
+
+
 def _has_relation(expr: sp.Basic) -> bool:
-    """``expr.has(*_RELATIONS)`` in one walk of the tree (``has`` walks it once per class)."""
+    """Whether ``expr`` has a relation, a noEvent or a sample(), in one walk of the tree
+    (``has`` walks it once per class)."""
     stack, seen = [expr], set()
     while stack:
         node = stack.pop()
-        if isinstance(node, _RELATIONS):
+        if isinstance(node, _RELATIONS) or isinstance(node, NoEvent) or _is_sample(node):
             return True
         for arg in node.args:
             if id(arg) not in seen:
@@ -158,10 +187,12 @@ class _RelationFinder:
         self.relations: dict[tuple, Relation] = {}
         self.owners: dict[tuple, dict[str, None]] = {}
         self.evaluated: set[str] = set()
+        self.clocks: dict[tuple, Clock] = {}
 
     def copy(self) -> "_RelationFinder":
         other = object.__new__(_RelationFinder)
         other.parameters, other.continuous = self.parameters, self.continuous
+        other.clocks = self.clocks  # shared: templates never meet sample()
         other.relations = dict(self.relations)
         other.owners = {key: dict(found) for key, found in self.owners.items()}
         other.evaluated = set(self.evaluated)
@@ -199,6 +230,21 @@ class _RelationFinder:
                                                    text, is_time)
         return found.symbol
 
+    def clock(self, start: sp.Expr, interval: sp.Expr) -> sp.Symbol:
+        """The symbol of the clock ``sample(start, interval)`` (one per distinct pair)."""
+        for what, value in (("start", start), ("interval", interval)):
+            if value.has(time) or any(s.name not in self.parameters for s in value.free_symbols):
+                raise ModelDefinitionError(
+                    f"sample({start}, {interval}): its {what} is not a parameter expression",
+                    hint="sample(start, interval) takes numbers or parameters")
+        key = (sp.srepr(start), sp.srepr(interval))
+        found = self.clocks.get(key)
+        if found is None:
+            index = len(self.clocks)
+            found = self.clocks[key] = Clock(index, sp.Symbol(sample_name(index)), start, interval,
+                                             f"sample({start}, {interval})")
+        return found.symbol
+
     def replace(self, expr: sp.Basic, origin, events: list | None = None) -> sp.Basic:
         """``expr`` with its relations replaced; ``events`` (if given) receives, in order,
         ``("relation", node, g, lhs, rhs, op, indicator)`` for each relation watched and
@@ -208,6 +254,10 @@ class _RelationFinder:
         parameters = self.parameters
 
         def visit(node: sp.Basic) -> sp.Basic:
+            if isinstance(node, NoEvent):
+                return node.args[0]  # its relations are evaluated as they stand, without events
+            if _is_sample(node):
+                return self.clock(*node.args)
             if isinstance(node, _RELATIONS):
                 lhs, rhs = visit(node.lhs), visit(node.rhs)
                 g = lhs - rhs
@@ -481,6 +531,12 @@ def partition(flat: FlatModel, *, templates: bool | None = None) -> PartitionedM
     relations = {key: dataclasses.replace(rel, components=tuple(c for c in owners[key] if c))
                  for key, rel in relations.items()}
 
+    held = tuple(n for n, v in variables.items() if v.is_held)
+    if held:
+        # during integration pre(v) = v; at the end of event iteration too
+        to_held = {sp.Symbol(pre_name(n), real=True): real_symbol(n) for n in held}
+        equations = tuple(FlatEquation(eq.residual.xreplace(to_held), eq.origin)
+                          if eq.residual.free_symbols & to_held.keys() else eq for eq in equations)
     discrete_names = tuple(n for n, v in variables.items() if v.is_discrete)
     defined = {}
     for eq in discrete:
@@ -489,7 +545,7 @@ def partition(flat: FlatModel, *, templates: bool | None = None) -> PartitionedM
                 f"discrete variable {eq.variable} is defined twice: {defined[eq.variable].origin} "
                 f"and {eq.origin}", hint="a Boolean or Integer needs exactly one equation")
         defined[eq.variable] = eq
-    for name in discrete_names:
+    for name in discrete_names + held:
         if name not in defined:
             raise ModelDefinitionError(f"discrete variable {name} has no equation",
                                        hint="define it with Eq(variable, expression)")
@@ -520,6 +576,12 @@ def partition(flat: FlatModel, *, templates: bool | None = None) -> PartitionedM
             if name.kind in ("relation", "initial") or name.text in is_discrete or (
                     name.kind == "pre" and name.base in is_discrete):
                 selector_set.add(sym)
+            elif name.kind in ("sample", "terminal"):
+                raise ModelDefinitionError(
+                    f"{eq.origin}: {'sample()' if name.kind == 'sample' else 'terminal()'} in a "
+                    f"continuous equation", hint="use it in a when-condition, When(sample(0, 0.1), ...), "
+                                                 "or give it a Boolean variable of its own")
     selectors = tuple(sorted(selector_set, key=lambda s: s.name))
     return PartitionedModel(flat, equations, initial_equations, discrete,
-                            tuple(relations.values()), selectors, discrete_names, frozenset(evaluated))
+                            tuple(relations.values()), selectors, discrete_names, frozenset(evaluated),
+                            tuple(finder.clocks.values()), held)

@@ -83,6 +83,57 @@ def next_time_event(t: float, roots, relations: Sequence, values) -> float:
     return best
 
 
+def clock_ticks(clocks: Sequence, parameter_symbols: Mapping) -> tuple[tuple[float, float], ...]:
+    """``(start, interval)`` of every sample clock, as numbers.
+
+    Raises
+    ------
+    ValueError
+        For an interval that is not a positive finite number.
+    """
+    out = []
+    for clock in clocks:
+        start = float(sp.sympify(clock.start).xreplace(parameter_symbols))
+        interval = float(sp.sympify(clock.interval).xreplace(parameter_symbols))
+        if not (math.isfinite(start) and math.isfinite(interval) and interval > 0):
+            raise ValueError(f"{clock.text}: the interval must be a positive number and the start "
+                             f"finite (start = {start}, interval = {interval})")
+        out.append((start, interval))
+    return tuple(out)
+
+
+def tick_at_or_after(t: float, start: float, interval: float, strictly: bool) -> float:
+    """The first tick ``start + i*interval`` (i = 0, 1, ...) at or after ``t`` (after, if
+    ``strictly``).  Each tick is computed from its number, never by adding up
+    intervals, so the ticks stay exact to round-off over any number of periods."""
+    if t < start or (t == start and not strictly):
+        return start
+    i = math.floor((t - start) / interval)
+    while start + i * interval < t or (strictly and start + i * interval == t):
+        i += 1
+    while i > 0 and (start + (i - 1) * interval > t or (not strictly and start + (i - 1) * interval == t)):
+        i -= 1
+    return start + i * interval
+
+
+def next_tick(t: float, ticks: Sequence[tuple[float, float]]) -> tuple[float, frozenset]:
+    """The first clock tick after ``t`` and the clocks that tick then (``inf`` if none)."""
+    best, which = math.inf, []
+    for k, (start, interval) in enumerate(ticks):
+        at = tick_at_or_after(t, start, interval, strictly=True)
+        if at < best:
+            best, which = at, [k]
+        elif at == best:
+            which.append(k)
+    return best, frozenset(which)
+
+
+def ticking_at(t: float, ticks: Sequence[tuple[float, float]]) -> frozenset:
+    """The clocks with a tick exactly at ``t``."""
+    return frozenset(k for k, (start, interval) in enumerate(ticks)
+                     if tick_at_or_after(t, start, interval, strictly=False) == t)
+
+
 def sample_times(t_old: float, t_new: float, interval: float, grid: np.ndarray) -> np.ndarray:
     """Where to look for a flipped relation inside the step ``(t_old, t_new]``.
 

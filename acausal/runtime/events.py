@@ -28,7 +28,7 @@ import numpy as np
 
 from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
-from ..names import INITIAL_NAME, is_relation, parse, pre_name, relation_name
+from ..names import INITIAL_NAME, TERMINAL_NAME, is_relation, parse, pre_name, relation_name, sample_name
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import vectorised_function
 
@@ -85,6 +85,19 @@ class EventOutcome:
     values: dict
     iterations: int
     changes: tuple
+    #: the states reinitialized: ``(state, value before, value after)``
+    reinits: tuple = ()
+    #: the messages of the terminate() calls that fired (the run ends)
+    terminated: tuple[str, ...] = ()
+
+
+def _cast(kind: str, value):
+    """A discrete equation's value as its variable's type."""
+    if kind == "boolean":
+        return bool(value)
+    if kind == "integer":
+        return int(value)
+    return float(value)
 
 
 class DiscreteEvaluator:
@@ -98,13 +111,15 @@ class DiscreteEvaluator:
         self.epsilon = relation_epsilon
         self.max_iterations = max_iterations
         variables = translation.flat.variable_map
-        self.kinds = {n: variables[n].kind for n in self.partitioned.discrete_variables}
+        self.held = self.partitioned.held_variables
+        self.kinds = {n: variables[n].kind for n in (*self.partitioned.discrete_variables, *self.held)}
         equations = self.partitioned.discrete_equations
         arguments = [sorted(s.name for s in eq.rhs.free_symbols) for eq in equations]
         functions = compile_functions(arguments, [eq.rhs for eq in equations],
                                       f"the discrete equations of {translation.flat.name}")
         self.equations = [(eq.variable, args, fn, eq.origin)
                           for eq, args, fn in zip(equations, arguments, functions)]
+        self._setup_hybrid(translation, arguments)
         #: the equations reading each name, in evaluation order
         self._readers: dict[str, list[int]] = {}
         for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
@@ -144,6 +159,116 @@ class DiscreteEvaluator:
                     self._checks_reading.setdefault(name, set()).add(k)
         self._last_relevance: tuple | None = None
         self._kind_arrays: tuple | None = None
+        self._relations_now: tuple | None = None
+
+    def _setup_hybrid(self, translation: Translation, arguments) -> None:
+        """What the discrete equations read besides discrete values and relations
+        (continuous values, their left limits, sample clocks, terminal()), and the
+        reinits, terminations and assertions, compiled."""
+        hybrid = translation.flat.hybrid
+        self.clocks = self.partitioned.clocks
+        own = {*self.kinds, INITIAL_NAME, TERMINAL_NAME}
+        parameters = translation.cache.parameters.values
+        #: the parameters the discrete equations, reinits and assertions read
+        self._constants: dict[str, float] = {}
+
+        def continuous_reads(names) -> set[str]:
+            out = set()
+            for a in names:
+                what = parse(a)
+                if a in parameters:
+                    self._constants[a] = parameters[a]
+                    continue
+                if a in own or what.kind in ("relation", "sample") or (
+                        what.kind == "pre" and what.base in self.kinds):
+                    continue
+                out.add(a)
+            return out
+
+        self._continuous_args = set().union(*map(continuous_reads, arguments)) if arguments else set()
+        context = f"the when-clauses of {translation.flat.name}"
+        reinits = hybrid.reinits
+        fns = compile_functions([sorted(s.name for s in r.fires.free_symbols) for r in reinits]
+                                + [sorted(s.name for s in r.value.free_symbols) for r in reinits],
+                                [r.fires for r in reinits] + [r.value for r in reinits], context)
+        self.reinits = [(r, sorted(s.name for s in r.fires.free_symbols), fns[i],
+                         sorted(s.name for s in r.value.free_symbols), fns[len(reinits) + i])
+                        for i, r in enumerate(reinits)]
+        terminations = hybrid.terminations
+        fns = compile_functions([sorted(s.name for s in r.fires.free_symbols) for r in terminations],
+                                [r.fires for r in terminations], context)
+        self.terminations = [(r, sorted(s.name for s in r.fires.free_symbols), fn)
+                             for r, fn in zip(terminations, fns)]
+        asserts = hybrid.asserts
+        conditions = [a.condition for a in asserts]
+        fns = compile_functions([sorted(s.name for s in c.free_symbols) for c in conditions], conditions,
+                                f"the assertions of {translation.flat.name}")
+        self.asserts = [(a, sorted(s.name for s in c.free_symbols), fn)
+                        for a, c, fn in zip(asserts, conditions, fns)]
+        for _r, fire_args, _f, value_args, _v in self.reinits:
+            self._continuous_args |= continuous_reads(fire_args) | continuous_reads(value_args)
+        for _r, fire_args, _f in self.terminations:
+            self._continuous_args |= continuous_reads(fire_args)
+        self._assert_continuous = set()
+        for _a, args, _f in self.asserts:
+            self._assert_continuous |= continuous_reads(args)
+        #: values the environment of a pass adds (clocks, terminal(), continuous values)
+        self._extra: dict = {}
+        self._hybrid = bool(self._continuous_args or self.clocks or self.held or self.reinits
+                            or self.terminations or self._constants or self.asserts)
+
+    def _continuous_env(self, system: ModeSystem, t: float, x, left: Mapping) -> dict:
+        """The continuous values the discrete equations read at ``(t, x)``, and the left
+        limits (``pre(u)`` of a continuous ``u``)."""
+        if not self._continuous_args:
+            return {}
+        values = mode_values(system, t, x)
+        env = {}
+        for name in self._continuous_args:
+            what = parse(name)
+            if what.kind == "pre":
+                env[name] = left.get(what.base, values.get(what.base, float("nan")))
+            elif name == "time":
+                env[name] = t
+            else:
+                env[name] = values.get(name, float("nan"))
+        return env
+
+    def prepare(self, system: ModeSystem | None, t: float, x) -> None:
+        """Set the continuous values the discrete equations read (outside event iteration:
+        during initialization, where ``pre(u)`` of a continuous ``u`` is ``u``); None clears."""
+        self._extra = {clock.symbol.name: False for clock in self.clocks} if self._hybrid else {}
+        if system is not None and self._continuous_args:
+            values = mode_values(system, t, x)
+            self._extra.update(self._continuous_env(system, t, x, values))
+
+    def _states(self, system: ModeSystem, values: Mapping, discrete: Mapping) -> list:
+        """The state vector of ``system``: held values from ``discrete``, the rest from ``values``."""
+        return [discrete[s] if s in self.kinds else values[s] for s in system.states]
+
+    def check_asserts(self, t: float, system: ModeSystem, x, discrete: Mapping, pre: Mapping,
+                      initial: bool = False) -> list:
+        """The assertions violated at ``(t, x)``: ``[(FlatAssert, message)]``."""
+        if not self.asserts:
+            return []
+        env = self._environment(self._relations_now or (), initial, pre)
+        env.update(discrete)
+        if self._assert_continuous:
+            values = mode_values(system, t, x)
+            for name in self._assert_continuous:
+                what = parse(name)
+                env[name] = t if name == "time" else values.get(what.base if what.kind == "pre" else name,
+                                                                float("nan"))
+        out = []
+        for item, args, fn in self.asserts:
+            try:
+                holds = fn(*[env[a] for a in args])
+            except KeyError:
+                continue
+            if not holds:
+                out.append((item, f"assertion {'failed' if item.level == 'error' else 'warning'} at "
+                                  f"t = {t:.12g}: {item.message} ({item.origin})"))
+        return out
 
     def _downstream_equations(self) -> dict[int, list[int]]:
         """For each relation, the discrete equations (in order) its value can reach."""
@@ -197,7 +322,9 @@ class DiscreteEvaluator:
         # Relation.holds and holds_with_hysteresis, inlined (see flipped_relations)
         for k, (d, strict, timed) in enumerate(self._kinds):
             lhs, rhs = raw[2 * k], raw[2 * k + 1]
-            if exact or timed or k in fired:
+            # an argument exactly at its limit takes the relation's own value (u <= 0 for
+            # u = 0 is true): the margin only keeps round-off from flipping a relation
+            if exact or timed or k in fired or lhs == rhs:
                 v = d * (lhs - rhs)
             else:
                 v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(1.0, abs(lhs), abs(rhs))))
@@ -222,7 +349,7 @@ class DiscreteEvaluator:
             else:
                 margin = np.maximum(np.maximum(np.abs(lhs), np.abs(rhs)), 1.0) * self.epsilon
                 toward = np.where(np.asarray(previous, dtype=bool), d, -d)
-                plain = timed.copy()
+                plain = timed | (g == 0)
                 if fired:
                     plain[list(fired)] = True
                 v = d * np.where(plain, g, g + toward * margin)
@@ -436,8 +563,7 @@ class DiscreteEvaluator:
         env.update(current)
         start = dict(env) if not relation_free else None
         for variable, args, fn, origin in (self._relation_free if relation_free else self.equations):
-            value = fn(*[env[a] for a in args])
-            value = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            value = _cast(self.kinds[variable], fn(*[env[a] for a in args]))
             current[variable] = env[variable] = value
         if not relation_free:
             self._last = (dict(pre), initial, tuple(relations), start, dict(current))
@@ -458,8 +584,8 @@ class DiscreteEvaluator:
         parts concerned.
         """
         last = self._last
-        if last is None or last[1] != initial or not INCREMENTAL:
-            return None
+        if last is None or last[1] != initial or not INCREMENTAL or self._hybrid:
+            return None  # (continuous values and clocks are not tracked: evaluate all)
         last_pre, _, before, old_start, old_result = last
         if len(before) != len(relations) or len(old_result) != len(discrete):
             return None
@@ -494,8 +620,7 @@ class DiscreteEvaluator:
                 continue
             done.add(i)
             variable, args, fn, origin = self.equations[i]
-            value = fn(*[current[a] if late else start[a] for a, late in sources[i]])
-            value = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            value = _cast(self.kinds[variable], fn(*[current[a] if late else start[a] for a, late in sources[i]]))
             if value != current[variable]:
                 current[variable] = value
                 for j in readers.get(variable, ()):
@@ -511,6 +636,12 @@ class DiscreteEvaluator:
         pre_key = self._pre_key
         for name, value in pre.items():
             env[pre_key(name)] = value
+        if self._hybrid:
+            env[TERMINAL_NAME] = False
+            for clock in self.clocks:
+                env[clock.symbol.name] = False
+            env.update(self._constants)
+            env.update(self._extra)
         return env
 
     def _pre_key(self, name: str) -> str:
@@ -529,11 +660,12 @@ class DiscreteEvaluator:
         always watched.  At the next event all relations are re-evaluated.
         """
         selector_names = self._selector_set
+        always = self._always_watched()
         checked = self._relevance_again(discrete, relations)
         if checked is None:
-            checked = {}
+            checked = {k: True for k in always}
             again = [k for k, rel in enumerate(self.relations)
-                     if not rel.is_time_event and rel.symbol.name not in selector_names]
+                     if not rel.is_time_event and rel.symbol.name not in selector_names and k not in always]
         else:
             again = checked.pop(None)
         if again:
@@ -551,12 +683,27 @@ class DiscreteEvaluator:
                 out.append(k)
         return tuple(out)
 
+    def _always_watched(self) -> frozenset:
+        """Relations whose flip reaches a discrete equation that reads continuous values
+        or clocks: whether the flip changes something cannot be tried out, so they are
+        always watched."""
+        found = getattr(self, "_always", None)
+        if found is None:
+            reads_more = set()
+            for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
+                if any(a in self._continuous_args or parse(a).kind in ("sample", "terminal") for a in args):
+                    reads_more.add(i)
+            found = self._always = frozenset(k for k in range(len(self.relations))
+                                             if reads_more.intersection(self._downstream[k]))
+        return found
+
     def _relevance_again(self, discrete: Mapping, relations) -> dict | None:
         """The last answers of :meth:`_flip_changes`, and under the key None the relations
         to check again: those whose check reads a discrete value or a relation that
         changed since (None: check all)."""
         last = self._last_relevance
-        if last is None or not INCREMENTAL or len(last[1]) != len(relations) or len(last[0]) != len(discrete):
+        if last is None or not INCREMENTAL or self._hybrid or len(last[1]) != len(relations) \
+                or len(last[0]) != len(discrete):
             return None
         old_discrete, old_relations, answers = last
         names = [self._relation_names[k] for k, (a, b) in enumerate(zip(relations, old_relations)) if a != b]
@@ -582,8 +729,7 @@ class DiscreteEvaluator:
         flipped = relation_name(k)
         for i in self._downstream[k]:
             variable, args, fn, _origin = self.equations[i]
-            value = fn(*[(not relations[k]) if a == flipped else env[a] for a in args])
-            value = bool(value) if self.kinds[variable] == "boolean" else int(value)
+            value = _cast(self.kinds[variable], fn(*[(not relations[k]) if a == flipped else env[a] for a in args]))
             if value != discrete[variable]:
                 return True
         return False
@@ -591,32 +737,97 @@ class DiscreteEvaluator:
     # -- event iteration ------------------------------------------------------------
 
     def iterate(self, t: float, values: Mapping[str, float], pre: Mapping, relations_before,
-                initial: bool = False, fired: frozenset = frozenset()) -> EventOutcome:
+                initial: bool = False, fired: frozenset = frozenset(), ticks: frozenset = frozenset(),
+                terminal: bool = False) -> EventOutcome:
         """Modelica event iteration at time ``t``.
 
         Parameters
         ----------
         values : mapping
-            Continuous values (states at least) at the event.
+            Continuous values (states at least) at the event: the left limits.
         pre : mapping
-            Discrete values before the event.
+            Discrete values before the event (discrete Reals included).
         relations_before : sequence of bool
             Relation values before the event (the hysteresis reference).
         fired : frozenset of int
             Indices of the relations whose crossing caused the event.
+        ticks : frozenset of int
+            The sample clocks that tick at ``t``: their ``sample()`` is true in
+            this iteration, and false in the one that follows it at the same
+            instant (as during integration).
+        terminal : bool
+            Whether ``terminal()`` is true (the iteration at the end of a run).
+
+        After the fixed point, the reinits whose when-clause fired set their
+        states, and the iteration is repeated from there (and once more
+        without the clocks' ticks): the states' new values may change
+        relations, and ``sample()`` is false again after its instant.
         """
+        left = dict(values)
+        first_pre = dict(pre)
+        passes = 0
+        all_reinits: list = []
+        terminated: list[str] = []
+        done_reinits: dict[str, object] = {}
+        outcome = None
+        for _round in range(self.max_iterations):
+            self._extra = {clock.symbol.name: clock.index in ticks for clock in self.clocks} \
+                if self._hybrid else {}
+            if terminal:
+                self._extra[TERMINAL_NAME] = True
+            outcome, reinits, stops = self._iterate_once(t, values, pre, relations_before, initial, fired,
+                                                         left)
+            passes += outcome.iterations
+            terminated += [m for m in stops if m not in terminated]
+            for name, (value, origin) in reinits.items():
+                if name in done_reinits and done_reinits[name] is not origin:
+                    raise EventIterationError(
+                        f"at t = {t:.12g} two reinits of {name} are active at one event: "
+                        f"{done_reinits[name]} and {origin}",
+                        hint="at most one reinit per state and event; combine the when-clauses",
+                        components=(origin.component,))
+                done_reinits[name] = origin
+            if not reinits and not ticks:
+                break
+            values = dict(outcome.values)
+            for name, (value, _origin) in reinits.items():
+                if name not in values or name not in outcome.system.states:
+                    raise EventIterationError(
+                        f"at t = {t:.12g} reinit({name}) ({_origin}): {name} is not a state of the "
+                        f"system in force", hint="reinit applies to continuous states only",
+                        components=(_origin.component,))
+                all_reinits.append((name, values[name], value))
+                values[name] = value
+            # again from the new states, with sample() false; pre = the values reached
+            pre = dict(outcome.discrete)
+            relations_before = outcome.relations
+            fired, ticks = frozenset(), frozenset()
+        else:
+            self._fail(t, [], "reinitialization at events")
+        self._extra = {}
+        changes = tuple((n, first_pre[n], outcome.discrete[n]) for n in outcome.discrete
+                        if n in first_pre and outcome.discrete[n] != first_pre[n])
+        return EventOutcome(outcome.discrete, outcome.relations, outcome.system, outcome.values, passes,
+                            changes, tuple(all_reinits), tuple(terminated))
+
+    def _iterate_once(self, t, values, pre, relations_before, initial, fired, left):
+        """The fixed point from ``pre``, and what the when-clauses that fired ask for:
+        ``(outcome, {state: (value, origin)}, [terminate messages])``."""
         pre = dict(pre)
         first_pre = dict(pre)
         discrete = dict(pre)
         relations = tuple(relations_before)
         history = []
         passes = 0
+        reinits: dict[str, tuple] = {}
+        stops: list[str] = []
         for _outer in range(self.max_iterations):
             seen = []
+            inner = [dict(discrete)]
             for _inner in range(self.max_iterations):
                 passes += 1
                 new_discrete, new_relations = self._pass(t, values, discrete, pre, relations,
-                                                         relations_before, initial, fired)
+                                                         relations_before, initial, fired, left)
                 if new_discrete == discrete and new_relations == relations:
                     break
                 state = (tuple(sorted(new_discrete.items())), new_relations)
@@ -629,17 +840,20 @@ class DiscreteEvaluator:
                         self._fail(t, [dict(d) for d, _ in seen], "the mixed continuous/discrete system")
                     new_discrete, new_relations = found
                 seen.append(state)
+                inner.append(dict(new_discrete))
                 discrete, relations = new_discrete, new_relations
             else:
-                self._fail(t, history + [discrete], "the mixed continuous/discrete system")
+                self._fail(t, history + inner, "the mixed continuous/discrete system")
             history.append(dict(discrete))
+            if self.reinits or self.terminations:
+                self._fired_actions(t, values, discrete, pre, relations, initial, left, reinits, stops)
             if discrete == pre:
                 system = self.translation.system(self.key(discrete, pre, relations, initial))
-                x = [values[s] for s in system.states]
+                x = self._states(system, values, discrete)
                 full = mode_values(system, t, x)
                 changes = tuple((n, first_pre[n], discrete[n]) for n in discrete
                                 if discrete[n] != first_pre[n])
-                return EventOutcome(discrete, relations, system, full, passes, changes)
+                return EventOutcome(discrete, relations, system, full, passes, changes), reinits, stops
             pre = dict(discrete)
             # The new pre values first act on the discrete equations that read no
             # relation: relation values still describe the previous discrete
@@ -650,11 +864,37 @@ class DiscreteEvaluator:
             discrete = self.evaluate_discrete(discrete, pre, relations, initial, relation_free=True)
         self._fail(t, history, "event iteration")
 
-    def _pass(self, t, values, discrete, pre, relations, relations_before, initial, fired):
+    def _fired_actions(self, t, values, discrete, pre, relations, initial, left, reinits, stops) -> None:
+        """The reinits and terminations whose when-clause fires with these values
+        (each clause fires in one round of event iteration: where its condition
+        becomes true against ``pre``)."""
+        env = self._environment(relations, initial, pre)
+        env.update(discrete)
+        system = self.translation.system(self.key(discrete, pre, relations, initial))
+        x = self._states(system, values, discrete)
+        env.update(self._continuous_env(system, t, x, left))
+        for item, fire_args, fires, value_args, value in self.reinits:
+            if fires(*[env[a] for a in fire_args]):
+                earlier = reinits.get(item.variable)
+                if earlier is not None and earlier[1] is not item.origin:
+                    raise EventIterationError(
+                        f"at t = {t:.12g} two reinits of {item.variable} are active at one event: "
+                        f"{earlier[1]} and {item.origin}",
+                        hint="at most one reinit per state and event; combine the when-clauses",
+                        components=(item.origin.component,))
+                reinits[item.variable] = (float(value(*[env[a] for a in value_args])), item.origin)
+        for item, fire_args, fires in self.terminations:
+            if fires(*[env[a] for a in fire_args]) and item.message not in stops:
+                stops.append(item.message)
+
+    def _pass(self, t, values, discrete, pre, relations, relations_before, initial, fired, left=None):
         """Solve the continuous part for a guess, then re-evaluate the discrete part."""
         system = self.translation.system(self.key(discrete, pre, relations, initial))
-        x = [values[s] for s in system.states]
+        x = self._states(system, values, discrete) if self.held else [values[s] for s in system.states]
         new_relations = self.relation_values(system, t, x, relations_before, fired=fired)
+        if self._continuous_args:
+            self._extra.update(self._continuous_env(system, t, x, values if left is None else left))
+        self._relations_now = new_relations
         return self.evaluate_discrete(discrete, pre, new_relations, initial), new_relations
 
     def _search(self, t, values, pre, relations, relations_before, initial, fired, cycle, current):
@@ -690,6 +930,16 @@ class DiscreteEvaluator:
     def _fail(self, t: float, history, what: str):
         changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})
         owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
+        looping = [n for n in changing if self.kinds.get(n) == "discrete" and not n.rpartition(".")[2].startswith("$")]
+        if looping:
+            origin = self.equations[self._equation_of[looping[0]]][3]
+            raise EventIterationError(
+                f"at t = {t:.12g} an algebraic loop through a when-clause: the new value of "
+                f"{looping[0]} ({origin}) changes the values it is computed from, and "
+                f"{what} does not settle in {self.max_iterations} iterations",
+                hint="a when-clause samples values at its event; break the loop, e.g. assign "
+                     "from pre() of the values that depend on the variable",
+                components=owners)
         hint = "the discrete variables named may flip each other back and forth; check the " \
                "conditions that set them"
         own = self.translation.flat.hints_for("event_iteration", owners)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 from ..errors import InitializationError
 from ..compiler.translate import ModeSystem, Translation
+from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values
 
 __all__ = ["InitialState", "initialize", "start_system"]
@@ -48,6 +49,8 @@ class InitialState:
     initial_relations: tuple
     outcome: EventOutcome
     notes: tuple[str, ...]
+    #: the sample clocks that tick at the start time (in the event iteration that follows)
+    ticks: frozenset = frozenset()
 
 
 def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_time: float) -> InitialState:
@@ -56,6 +59,8 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     variables = flat.variable_map
     discrete = {n: (bool(variables[n].start) if variables[n].kind == "boolean" else int(variables[n].start))
                 for n in translation.partitioned.discrete_variables}
+    # discrete Reals: their start values, until a when-clause with initial() sets them
+    discrete.update({n: float(variables[n].start) for n in translation.partitioned.held_variables})
     fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
     relations = tuple(False for _ in translation.partitioned.relations)
     at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
@@ -68,10 +73,11 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         problem = translation.initial_system(key)
         values = dict(zip(problem.unknowns, problem.outputs(start_time, ())))
         system = translation.system(key)
-        x = [values[s] for s in system.states]
+        x = evaluator._states(system, values, discrete)
         # |g| within the relation margin counts as g = 0, as at events: a load one
         # ulp above a static limit does not start a slip at t = 0 either
         new_relations = evaluator.relation_values(system, start_time, x, at_zero)
+        evaluator.prepare(system, start_time, x)
         new_discrete = evaluator.evaluate_discrete(discrete, pre, new_relations, True)
         if new_discrete == discrete and new_relations == relations:
             break
@@ -86,7 +92,9 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
             f"{evaluator.max_iterations} iterations; still changing: {', '.join(changing) or 'unknown'}",
             hint="; ".join(("check the start values of the Boolean and Integer variables named and "
                             "the conditions that set them", *own)), components=owners)
+    x = evaluator._states(system, values, discrete)
     values = mode_values(system, start_time, x)
+    evaluator.prepare(None, start_time, x)
     for name, start in problem.relaxed:
         actual = values[name]
         if abs(actual - start) > 1e-8 * max(1.0, abs(start), abs(actual)):
@@ -95,8 +103,11 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
                 f"start {start:g}, but the other fixed values make it {actual:.9g}",
                 hint=f"remove fixed=True from {name} (it is determined by the rest of the model)")
         notes.append(f"fixed start of {name} = {start:g} is implied by the others; not imposed again")
-    outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False)
-    return InitialState(start_time, values, discrete, relations, outcome, tuple(notes))
+    # a sample clock whose first tick is the start time ticks in this event iteration
+    ticks = ticking_at(start_time, clock_ticks(translation.partitioned.clocks,
+                                               translation.cache.parameters.symbols))
+    outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False, ticks=ticks)
+    return InitialState(start_time, values, discrete, relations, outcome, tuple(notes), ticks)
 
 
 def start_system(translation: Translation) -> ModeSystem:

@@ -23,12 +23,13 @@ class Event:
     time : float
     kind : str
         ``'initial'`` (the event iteration after initialization), ``'time'``
-        or ``'state'``.
+        (time relations and sample clocks), ``'state'`` or ``'terminal'``.
     relations : tuple of str
         The relations whose crossing fired it (state events), or the time
         relations reached (time events).
     changes : tuple of (str, old, new)
-        Discrete variables that changed, with their values before and after.
+        Discrete variables that changed, with their values before and after,
+        then the states a ``reinit`` set (``reinit(v)``).
     iterations : int
         Passes of the event iteration.
     """
@@ -58,8 +59,9 @@ class SimulationResult:
     time : ndarray
         Output times; an event time appears twice (left and right limit).
     status : int
-        0 for success, -1 for a run that stopped early (an error), -2 for a run
-        interrupted (Ctrl-C).
+        0 for success, 1 for a run a ``terminate()`` ended (a success, with
+        the reason in ``message``), -1 for a run that stopped early (an
+        error), -2 for a run interrupted (Ctrl-C).
     message : str
     events : tuple of Event
     modes : tuple of str
@@ -97,7 +99,8 @@ class SimulationResult:
 
     @property
     def success(self) -> bool:
-        return self.status == 0
+        """Whether the run ended as the model asked: at the stop time, or by ``terminate()``."""
+        return self.status in (0, 1)
 
     @property
     def names(self) -> tuple[str, ...]:

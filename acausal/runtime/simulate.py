@@ -31,11 +31,12 @@ import numpy as np
 import scipy.integrate as integrate
 
 from ..compiler.translate import ModeSystem, Translation, translate
-from ..errors import (AcausalError, ChatteringError, InitializationError, SettingError, SimulationError,
+from ..errors import (AcausalError, AssertionViolation, ChatteringError, ModelDefinitionError, ZenoError, InitializationError, SettingError, SimulationError,
                       SimulationInterrupted, SolverError, StructuralError)
 from ..language import Component
 from ..names import base_name, der_name
-from .crossings import (locate_flip, next_time_event, states_at, step_samples,
+from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, states_at, step_samples,
+                        ticking_at,
                         time_event_roots)
 from .events import evaluator_for, mode_values
 from .initialization import initialize
@@ -268,6 +269,7 @@ class _Run:
         self.max_step = np.inf if max_step is None else max_step
         self.chattering_events = chattering_events
         self.events: list[Event] = []
+        self.terminated: tuple | None = None  #: (time, messages) of a terminate()
         self.modes: list[str] = []
         self.notes: list[str] = []
         self.nfev = 0
@@ -277,9 +279,21 @@ class _Run:
         # where the wall time goes, for a budget's message
         self.seconds = {"output": 0.0, "events": 0.0}
         self._time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
+        try:
+            self._ticks = clock_ticks(translation.partitioned.clocks, translation.cache.parameters.symbols)
+        except ValueError as exc:
+            raise ModelDefinitionError(str(exc), hint="sample(start, interval) needs an interval > 0") \
+                from exc
+        self._clock_texts = [c.text for c in translation.partitioned.clocks]
+        #: state events per relation and direction: their last times (Zeno detection)
+        self._state_event_times: dict[tuple, list[float]] = {}
+        self._warned: set = set()
 
     def _next_time_event(self, t: float, relations) -> float:
-        return next_time_event(t, self._time_roots, self.relations, relations)
+        found = next_time_event(t, self._time_roots, self.relations, relations)
+        if self._ticks:
+            found = min(found, next_tick(t, self._ticks)[0])
+        return found
 
     # -- main loop ----------------------------------------------------------------
 
@@ -303,9 +317,15 @@ class _Run:
             outcome = state.outcome
             # Like Dymola, only the values after the post-initialization event
             # iteration are written at the start time (one row, not two).
-            self.events.append(Event(t0, "initial", (), outcome.changes, outcome.iterations))
+            self._add_event(t0, "initial", tuple(self._clock_texts[k] for k in sorted(state.ticks)), outcome)
             try:
-                self._integrate(t0, t1, outcome)
+                if outcome.terminated:
+                    self.recorder = Recorder(t0, t1, interval)
+                    x = np.array([outcome.values[s] for s in outcome.system.states], dtype=float)
+                    self.recorder.add(t0, outcome.system, x, outcome.discrete)
+                    self.terminated = (t0, outcome.terminated)
+                else:
+                    self._integrate(t0, t1, outcome)
             except StructuralError as exc:
                 # a discrete state reached during the run cannot be solved: stop
                 # with the reason, keeping what was computed
@@ -328,6 +348,10 @@ class _Run:
             error = SolverError(f"the simulation stopped: {type(exc).__name__}: {exc}")
         if error is not None:
             message = str(error)
+        elif self.terminated is not None:
+            t_end, reasons = self.terminated
+            message = f"terminate() at t = {t_end:.12g}: {'; '.join(reasons)}"
+            status = 1
         result = self._result(t_setup, message, error, status)
         if isinstance(error, SimulationInterrupted):
             raise result.error
@@ -379,17 +403,23 @@ class _Run:
             if event_at is not None:
                 t_e, x_e, fired = event_at
                 kind = "state"
+                ticks = frozenset()
                 recent.append((t_e, fired, tuple(sorted(discrete.items()))))
                 self._check_chattering(recent, t1)
-            elif t_new >= t1 and not any(root == t_new for _, root in self._time_roots
-                                         if self._next_time_event(t, relations) == t_new):
+                self._check_zeno(t_e, fired, t1, relations)
+            elif t_new >= t1 and not (self._next_time_event(t, relations) == t_new and (
+                    any(root == t_new for _, root in self._time_roots) or ticking_at(t_new, self._ticks))):
+                self._check_asserts(t_new, system, x_new, discrete)
                 recorder.add(t_new, system, x_new, discrete)
+                self._terminal_iteration(t_new, system, x_new, discrete, relations)
                 return
             else:
                 # a time event (also one exactly at the stop time: it is processed,
                 # and the run ends on its right limit)
                 t_e, x_e = t_new, np.array(x_new, dtype=float)
                 fired = tuple(self.relations[i].text for i, root in self._time_roots if root == t_e)
+                ticks = ticking_at(t_e, self._ticks) if self._ticks else frozenset()
+                fired += tuple(self._clock_texts[k] for k in sorted(ticks))
                 kind = "time"
             # left limit, event iteration, right limit
             recorder.add(t_e, system, x_e, discrete)
@@ -398,21 +428,114 @@ class _Run:
             compiled = self.translation.translation_seconds
             values = mode_values(system, t_e, x_e)
             fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
-            outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices)
+            outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices,
+                                             ticks=ticks)
             # (compiling a newly visited state is counted apart, from the pass logs)
             self.seconds["events"] += (_time.perf_counter() - started
                                        - (self.translation.translation_seconds - compiled))
-            self.events.append(Event(t_e, kind, tuple(fired), outcome.changes, outcome.iterations))
+            self._add_event(t_e, kind, tuple(fired), outcome)
             system, discrete, relations = outcome.system, outcome.discrete, outcome.relations
             self._record_mode(system)
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
             _check_finite(t_e, system.states, x, "the states after the event")
+            self._check_asserts(t_e, system, x, discrete)
             recorder.add(t_e, system, x, discrete)
             t = t_e
+            if outcome.terminated:
+                self.terminated = (t_e, outcome.terminated)
+                return
             if t >= t1:
+                self._terminal_iteration(t, system, x, discrete, relations)
                 return
             # a grid point at the event time is represented by the two event rows
             recorder.skip_grid_through(t_e)
+
+    def _add_event(self, t: float, kind: str, fired: tuple, outcome) -> None:
+        changes = outcome.changes + tuple((f"reinit({n})", a, b) for n, a, b in outcome.reinits)
+        self.events.append(Event(t, kind, fired, changes, outcome.iterations))
+
+    def _check_asserts(self, t: float, system: ModeSystem, x, discrete) -> None:
+        """Assertions at an accepted step or after an event: an error stops the run (what
+        was computed is kept), a warning is noted once per assertion."""
+        for item, message in self.evaluator.check_asserts(t, system, x, discrete, discrete):
+            if item.level == "error":
+                raise AssertionViolation(message, hint="the model's own assertion; the result holds "
+                                                       "the run up to the last accepted step",
+                                         components=(item.origin.component,))
+            if id(item) not in self._warned:
+                self._warned.add(id(item))
+                self.notes.append(message)
+
+    def _asserts_in_step(self, rows, at_rows, dense, y_new, t_new: float, system: ModeSystem, discrete) -> None:
+        """Assertions at the output points of a step: the rows before the first one that
+        violates an error-level assertion are written, and the run stops there."""
+        if not len(rows):
+            return
+        states = at_rows if at_rows is not None else (states_at(dense, rows) if dense is not None else
+                                                      np.tile(y_new, (len(rows), 1)))
+        for i, (t_row, x_row) in enumerate(zip(rows, states)):
+            try:
+                self._check_asserts(float(t_row), system, x_row, discrete)
+            except AssertionViolation:
+                self._emit_rows(rows[:i + 1], states[:i + 1], system, discrete)
+                raise
+
+    def _terminal_iteration(self, t: float, system: ModeSystem, x, discrete, relations) -> None:
+        """At the end of a successful run, ``terminal()`` is true in one more event
+        iteration (only if the model uses it); its values are the last row."""
+        if not any(n == "terminal()" for eq in self.evaluator.equations for n in eq[1]) and not any(
+                "terminal()" in args for _r, args, *_ in self.evaluator.terminations + self.evaluator.reinits):
+            return
+        values = mode_values(system, t, x)
+        outcome = self.evaluator.iterate(t, values, discrete, relations, terminal=True)
+        self._add_event(t, "terminal", ("terminal()",), outcome)
+        x = np.array([outcome.values[s] for s in outcome.system.states], dtype=float)
+        self.recorder.add(t, outcome.system, x, outcome.discrete)
+
+    #: Zeno detection: this many state events of one relation in a row whose intervals
+    #: shrink by a steady ratio ...
+    ZENO_EVENTS = 12
+    #: ... below this ratio ...
+    ZENO_RATIO = 0.98
+    #: ... until the interval is this fraction of the run's span.
+    ZENO_SPAN = 1e-4
+
+    def _check_zeno(self, t_e: float, fired: tuple, t1: float, relations) -> None:
+        """Events of one relation that accumulate at a finite time (a ball bouncing to rest).
+
+        The intervals between its last events shrink geometrically with a steady
+        ratio ``r``, the last one is below ``ZENO_SPAN`` of the run's span, and the
+        events would accumulate at ``t* = t_e + dt*r/(1 - r)``.  Without this rule
+        the intervals would shrink until the relation's margin (1e-10) swallows a
+        bounce and the ball falls through the floor: a wrong result, silently.
+        """
+        span = t1 - self.recorder.grid[0]
+        index = {rel.text: rel.index for rel in self.relations}
+        for name in fired:
+            # a relation's flips one way (h <= 0 becoming true) are timed apart from its flips back
+            times = self._state_event_times.setdefault((name, bool(relations[index[name]])), [])
+            times.append(t_e)
+            if len(times) > self.ZENO_EVENTS + 1:
+                del times[0]
+            if len(times) <= self.ZENO_EVENTS:
+                continue
+            gaps = np.diff(times)
+            if gaps[-1] > self.ZENO_SPAN * span or np.any(gaps <= 0):
+                continue
+            ratios = gaps[1:] / gaps[:-1]
+            if not (np.all(ratios < self.ZENO_RATIO) and ratios.max() - ratios.min() < 0.1 * ratios.mean()):
+                continue
+            r = float(np.exp(np.mean(np.log(ratios))))
+            t_star = t_e + gaps[-1] * r / (1 - r)
+            relation = next((rel for rel in self.relations if rel.text == name), None)
+            owners = relation.components if relation is not None else ()
+            raise ZenoError(
+                f"Zeno behaviour: the events of {name} come ever faster (each interval {r:.3g} times "
+                f"the one before, the last {gaps[-1]:.3g} s) and would accumulate at "
+                f"t = {t_star:.12g}; the run stops at the last event, t = {t_e:.12g}",
+                hint="an infinite number of events in finite time (a ball bouncing to rest); add a "
+                     "rule to the model that ends it, e.g. a Boolean that stops the bouncing when the "
+                     "speed after an impact is small (see docs/hybrid.md)", components=owners)
 
     def _emit(self, t_end: float, inclusive: bool, system: ModeSystem, x_at, discrete) -> None:
         """Output points up to ``t_end`` (timed, and within the budgets)."""
@@ -564,7 +687,11 @@ class _Run:
                     self._emit_rows(before, at_rows[:len(before)], system, discrete)
                     names = tuple(self.relations[k].text for k in fired)
                     return t_e, x_e, (t_e, x_e, names)
+                if self.evaluator.asserts:
+                    self._asserts_in_step(rows, at_rows, dense, y_new, t_new, system, discrete)
                 self._emit_step(rows, at_rows, dense, y_new, t_new, system, discrete)
+                if self.evaluator.asserts:
+                    self._check_asserts(t_new, system, y_new, discrete)
                 if solver.status == "finished":
                     return t_new, solver.y.copy(), None
         finally:
@@ -635,7 +762,7 @@ class _Run:
             "method": self.method,
             "rtol": self.rtol,
         }
-        return SimulationResult(times, columns, 0 if error is None else status, message, tuple(self.events),
+        return SimulationResult(times, columns, status if error is not None or status == 1 else 0, message, tuple(self.events),
                                 tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
                                 error, translation.flat.name)
 

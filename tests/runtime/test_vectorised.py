@@ -260,7 +260,8 @@ def test_relation_values_equal_the_definition(data):
     expected = []
     for k, rel in enumerate(_RELATIONS):
         lhs, rhs = raw[2 * k], raw[2 * k + 1]
-        if exact or k in fired:
+        # at events, an argument exactly at its limit takes the relation's own value (bug D)
+        if exact or k in fired or lhs == rhs:
             expected.append(rel.holds(lhs - rhs))
         else:
             eps = _EVALUATOR.epsilon * max(1.0, abs(lhs), abs(rhs))
