@@ -673,6 +673,8 @@ class _Equations:
             tuple((eq.variable, eq.rhs, origin(eq.origin)) for eq in flat.discrete_equations),
             tuple((eq.residual, origin(eq.origin)) for eq in flat.initial_equations),
             _freeze(flat.hints),
+            # reinits, terminations and assertions: the runtime's part of the model
+            repr(flat.hybrid),
         )
         self._hash = hash(self.parts)
 

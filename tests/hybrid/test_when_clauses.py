@@ -206,3 +206,44 @@ def test_an_error_assertion_stops_the_run_and_keeps_the_result():
     result = simulate(Guarded(), stop_time=1.0, interval=0.01)
     assert result.status == -1 and "x must stay below 0.3" in result.message
     assert 0.3 <= result.time[-1] < 0.4 and result["x"][result.time < 0.3].size > 20
+
+
+def test_two_models_that_differ_only_in_a_reinit_are_not_one_translation():
+    class Falling(Model):
+        h = Variable(start=H0, fixed=True)
+        v = Variable(start=0.0, fixed=True)
+
+        def equations(self):
+            return [Eq(der(self.h), self.v), Eq(der(self.v), -G)]
+
+    class Softer(Falling):
+        def equations(self):
+            return [When(self.h <= 0, reinit(self.v, -0.5 * pre(self.v)))]
+
+    class Harder(Falling):
+        def equations(self):
+            return [When(self.h <= 0, reinit(self.v, -0.9 * pre(self.v)))]
+
+    soft, hard = (simulate(m(), stop_time=0.5) for m in (Softer, Harder))
+    v_impact = -math.sqrt(2 * G * H0)
+    t_impact = math.sqrt(2 * H0 / G)
+    for result, e in ((soft, 0.5), (hard, 0.9)):
+        assert result["v"][-1] == pytest.approx(-e * v_impact - G * (0.5 - t_impact), rel=1e-6)
+
+
+def test_the_bouncing_ball_example_comes_to_rest_by_its_own_rule():
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / "examples" / "bouncing_ball.py"
+    spec = importlib.util.spec_from_file_location("bouncing_ball_example", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    result = simulate(module.BouncingBall())
+    assert result.status == 0, result.message
+    assert result["resting"][-1] == 1 and result["v"][-1] == 0
+    assert abs(result["h"][-1]) < 1e-9
+    # it rests at the first impact whose rebound speed e^k v1 is below v_small
+    v1 = math.sqrt(2 * 9.81 * 1.0)
+    k = next(k for k in range(1, 100) if 0.8 ** k * v1 < 0.05)
+    assert len(impacts(result)) == k
