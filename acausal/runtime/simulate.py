@@ -395,7 +395,8 @@ class _Run:
             self.t = t
             self._check_budgets()
             t_bound = min(t1, self._next_time_event(t, relations))
-            if not system.states:
+            if not system.states and not self.evaluator.relevant_relations(discrete, relations):
+                # nothing to integrate and no crossing to look for: straight to the next time event
                 self._emit(t_bound, False, system, lambda s: x, discrete)
                 t_new, x_new, event_at = t_bound, x, None
             else:

@@ -1,0 +1,173 @@
+"""Boolean signal sources and conversions (Modelica.Blocks.Sources.Boolean*,
+Modelica.Blocks.Math.BooleanToReal and RealToBoolean).
+
+The sources' switching instants are events: ``BooleanStep`` and
+``BooleanTable`` switch at time events (relations of ``time`` with
+parameters, hit exactly), ``BooleanPulse`` starts each pulse at a
+``sample()`` instant, ``SampleTrigger`` is ``sample()`` itself.  Boolean
+parameters (``startValue``, ``k``) and the table are structural: they decide
+which relations the block has.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from acausal.errors import ParameterError
+from acausal.hybrid import When, sample
+from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, initial, time
+from acausal.components.blocks import BooleanInput, BooleanOutput
+from acausal.components.logic import is_initial
+
+__all__ = ["BooleanConstant", "BooleanStep", "BooleanPulse", "SampleTrigger", "BooleanTable",
+           "BooleanToReal", "RealToBoolean"]
+
+
+class PartialBooleanSource(Component):
+    """A Boolean output (Modelica.Blocks.Interfaces.partialBooleanSource)."""
+
+    y = BooleanOutput(description="Connector of Boolean output signal")
+
+
+class BooleanConstant(PartialBooleanSource):
+    """Generate constant signal of type Boolean (Modelica.Blocks.Sources.BooleanConstant): ``y = k``."""
+
+    k = Parameter(True, structural=True, description="Constant output value")
+
+    def equations(self):
+        return [Eq(self.y, sp.true if self.k else sp.false)]
+
+
+class BooleanStep(PartialBooleanSource):
+    """Generate step signal of type Boolean (Modelica.Blocks.Sources.BooleanStep).
+
+    ``y = startValue`` before ``startTime`` and ``not startValue`` from it on
+    (a time event; at ``time = startTime`` the new value holds).
+    """
+
+    startTime = Parameter(0.0, unit="s", description="Time instant of step start")  # noqa: N815
+    startValue = Parameter(False, structural=True, description="Output before startTime")  # noqa: N815
+
+    def equations(self):
+        after = time >= self.startTime
+        return [Eq(self.y, sp.Not(after) if self.startValue else after)]
+
+
+class BooleanPulse(PartialBooleanSource):
+    """Generate pulse signal of type Boolean (Modelica.Blocks.Sources.BooleanPulse).
+
+    True for ``width`` percent of each ``period`` from ``startTime`` on:
+    a pulse starts at every ``sample(startTime, period)`` instant
+    (``pulseStart = time``) and ends ``period*width/100`` later.
+    """
+
+    width = Parameter(50.0, unit="1", min=0, max=100, description="Width of pulse in % of period")
+    period = Parameter(1.0, unit="s", min=0, description="Time for one period")
+    startTime = Parameter(0.0, unit="s", description="Time instant of first pulse")  # noqa: N815
+    pulseStart = Variable(discrete=True, unit="s", description="Start time of pulse (protected)")  # noqa: N815
+
+    def equations(self):
+        t_width = self.period * self.width / 100
+        return [
+            # initial equation pulseStart = startTime; when sample(startTime, period) then pulseStart = time
+            When([initial(), sample(self.startTime, self.period)],
+                 Eq(self.pulseStart, If(is_initial(), self.startTime, time))),
+            Eq(self.y, sp.And(time >= self.pulseStart, time < self.pulseStart + t_width)),
+        ]
+
+
+class SampleTrigger(PartialBooleanSource):
+    """Generate sample trigger signal (Modelica.Blocks.Sources.SampleTrigger).
+
+    ``y = sample(startTime, period)``: true only at the sample instants, in
+    the event iteration there.
+    """
+
+    period = Parameter(0.01, unit="s", min=0, description="Sample period")
+    startTime = Parameter(0.0, unit="s", description="Time instant of first sample trigger")  # noqa: N815
+
+    def equations(self):
+        return [Eq(self.y, sample(self.startTime, self.period))]
+
+
+class BooleanTable(PartialBooleanSource):
+    """Generate a Boolean output signal based on a vector of time instants
+    (Modelica.Blocks.Sources.BooleanTable).
+
+    ``y = startValue`` before ``table[0]`` and toggles at every entry of
+    ``table`` (strictly increasing times), holding its last value after the
+    last (MSL's default extrapolation, HoldLastPoint).  ``y`` is
+    right-continuous: at ``time = table[i]`` the new value holds.  The table
+    is shifted by ``shiftTime``; before a finite ``startTime`` the output is
+    false.  Every entry is a time event.
+    """
+
+    table = Parameter((0.0, 1.0), unit="s", structural=True,
+                      description="Vector of time points. At every time point, the output y gets its opposite value")
+    startValue = Parameter(False, structural=True, description="Start value of y; at time = table[0], y changes to 'not startValue'")  # noqa: N815,E501
+    startTime = Parameter(-math.inf, unit="s", structural=True, finite=False,  # noqa: N815
+                          description="Output = false for time < startTime")
+    shiftTime = Parameter(0.0, unit="s", description="Shift time of table")  # noqa: N815
+
+    def _times(self) -> list[float]:
+        where = self.path or type(self).__name__
+        try:
+            times = [float(t) for t in self.table]
+        except (TypeError, ValueError) as exc:
+            raise ParameterError(f"{where}.table must be a sequence of time instants, not {self.table!r}",
+                                 hint="BooleanTable(table=[1, 4, 6])") from exc
+        for i in range(1, len(times)):
+            if not times[i] > times[i - 1]:
+                raise ParameterError(
+                    f"{where}.table: the time instants must be strictly increasing, but table[{i}] = "
+                    f"{times[i]:g} follows table[{i - 1}] = {times[i - 1]:g}",
+                    hint="list each switching instant once, in increasing order")
+        if not all(math.isfinite(t) for t in times):
+            raise ParameterError(f"{where}.table: the time instants must be finite numbers")
+        return times
+
+    def equations(self):
+        times = self._times()
+        start_value = bool(self.startValue)
+        # y is true on the intervals [t_i, t_{i+1}) it toggles into (and before table[0] if startValue)
+        edges = [time >= self.shiftTime + t for t in times]
+        on = []
+        bounds = ([None] if start_value else []) + list(range(len(times)))
+        for k in range(0, len(bounds), 2):
+            first = bounds[k]
+            last = bounds[k + 1] if k + 1 < len(bounds) else None
+            parts = [] if first is None else [edges[first]]
+            if last is not None:
+                parts.append(sp.Not(edges[last]))
+            on.append(sp.And(*parts) if parts else sp.true)
+        y = sp.Or(*on) if on else sp.false
+        start_time = float(self.startTime)
+        if start_time > -math.inf:
+            y = sp.And(time >= start_time, y)
+        return [Eq(self.y, y)]
+
+
+class BooleanToReal(Component):
+    """Convert Boolean to Real signal (Modelica.Blocks.Math.BooleanToReal):
+    ``y = realTrue if u else realFalse``."""
+
+    realTrue = Parameter(1.0, description="Output signal for true Boolean input")  # noqa: N815
+    realFalse = Parameter(0.0, description="Output signal for false Boolean input")  # noqa: N815
+    u = BooleanInput(description="Connector of Boolean input signal")
+    y = RealOutput(description="Connector of Real output signal")
+
+    def equations(self):
+        return [Eq(self.y, If(self.u, self.realTrue, self.realFalse))]
+
+
+class RealToBoolean(Component):
+    """Convert Real to Boolean signal (Modelica.Blocks.Math.RealToBoolean): ``y = u >= threshold``."""
+
+    threshold = Parameter(0.5, description="Output signal y is true, if input u >= threshold")
+    u = RealInput(description="Connector of Real input signal")
+    y = BooleanOutput(description="Connector of Boolean output signal")
+
+    def equations(self):
+        return [Eq(self.y, self.u >= self.threshold)]
