@@ -6,6 +6,14 @@ representative; the others become aliases (``±representative`` or a
 constant) and vanish from the equation system.  Every eliminated name stays
 available in results through :attr:`AliasResult.aliases`.
 
+An equation that becomes such a form once the constants found are put in
+(``phi_rel = flange_b.phi - flange_a.phi`` with ``flange_a.phi = 0``) is an
+alias equation too: after the pass over the equations in their order, the
+equations left that are linear with numeric coefficients are taken again,
+their constant members folded into the constant, until a pass finds nothing
+new (the passes follow the equations' order, so the result is the same every
+run).
+
 The representative is the member most likely to be wanted as a state:
 highest ``state_select``, then one that appears differentiated, then one with
 a fixed start value, then a component variable before a connector variable,
@@ -38,6 +46,7 @@ class AliasMemo:
     inputs: tuple | None = None
     candidates: set[str] = field(default_factory=set)  #: variables that may be eliminated
     forms: dict = field(default_factory=dict)  #: residual -> its alias form, or None
+    linear: dict = field(default_factory=dict)  #: residual -> its linear form, or None
 
 
 @dataclass(frozen=True)
@@ -66,12 +75,10 @@ class AliasResult:
     fixed_constants: tuple
 
 
-def _alias_form(residual: sp.Expr, unknowns: set[str], parameters: set[str]):
-    """``([(name, coefficient), ...], constant)`` if the residual is alias-like.
-
-    Alias-like means ``c*a + constant`` (c a non-zero number) or ``a ± b``,
-    where constants are numbers and parameters (not time).
-    """
+def _linear_form(residual: sp.Expr, unknowns: set[str], parameters: set[str]):
+    """``([(name, coefficient), ...], constant)`` if the residual is a sum of terms
+    ``c*a`` (``c`` a number, ``a`` one of ``unknowns``) and a constant of numbers and
+    parameters (not time); None otherwise."""
     found = []
     constant = sp.Integer(0)
     for term in sp.Add.make_args(residual):
@@ -82,11 +89,15 @@ def _alias_form(residual: sp.Expr, unknowns: set[str], parameters: set[str]):
             constant += term
         else:
             return None
+    return found, constant
+
+
+def _is_alias(found, constant) -> bool:
+    """Whether a linear form is alias-like: ``c*a + constant`` (c a non-zero number) or
+    ``a ± b``, where constants are numbers and parameters (not time)."""
     if len(found) == 1 and found[0][1] != 0:
-        return found, constant
-    if len(found) == 2 and constant == 0 and abs(found[0][1]) == abs(found[1][1]) != 0:
-        return found, constant
-    return None
+        return True
+    return len(found) == 2 and constant == 0 and abs(found[0][1]) == abs(found[1][1]) != 0
 
 
 def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, FlatVariable],
@@ -140,35 +151,23 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
             parent[member], sign[member] = node, s
         return node, path_sign
 
-    kept: list[FlatEquation] = []
-    eliminated: list[FlatEquation] = []
-    for eq in equations:
-        form = memo.forms.get(eq.residual, False)
-        if form is False:
-            form = memo.forms[eq.residual] = _alias_form(eq.residual, candidates, parameters)
-        if form is None:
-            kept.append(eq)
-            continue
-        found, constant = form
+    def join(found, constant) -> bool:
+        """Record the alias equation ``sum(c*a) + constant = 0``; False if it is kept."""
         if len(found) == 1:
             (name, coeff), = found
             root, s = find(name)
             if root in constant_of:
-                kept.append(eq)
-                continue
+                return False
             # coeff*name + constant = 0 -> name = -constant/coeff; root = s*name
             constant_of[root] = sp.nsimplify(s) * (-constant / coeff)
-            eliminated.append(eq)
-            continue
+            return True
         (a, ca), (b, cb) = found
         ra, sa = find(a)
         rb, sb = find(b)
         if ra == rb:
-            kept.append(eq)
-            continue
+            return False
         if ra in constant_of and rb in constant_of:
-            kept.append(eq)
-            continue
+            return False
         # ca*a + cb*b = 0 -> a = s*b with s = -cb/ca (= ±1)
         s = int(-cb / ca)
         # a = sa*ra, b = sb*rb  ->  ra = sa*s*sb*rb
@@ -176,7 +175,36 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
         if ra in constant_of:  # move the constant to the surviving root
             constant_of[rb] = link * constant_of.pop(ra)
         parent[ra], sign[ra] = rb, link
-        eliminated.append(eq)
+        return True
+
+    kept_at: list[int] = []  # positions in ``equations``
+    removed_at: list[int] = []
+    for k, eq in enumerate(equations):
+        form = memo.forms.get(eq.residual, False)
+        if form is False:
+            linear = memo.linear[eq.residual] = _linear_form(eq.residual, candidates, parameters)
+            form = memo.forms[eq.residual] = linear if linear is not None and _is_alias(*linear) else None
+        (removed_at if form is not None and join(*form) else kept_at).append(k)
+
+    # Equations that are alias equations once the constants are in (a = b - c with c = 0),
+    # pass after pass in the equations' order until a pass finds none.
+    changed = bool(constant_of)
+    while changed:
+        changed = False
+        still: list[int] = []
+        for k in kept_at:
+            residual = equations[k].residual
+            # (an equation alias-like as written and kept joins nothing new)
+            form = None if memo.forms.get(residual) is not None else \
+                _folded(residual, memo, candidates, parameters, find, constant_of)
+            if form is not None and join(*form):
+                removed_at.append(k)
+                changed = True
+            else:
+                still.append(k)
+        kept_at = still
+    eliminated = [equations[k] for k in sorted(removed_at)]  # in the equations' order
+    kept = [equations[k] for k in kept_at]
 
     # group members by root, choose representatives
     groups: dict[str, list[str]] = {}
@@ -234,6 +262,35 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
                     substitution[sym] = expr.coeff(rep_sym) * real_symbol(der_name(rep_sym.name, order))
     new_equations = tuple(FlatEquation(eq.residual.xreplace(substitution), eq.origin) for eq in kept)
     return AliasResult(new_equations, aliases, merged, tuple(eliminated), tuple(fixed_constants))
+
+
+def _folded(residual: sp.Expr, memo: AliasMemo, candidates: set[str], parameters: set[str], find,
+            constant_of: dict):
+    """The alias form of a linear residual whose members found to be constants are folded
+    into its constant (``a - b - c`` with ``c = 0``: ``a - b``), or None.
+
+    Only constants are folded: the members left are the equation's own, so that
+    ``join`` links them as it links those of an equation written so.
+    """
+    form = memo.linear.get(residual, False)
+    if form is False:
+        form = memo.linear[residual] = _linear_form(residual, candidates, parameters)
+    if form is None:
+        return None
+    found, constant = form
+    left = []
+    folded = False
+    for name, coeff in found:
+        root, s = find(name)
+        if root in constant_of:
+            constant = constant + coeff * s * constant_of[root]  # name = s*root
+            folded = True
+        else:
+            left.append((name, coeff))
+    if not folded or not left:
+        return None
+    constant = sp.expand(constant)
+    return (left, constant) if _is_alias(left, constant) else None
 
 
 def _merge(rep: str, members: list[str], factor: dict[str, int], variables: dict[str, FlatVariable]):

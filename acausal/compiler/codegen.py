@@ -8,9 +8,14 @@ parameter values and returns functions of ``(t, x)``:
 * ``outputs`` — every unknown, for the output grid and events.
 
 Expressions are printed for scalars with the ``math`` module (faster than
-numpy on scalars) after common subexpression elimination.  The generated
-source is kept (:attr:`GeneratedCode.source`) and is the same text for the
-same model every time.
+numpy on scalars) after common subexpression elimination.  The functions
+that overflow (``exp``, ``sinh``, ``cosh``, ``expm1``, ``gamma``,
+``loggamma``, powers) are printed as this module's guarded versions
+(``_exp(x)``, ``_pow(a, b)``, see :data:`FLOAT_FUNCTIONS`): they give an
+infinity where IEEE arithmetic does instead of raising ``OverflowError``, so
+that a trial step of an integrator that overshoots is rejected, not fatal.
+The generated source is kept (:attr:`GeneratedCode.source`) and is the same
+text for the same model every time.
 """
 
 from __future__ import annotations
@@ -31,11 +36,81 @@ from .algebraic import Assign, LinearSolve, NewtonSolve
 from ..errors import SolverError
 
 __all__ = ["CodePlan", "CodegenMemo", "GeneratedCode", "plan_functions", "generate", "needed_steps", "newton_solve", "python_identifiers",
-           "compile_functions", "vectorised"]
+           "compile_functions", "vectorised", "FLOAT_FUNCTIONS"]
+
+
+# -- floating-point semantics for the functions that overflow --------------------------------------
+#
+# Python's ``math.exp(1000.0)`` and ``1e200 ** 2`` raise OverflowError where IEEE 754 arithmetic
+# (and ``1e200 * 1e200``) gives an infinity.  The generated code calls these wrappers instead:
+# the same ``math`` function, bit for bit, whenever it returns, and the infinity of the right
+# sign when it overflows.  Other errors (``math.log(0.0)``, ``0.0 ** -1``) are left as they are.
+
+def _exp(x):
+    try:
+        return math.exp(x)
+    except OverflowError:
+        return math.inf
+
+
+def _expm1(x):
+    try:
+        return math.expm1(x)
+    except OverflowError:
+        return math.inf
+
+
+def _sinh(x):
+    try:
+        return math.sinh(x)
+    except OverflowError:
+        return math.copysign(math.inf, x)
+
+
+def _cosh(x):
+    try:
+        return math.cosh(x)
+    except OverflowError:
+        return math.inf
+
+
+def _gamma(x):
+    try:
+        return math.gamma(x)
+    except OverflowError:  # large x, or x next to zero (gamma ~ 1/x)
+        return math.copysign(math.inf, x)
+
+
+def _lgamma(x):
+    try:
+        return math.lgamma(x)
+    except OverflowError:
+        return math.inf
+
+
+def _pow(a, b):
+    """``a ** b``, an infinity where it overflows (negative for a negative base and an odd
+    integer exponent, as IEEE's pow)."""
+    try:
+        return a ** b
+    except OverflowError:
+        b = float(b)
+        return -math.inf if a < 0 and b.is_integer() and b % 2 == 1 else math.inf
+
+
+#: The names the generated code calls for these functions -> their implementations (bound in
+#: the namespace of every generated source).
+FLOAT_FUNCTIONS = {"_exp": _exp, "_expm1": _expm1, "_sinh": _sinh, "_cosh": _cosh, "_gamma": _gamma,
+                   "_lgamma": _lgamma, "_pow": _pow}
+
+#: sympy function name -> the name printed for it
+_GUARDED = {"exp": "_exp", "expm1": "_expm1", "sinh": "_sinh", "cosh": "_cosh", "gamma": "_gamma",
+            "loggamma": "_lgamma"}
 
 
 class _Printer(PythonCodePrinter):
-    """Python printer that also prints table functions by name."""
+    """Python printer that also prints table functions by name, and the functions that
+    overflow as their guarded versions (:data:`FLOAT_FUNCTIONS`)."""
 
     def __init__(self, functions: dict, local: dict[str, str], function_names: dict | None = None) -> None:
         super().__init__({"fully_qualified_modules": True, "standard": "python3"})
@@ -55,6 +130,19 @@ class _Printer(PythonCodePrinter):
                 self.functions[name], self.function_names[impl] = impl, name
             return f"{name}({', '.join(self._print(a) for a in expr.args)})"
         return super()._print_Function(expr)
+
+    def _print_guarded(self, expr):
+        return f"{_GUARDED[type(expr).__name__]}({', '.join(self._print(a) for a in expr.args)})"
+
+    _print_exp = _print_expm1 = _print_sinh = _print_cosh = _print_gamma = _print_loggamma = _print_guarded
+
+    def _print_Pow(self, expr, rational=False):  # noqa: N802
+        # square roots and reciprocals as sympy prints them (they cannot overflow to an
+        # exception: ``1/x`` gives inf or raises ZeroDivisionError, as every division here)
+        if rational or expr.exp == sp.S.Half or (expr.is_commutative and (
+                -expr.exp is sp.S.Half or expr.exp is sp.S.NegativeOne)):
+            return super()._print_Pow(expr, rational=rational)
+        return f"_pow({self._print(expr.base)}, {self._print(expr.exp)})"
 
     def _print_Symbol(self, expr):  # noqa: N802
         ident = self.local.get(expr.name)
@@ -276,7 +364,7 @@ def load_make(source: str, functions: dict, name: str) -> Callable:
     """The ``make(p)`` factory of generated ``source`` (which names its system ``name``),
     with the table functions it calls (``functions``: name in the code -> implementation)."""
     namespace = {"math": math, "np": np, "_newton": newton_solve, "_linalg_error": _linalg_error,
-                 "_solve": _dense_solve}
+                 "_solve": _dense_solve, **FLOAT_FUNCTIONS}
     namespace.update(functions)
     exec(compile(source, f"<acausal {name}>", "exec"), namespace)
     return namespace["make"]
@@ -323,7 +411,7 @@ def compile_functions(arguments: Sequence[Sequence[str]], expressions: Sequence[
     for k, (args, expr) in enumerate(zip(arguments, expressions)):
         lines += [f"def _f{k}({', '.join(identifiers[a] for a in args)}):",
                   f"    return {printer.doprint(expr)}"]
-    namespace = {"math": math, "np": np, **functions}
+    namespace = {"math": math, "np": np, **FLOAT_FUNCTIONS, **functions}
     exec(compile("\n".join(lines) + "\n", f"<acausal {name}>", "exec"), namespace)
     return [namespace[f"_f{k}"] for k in range(len(expressions))]
 
@@ -462,9 +550,9 @@ def vectorised(function: Callable, source: str) -> Callable | None:
       the same on arrays as on scalars;
     * ``a if c else b`` is ``np.where(c, a, b)`` (both branches are evaluated), ``min``
       and ``max`` pick as Python's do;
-    * every other function (``math.sin``, powers, tables) is called element by element,
-      on floats: numpy's own ``sin`` and ``**`` can differ from the C library's in the
-      last bit.
+    * every other function (``math.sin``, ``_exp``, powers, tables) is called element by
+      element, on floats: numpy's own ``sin`` and ``**`` can differ from the C library's
+      in the last bit.
 
     Where the scalar function raises, or gives a value that is not finite, ``f`` may
     raise or give a non-finite value: callers evaluate such columns with ``function``
@@ -615,7 +703,7 @@ class _VectorExpression(ast.NodeTransformer):
                 return _call("_v_abs", *args)
             if func.id in ("min", "max") and len(args) >= 2:
                 return _call(f"_v_{func.id}", *args)
-            if func.id.startswith("_f_"):  # a table function
+            if func.id.startswith("_f_") or func.id in FLOAT_FUNCTIONS:  # a table function, _exp ...
                 return _call("_v_map", func, *args)
         raise _NotVectorisable
 

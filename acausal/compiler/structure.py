@@ -632,7 +632,11 @@ def _select_dummy_derivatives(eqs, G, A, V, B, parent_eq, variables, order_of, c
                 hint="the constraints may be redundant (e.g. a closed loop of rigid connections)",
                 components=_components_of([eqs[i].origin for i in level_eqs]))
         for j in chosen:
-            if variables[base_name(V[j])].state_select == StateSelect.always:
+            # ``always`` asks for the variable itself to be a state: only a dummy first
+            # derivative denies it.  A dummy der(der(x)) makes der(x) algebraic, while x
+            # stays a state (its derivative der(x) is then computed, not integrated).
+            if (derivative_order(V[j]) == 1
+                    and variables[base_name(V[j])].state_select == StateSelect.always):
                 raise StructuralError(
                     f"{context}: {base_name(V[j])} has state_select=always but cannot be a state "
                     f"because of the constraint {eqs[level_eqs[0]].origin}",
