@@ -1,13 +1,30 @@
-"""Signal sources (Modelica.Blocks.Sources)."""
+"""Signal sources (Modelica.Blocks.Sources).
+
+The periodic sources (:class:`Pulse`, :class:`SawTooth`, :class:`Trapezoid`)
+count their periods in a when-clause, at exact time events; the tables
+(:class:`TimeTable`, :class:`CombiTimeTable`) are piecewise expressions of
+``time`` whose switching at the table times are time events (values
+right-continuous at a repeated time).  The Boolean sources are in
+:mod:`acausal.library.blocks.booleans`.
+"""
 
 from __future__ import annotations
 
+import enum
+import math
+from typing import Any, Callable, Sequence
+
 import sympy as sp
 
-from acausal.language import Eq, If, Parameter, time
 from acausal.components.blocks import SO, SignalSource
+from acausal.errors import ModelDefinitionError, ParameterError
+from acausal.hybrid import Assert, When, noEvent, sample
+from acausal.language import Eq, If, Integer, Parameter, RealOutput, Variable, initial, time
 
-__all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine"]
+from .discrete import EPS, SMALL, DerivedDefaults, VectorBlock
+
+__all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid",
+           "TimeTable", "CombiTimeTable", "Smoothness", "Extrapolation", "TimeEvents"]
 
 
 class Constant(SO):
@@ -105,3 +122,337 @@ class ExpSine(SignalSource):
         dt = time - self.startTime
         wave = self.amplitude * sp.exp(-dt * self.damping) * sp.sin(2 * sp.pi * self.f * dt + self.phase)
         return [Eq(self.y, self.offset + If(time < self.startTime, 0, wave))]
+
+
+# --------------------------------------------------------------------------
+# periodic and table sources (hybrid: when-clauses, time events)
+# --------------------------------------------------------------------------
+
+
+class _Periodic(SignalSource):
+    """The period counting shared by Pulse, SawTooth and Trapezoid.
+
+    ``count`` is the number of the current period and ``T_start`` its start:
+    at initialization ``count = integer((time - startTime)/period)`` and
+    ``T_start = startTime + count*period``; at each period boundary
+    ``startTime + i*period`` (a time event) ``count`` becomes ``i`` and
+    ``T_start`` the event time.
+
+    MSL 4.1 detects the boundary with the relation ``time >= (pre(count) +
+    1)*period + startTime``; the engine locates relations of ``time`` with
+    discrete variables as state events (to about 1e-10 s), so the boundary
+    is written here as ``sample(startTime, period)``, whose ticks are exact
+    time events.  ``count = integer((time - startTime)/period + 0.5)`` at a
+    tick is ``i``, also at a tick on the start time.
+    """
+
+    period = Parameter(1.0, unit="s", min=SMALL, description="Time for one period")
+    nperiod = Parameter(-1, structural=True,
+                        description="Number of periods (< 0 means infinite number of periods)")
+    T_start = Variable(unit="s", discrete=True, description="Start time of current period")  # noqa: N815
+    count = Integer(description="Period count")
+
+    def _counting(self):
+        periods = (time - self.startTime) / self.period
+        first = noEvent(sp.floor(periods))
+        return When(initial(), Eq(self.count, first),
+                    Eq(self.T_start, self.startTime + first * self.period)) \
+            .elsewhen(sample(self.startTime, self.period),
+                      Eq(self.count, noEvent(sp.floor(periods + sp.Rational(1, 2)))), Eq(self.T_start, time))
+
+    def _inactive(self):
+        """Where the output is ``offset``: before startTime, or after nperiod periods."""
+        nperiod = int(self.nperiod)
+        if nperiod == 0:
+            return sp.true
+        if nperiod > 0:
+            return sp.Or(time < self.startTime, self.count >= nperiod)
+        return time < self.startTime
+
+
+class Pulse(_Periodic):
+    """Generate a pulse signal of type Real (Modelica.Blocks.Sources.Pulse).
+
+    ``offset + amplitude`` during the first ``width`` percent of every period
+    from ``startTime`` on, ``offset`` otherwise (and after ``nperiod``
+    periods, if ``nperiod >= 0``).
+    """
+
+    amplitude = Parameter(1.0, description="Amplitude of pulse")
+    width = Parameter(50.0, min=SMALL, max=100, description="Width of pulse in % of period")
+
+    def equations(self):
+        T_width = self.period * self.width / 100
+        return [self._counting(),
+                Eq(self.y, sp.Piecewise((self.offset, self._inactive()),
+                                        (self.offset + self.amplitude, time < self.T_start + T_width),
+                                        (self.offset, True)))]
+
+
+class SawTooth(_Periodic):
+    """Generate a saw tooth signal (Modelica.Blocks.Sources.SawTooth).
+
+    ``offset + amplitude*(time - T_start)/period`` in every period from
+    ``startTime`` on, ``offset`` before (and after ``nperiod`` periods).
+    """
+
+    amplitude = Parameter(1.0, description="Amplitude of saw tooth")
+
+    def equations(self):
+        return [self._counting(),
+                Eq(self.y, sp.Piecewise((self.offset, self._inactive()),
+                                        (self.offset + self.amplitude * (time - self.T_start) / self.period,
+                                         True)))]
+
+
+class Trapezoid(_Periodic):
+    """Generate trapezoidal signal of type Real (Modelica.Blocks.Sources.Trapezoid).
+
+    In every period: a linear rise by ``amplitude`` over ``rising`` seconds,
+    ``width`` seconds at ``offset + amplitude``, a linear fall over
+    ``falling`` seconds, then ``offset`` for the rest of the period.
+    """
+
+    amplitude = Parameter(1.0, description="Amplitude of trapezoid")
+    rising = Parameter(0.0, unit="s", min=0, description="Rising duration of trapezoid")
+    width = Parameter(0.5, unit="s", min=0, description="Width duration of trapezoid")
+    falling = Parameter(0.0, unit="s", min=0, description="Falling duration of trapezoid")
+
+    def equations(self):
+        T_rising = self.rising
+        T_width = T_rising + self.width
+        T_falling = T_width + self.falling
+        tau = time - self.T_start
+        # the branches dividing by rising/falling are selected only where those are > 0
+        return [self._counting(),
+                Eq(self.y, sp.Piecewise(
+                    (self.offset, self._inactive()),
+                    (self.offset + self.amplitude * tau / self.rising, tau < T_rising),
+                    (self.offset + self.amplitude, tau < T_width),
+                    (self.offset + self.amplitude * (self.T_start + T_falling - time) / self.falling,
+                     tau < T_falling),
+                    (self.offset, True), evaluate=False))]
+
+
+
+class Smoothness(enum.IntEnum):
+    """Smoothness of table interpolation (Modelica.Blocks.Types.Smoothness); the values are Modelica's ordinals."""
+
+    LinearSegments = 1
+    ContinuousDerivative = 2
+    ConstantSegments = 3
+    MonotoneContinuousDerivative1 = 4
+    MonotoneContinuousDerivative2 = 5
+    ModifiedContinuousDerivative = 6
+
+
+class Extrapolation(enum.IntEnum):
+    """Extrapolation of data outside the definition range (Modelica.Blocks.Types.Extrapolation)."""
+
+    HoldLastPoint = 1
+    LastTwoPoints = 2
+    Periodic = 3
+    NoExtrapolation = 4
+
+
+class TimeEvents(enum.IntEnum):
+    """Type of time event handling of table interpolation (Modelica.Blocks.Types.TimeEvents)."""
+
+    Always = 1
+    AtDiscontinuities = 2
+    NoTimeEvents = 3
+
+
+def _rows(table: Any, where: str, columns: int | None = None) -> list[list[float]]:
+    """A structural table as rows of floats, the first column non-decreasing."""
+    try:
+        rows = [[float(v) for v in row] for row in table]
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{where}.table must be a matrix of numbers, not {table!r}",
+                             hint="e.g. table=[[0, 0], [1, 2], [3, 2]] (time in the first column)") from exc
+    if not rows:
+        raise ParameterError(f"{where}.table is empty", hint="give at least one row [time, value, ...]")
+    widths = {len(r) for r in rows}
+    if len(widths) != 1 or min(widths) < 2:
+        raise ParameterError(f"{where}.table must have rows of equal length >= 2 (time, values)",
+                             hint="e.g. table=[[0, 0], [1, 2]]")
+    if not all(math.isfinite(v) for r in rows for v in r):
+        raise ParameterError(f"{where}.table has non-finite entries", hint="give finite numbers")
+    for i in range(1, len(rows)):
+        if rows[i][0] < rows[i - 1][0]:
+            raise ParameterError(
+                f"{where}.table: the time column must not decrease, but row {i + 1} ({rows[i][0]:g}) "
+                f"follows row {i} ({rows[i - 1][0]:g})",
+                hint="sort the rows by time; a repeated time gives a jump")
+    return rows
+
+
+def _table_value(times: Sequence[float], values: Sequence[float], scaled: Any, at: Callable[[float], Any],
+                 *, constant: bool, extrapolation: Extrapolation, nearly: Callable[[float, float], bool]):
+    """The table's value at scaled table time ``scaled`` as a Piecewise.
+
+    ``at(t)`` is the relation "the scaled time is before table time t" (a
+    time event).  Between rows linear (or constant) interpolation; at a
+    repeated time the later row holds (right-continuous); outside the rows
+    the extrapolation given.
+    """
+    n = len(times)
+    if n == 1:
+        return sp.Float(values[0])
+
+    def line(i: int, j: int):
+        slope = (values[j] - values[i]) / (times[j] - times[i])
+        return values[i] + slope * (scaled - times[i])
+
+    def outside(first: int, second: int, left: bool):
+        if extrapolation is Extrapolation.HoldLastPoint:
+            return sp.Float(values[first] if left else values[second])
+        # LastTwoPoints (also the values NoExtrapolation reports with its assertion)
+        if nearly(times[first], times[second]):
+            return sp.Float(values[first] if left else values[second])
+        return line(first, second)
+
+    pieces = [(outside(0, 1, True), at(times[0]))]
+    for j in range(n - 1):
+        if nearly(times[j], times[j + 1]):
+            continue  # a jump: the later row holds from this time on
+        pieces.append((sp.Float(values[j]) if constant else line(j, j + 1), at(times[j + 1])))
+    pieces.append((outside(n - 2, n - 1, False), sp.true))
+    return sp.Piecewise(*pieces, evaluate=False)
+
+
+class TimeTable(DerivedDefaults, SignalSource):
+    """Generate a (possibly discontinuous) signal by linear interpolation in a table (Modelica.Blocks.Sources.TimeTable).
+
+    ``table`` rows are ``[time, value]`` (the first time 0, times not
+    decreasing; a repeated time is a jump, the later value holding from that
+    time on).  The output is ``offset`` before ``startTime``, then
+    ``offset`` plus the table interpolated linearly at
+    ``(time - shiftTime)/timeScale``, extrapolated through the last two rows
+    after the table.  Every table time is a time event.
+    """
+
+    table = Parameter(((0.0, 0.0),), structural=True,
+                      description="Table matrix (time = first column; e.g., table=[0, 0; 1, 1; 2, 4])")
+    timeScale = Parameter(1.0, unit="s", min=EPS, description="Time scale of first table column")  # noqa: N815
+    shiftTime = Parameter(None, unit="s", description="Shift time of first table column (default startTime)")  # noqa: N815
+
+    derived_defaults = {"shiftTime": lambda block: block.startTime}
+
+    def equations(self):
+        where = self.path or type(self).__name__
+        rows = _rows(self.table, where)
+        if len(rows[0]) != 2:
+            raise ParameterError(f"{where}.table must have 2 columns (time, value), not {len(rows[0])}",
+                                 hint="use CombiTimeTable for several columns")
+        if len(rows) > 1 and rows[0][0] != 0:
+            raise ParameterError(f"{where}.table: the first time must be 0, not {rows[0][0]:g}",
+                                 hint="shift the table with shiftTime instead")
+        times = [r[0] for r in rows]
+        scaled = (time - self.shiftTime) / self.timeScale
+        value = _table_value(times, [r[1] for r in rows], scaled,
+                             lambda t: time < self.shiftTime + t * self.timeScale,
+                             constant=False, extrapolation=Extrapolation.LastTwoPoints,
+                             nearly=lambda a, b: b - a <= 100 * EPS * abs(b))
+        return [Eq(self.y, self.offset + sp.Piecewise((0, time < self.startTime), (value, True),
+                                                      evaluate=False))]
+
+
+class CombiTimeTable(DerivedDefaults, VectorBlock):
+    """Table look-up with respect to time and linear/periodic extrapolation methods (Modelica.Blocks.Sources.CombiTimeTable).
+
+    ``table`` rows are ``[time, value_2, value_3, ...]`` (times not
+    decreasing; a repeated time is a jump, the later row holding from that
+    time on).  Output ``y[i]`` is ``offset[i]`` plus column ``columns[i]``
+    interpolated at ``(time - shiftTime)/timeScale`` (``offset`` before
+    ``startTime``).  Supported: ``smoothness`` LinearSegments (default) and
+    ConstantSegments; ``extrapolation`` LastTwoPoints (default),
+    HoldLastPoint and NoExtrapolation (an error outside the table).  Every
+    table time is a time event (unless ``timeEvents = NoTimeEvents``).  The
+    table is given in the model (``tableOnFile`` is not supported).
+    """
+
+    tableOnFile = Parameter(False, structural=True,  # noqa: N815
+                            description="= true, if table is defined on file or in function usertab (not supported)")
+    table = Parameter(((0.0, 0.0),), structural=True,
+                      description="Table matrix (time = first column; e.g., table=[0, 0; 1, 1; 2, 4])")
+    columns = Parameter(None, structural=True,
+                        description="Columns of table to be interpolated (default 2, ..., number of columns)")
+    smoothness = Parameter(Smoothness.LinearSegments, structural=True,
+                           description="Smoothness of table interpolation")
+    extrapolation = Parameter(Extrapolation.LastTwoPoints, structural=True,
+                              description="Extrapolation of data outside the definition range")
+    timeScale = Parameter(1.0, unit="s", min=EPS, description="Time scale of first table column")  # noqa: N815
+    offset = Parameter((0.0,), structural=True, description="Offsets of output signals")
+    startTime = Parameter(0.0, unit="s", description="Output = offset for time < startTime")  # noqa: N815
+    shiftTime = Parameter(None, unit="s", description="Shift time of first table column (default startTime)")  # noqa: N815
+    timeEvents = Parameter(TimeEvents.Always, structural=True,  # noqa: N815
+                           description="Time event handling of table interpolation")
+
+    derived_defaults = {"shiftTime": lambda block: block.startTime}
+
+    @staticmethod
+    def _columns(table: Any, columns: Any) -> list[int]:
+        if columns is None:
+            width = len(table[0]) if len(table) else 2
+            return list(range(2, width + 1))
+        return [int(c) for c in (columns if isinstance(columns, (list, tuple)) else [columns])]
+
+    @classmethod
+    def arrays(cls, value):
+        offset = value("offset")
+        n_offset = len(offset) if isinstance(offset, (list, tuple)) else 1
+        nout = max(len(cls._columns(value("table"), value("columns"))), n_offset)
+        return {"y": (nout, lambda i: RealOutput(description="Connector of Real output signals"))}
+
+    def equations(self):
+        where = self.path or type(self).__name__
+        if self.tableOnFile:
+            raise ModelDefinitionError(f"{where}: tables on file are not supported",
+                                       hint="give the table in the model: CombiTimeTable(table=[[0, 0], [1, 1]])")
+        smoothness = Smoothness(self.smoothness)
+        extrapolation = Extrapolation(self.extrapolation)
+        if smoothness not in (Smoothness.LinearSegments, Smoothness.ConstantSegments):
+            raise ModelDefinitionError(f"{where}: smoothness {smoothness.name} is not supported",
+                                       hint="use Smoothness.LinearSegments or Smoothness.ConstantSegments")
+        if extrapolation is Extrapolation.Periodic:
+            raise ModelDefinitionError(f"{where}: extrapolation Periodic is not supported",
+                                       hint="use LastTwoPoints, HoldLastPoint or NoExtrapolation")
+        rows = _rows(self.table, where)
+        columns = self._columns(rows, self.columns)
+        width = len(rows[0])
+        bad = [c for c in columns if not 2 <= c <= width]
+        if bad:
+            raise ParameterError(f"{where}.columns: column {bad[0]} is not in the table (2..{width})",
+                                 hint="columns count from 1; column 1 holds the time")
+        y = self.vector("y")
+        offset = list(self.offset) if isinstance(self.offset, (list, tuple)) else [self.offset]
+        if len(offset) == 1:
+            offset = offset * len(y)
+        if len(columns) == 1:
+            columns = columns * len(y)
+        if len(offset) != len(y) or len(columns) != len(y):
+            raise ParameterError(f"{where}: columns and offset have different sizes",
+                                 hint="give one offset per column, or a single offset")
+        times = [r[0] for r in rows]
+        scaled = (time - self.shiftTime) / self.timeScale
+
+        def nearly(a: float, b: float) -> bool:  # ModelicaStandardTables.c: isNearlyEqual
+            return abs(b - a) < 1e-10 * max(abs(a), abs(b), 1e-10)
+
+        equations = []
+        for i, (yi, column, off) in enumerate(zip(y, columns, offset)):
+            value = _table_value(times, [r[column - 1] for r in rows], scaled,
+                                 lambda t: time < self.shiftTime + t * self.timeScale,
+                                 constant=smoothness is Smoothness.ConstantSegments,
+                                 extrapolation=extrapolation, nearly=nearly)
+            expr = sp.Piecewise((0, time < self.startTime), (value, True), evaluate=False)
+            if TimeEvents(self.timeEvents) is TimeEvents.NoTimeEvents:
+                expr = noEvent(expr)
+            equations.append(Eq(yi, off + expr))
+        if extrapolation is Extrapolation.NoExtrapolation and len(times) > 1:
+            equations.append(Assert(sp.Or(time < self.startTime,
+                                          sp.And(time >= self.shiftTime + times[0] * self.timeScale,
+                                                 time <= self.shiftTime + times[-1] * self.timeScale)),
+                                    f"Extrapolation error: time outside the table of {where}"))
+        return equations

@@ -44,6 +44,11 @@ BUNDLED_CLASSES = (
     "Modelica.Mechanics.Rotational.Examples.Friction",
     "Modelica.Thermal.HeatTransfer.Examples.TwoMasses",
     "ModelicaTest.Rotational.TestFriction",
+    "ModelicaTest.Blocks.Hysteresis",
+    "ModelicaTest.Blocks.OnDelay",
+    "ModelicaTest.Blocks.Logical",
+    "ModelicaTest.Blocks.Discrete",
+    "ModelicaTest.Blocks.ResetHoldIntegrator",
 )
 
 #: The team's full copy of MAP-LIB_ReferenceResults v4.1.0, beside the checkout (may be absent).
