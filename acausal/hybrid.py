@@ -162,6 +162,13 @@ def plain_form(expr: sp.Basic) -> sp.Basic:
     return expr.xreplace(replacements)
 
 
+def without_no_event(expr: sp.Basic) -> sp.Basic:
+    """``expr`` with every ``noEvent(u)`` replaced by ``u`` (for code evaluated at events only)."""
+    if not isinstance(expr, sp.Basic) or not expr.has(NoEvent):
+        return expr
+    return expr.replace(lambda node: isinstance(node, NoEvent), lambda node: node.args[0])
+
+
 def _plain(func: type, args: Sequence[sp.Basic]) -> sp.Basic:
     if func in (floor, integer):
         return sp.floor(args[0])

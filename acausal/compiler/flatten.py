@@ -79,19 +79,29 @@ TERMINAL = sp.Symbol(TERMINAL_NAME)
 _ORDER_RELATIONS = (sp.StrictGreaterThan, sp.GreaterThan, sp.StrictLessThan, sp.LessThan)
 
 
-def _needs_rewrite(expr: sp.Basic) -> bool:
-    """Whether ``expr`` has a der/pre/initial/sample/terminal application, noEvent or an
-    event-generating function (one walk of the tree)."""
+def any_node(expr: sp.Basic, test) -> bool:
+    """Whether some node of ``expr`` passes ``test``, in one walk of the tree (sympy's
+    ``has`` walks it once per class asked for), shared subtrees visited once."""
     stack, seen = [expr], set()
     while stack:
         node = stack.pop()
-        if isinstance(node, (AppliedUndef, NoEvent, *EVENT_FUNCTIONS, *_ORDER_RELATIONS)):
+        if test(node):
             return True
         for arg in node.args:
             if id(arg) not in seen:
                 seen.add(id(arg))
                 stack.append(arg)
     return False
+
+
+#: What :meth:`_Flattener._expand` rewrites: der/pre/initial/sample/terminal applications,
+#: noEvent, event-generating functions and relations (discrete values mirrored).
+_REWRITTEN = (AppliedUndef, NoEvent, *EVENT_FUNCTIONS, *_ORDER_RELATIONS)
+
+
+def _needs_rewrite(expr: sp.Basic) -> bool:
+    """Whether ``expr`` has something :meth:`_Flattener._expand` rewrites."""
+    return any_node(expr, lambda node: isinstance(node, _REWRITTEN))
 
 
 #: Expression types rebuilt without evaluation while der/pre/initial are expanded:
@@ -795,8 +805,8 @@ class _Flattener:
             if isinstance(item, When):
                 self._add_when(item, origin)
             elif isinstance(item, hybrid.Assert):
-                self.asserts.append(FlatAssert(self._expand(sp.sympify(item.condition)), item.message,
-                                               item.level, origin))
+                self.asserts.append(FlatAssert(self._at_events(item.condition), item.message, item.level,
+                                               origin))
             else:
                 raise EquationError(f"{origin}: {type(item).__name__.lower()}() outside a when-clause",
                                     hint=f"write When(condition, {type(item).__name__.lower()}(...)); "
@@ -844,9 +854,16 @@ class _Flattener:
         if not isinstance(expr, sp.Basic) or not _needs_rewrite(expr):
             return expr
 
+        literal = [0]  # inside noEvent: relations are evaluated as they stand, nothing to mirror
+
         def rewrite(node: sp.Basic) -> sp.Basic:
             if isinstance(node, NoEvent):
-                return NoEvent(rewrite(hybrid.plain_form(node.args[0])))
+                literal[0] += 1
+                try:
+                    inner = rewrite(hybrid.plain_form(node.args[0]))
+                finally:
+                    literal[0] -= 1
+                return inner if literal[0] else NoEvent(inner)  # noEvent(noEvent(u)) = noEvent(u)
             if isinstance(node, EVENT_FUNCTIONS):
                 return self._held_event_function(node.func, [rewrite(a) for a in node.args])
             if isinstance(node, sp.Function) and node.func.__name__ == "terminal" and not node.args:
@@ -865,7 +882,7 @@ class _Flattener:
             if not node.args:
                 return node
             new_args = [rewrite(a) for a in node.args]
-            if isinstance(node, _ORDER_RELATIONS):
+            if isinstance(node, _ORDER_RELATIONS) and not literal[0]:
                 return self._mirror_discrete(node, new_args)
             if all(a is b for a, b in zip(new_args, node.args)):
                 return node
@@ -925,7 +942,9 @@ class _Flattener:
         """A when-clause: each assigned variable becomes the discrete equation
         ``v = if fires_1 then e_1 elseif fires_2 then e_2 ... else pre(v)``.
 
-        A condition ``c`` gets a hidden Boolean ``$when`` (= c); its element fires
+        The right-hand sides are evaluated only at the events where the clause
+        fires, so their relations generate no events of their own (as under
+        ``noEvent``).  A condition ``c`` gets a hidden Boolean ``$when`` (= c); its element fires
         where it becomes true after initialization: ``$when and not pre($when) and
         not initial()``.  ``initial()`` itself fires during initialization.
         """
@@ -953,7 +972,7 @@ class _Flattener:
                             f"{origin}: the when-equation {item} does not assign a variable",
                             hint="inside a when-clause write Eq(v, expression) with a declared "
                                  "variable v on the left")
-                    assignments.setdefault(target.name, []).append((self._expand(item.rhs), fires))
+                    assignments.setdefault(target.name, []).append((self._expand(NoEvent(item.rhs)), fires))
                 elif isinstance(item, Reinit):
                     name = item.variable.name
                     if name not in self.variables or self.variables[name].kind != "continuous":
@@ -966,14 +985,13 @@ class _Flattener:
                                             hint="one reinit per state and when-clause",
                                             components=(component,))
                     reinitialized.add(name)
-                    self.reinits.append(FlatReinit(name, self._expand(item.value), fires, origin))
+                    self.reinits.append(FlatReinit(name, self._at_events(item.value), fires, origin))
                 elif isinstance(item, Terminate):
                     self.terminations.append(FlatTermination(item.message, fires, origin))
                 elif isinstance(item, hybrid.Assert):
                     # checked where the clause fires: "not fires or condition"
-                    self.asserts.append(FlatAssert(
-                        sp.Or(sp.Not(fires), self._expand(sp.sympify(item.condition))), item.message,
-                        item.level, origin, fires))
+                    self.asserts.append(FlatAssert(sp.Or(sp.Not(fires), self._at_events(item.condition)),
+                                                   item.message, item.level, origin, fires))
                 else:
                     raise EquationError(
                         f"{origin}: {item!r} cannot stand in a when-clause",
@@ -997,6 +1015,11 @@ class _Flattener:
             keep = sp.Symbol(pre_name(name), **symbol.assumptions0)
             self.discrete_equations.append(DiscreteEquation(
                 name, sp.Piecewise(*pieces, (keep, True), evaluate=False), origin))
+
+    def _at_events(self, expr: Any) -> sp.Basic:
+        """An expression the runtime evaluates itself (a reinit's value, an assertion):
+        expanded as under noEvent, and without the noEvent (partition never sees it)."""
+        return hybrid.without_no_event(self._expand(NoEvent(sp.sympify(expr))))
 
     def _held_event_function(self, func: type, args: list) -> sp.Basic:
         """An event-generating function of continuous arguments, as values held between

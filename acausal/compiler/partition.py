@@ -27,10 +27,10 @@ from sympy.printing.repr import ReprPrinter
 from sympy.printing.str import StrPrinter
 
 from ..errors import ModelDefinitionError
-from .flatten import DiscreteEquation, FlatEquation, FlatModel, _NotTemplatable, _Program, _Source
+from .flatten import DiscreteEquation, FlatEquation, FlatModel, _NotTemplatable, _Program, _Source, any_node
 from ..language import real_symbol, time
-from ..hybrid import NoEvent
-from ..names import TERMINAL_NAME, is_derivative, parse, pre_name, relation_name, sample_name
+from ..hybrid import NoEvent, without_no_event
+from ..names import is_derivative, parse, pre_name, relation_name, sample_name
 
 __all__ = ["Relation", "Clock", "PartitionedModel", "partition"]
 
@@ -164,18 +164,8 @@ def _is_sample(node: sp.Basic) -> bool:
 
 
 def _has_relation(expr: sp.Basic) -> bool:
-    """Whether ``expr`` has a relation, a noEvent or a sample(), in one walk of the tree
-    (``has`` walks it once per class)."""
-    stack, seen = [expr], set()
-    while stack:
-        node = stack.pop()
-        if isinstance(node, _RELATIONS) or isinstance(node, NoEvent) or _is_sample(node):
-            return True
-        for arg in node.args:
-            if id(arg) not in seen:
-                seen.add(id(arg))
-                stack.append(arg)
-    return False
+    """Whether ``expr`` has a relation, a noEvent or a sample() (what partition replaces)."""
+    return any_node(expr, lambda node: isinstance(node, (*_RELATIONS, NoEvent)) or _is_sample(node))
 
 
 class _RelationFinder:
@@ -255,7 +245,8 @@ class _RelationFinder:
 
         def visit(node: sp.Basic) -> sp.Basic:
             if isinstance(node, NoEvent):
-                return node.args[0]  # its relations are evaluated as they stand, without events
+                # its relations are evaluated as they stand, without events
+                return without_no_event(node.args[0])
             if _is_sample(node):
                 return self.clock(*node.args)
             if isinstance(node, _RELATIONS):

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
-from ..names import INITIAL_NAME, TERMINAL_NAME, is_relation, parse, pre_name, relation_name, sample_name
+from ..names import INITIAL_NAME, TERMINAL_NAME, is_relation, parse, pre_name, relation_name
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import vectorised_function
 
@@ -212,6 +212,9 @@ class DiscreteEvaluator:
         self._assert_continuous = set()
         for _a, args, _f in self.asserts:
             self._assert_continuous |= continuous_reads(args)
+        #: whether anything reads terminal() (then the run ends with one more event iteration)
+        self.uses_terminal = any(TERMINAL_NAME in args for args in arguments) or any(
+            TERMINAL_NAME in item[1] for item in (*self.reinits, *self.terminations))
         #: values the environment of a pass adds (clocks, terminal(), continuous values)
         self._extra: dict = {}
         self._hybrid = bool(self._continuous_args or self.clocks or self.held or self.reinits

@@ -239,8 +239,10 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
     (const_cols, const_vals), (var_cols, var_coeffs, var_srcs) = aliases
     block[:, const_cols] = const_vals
     block[:, var_cols] = var_coeffs * values[:, var_srcs]
-    if discrete:
-        block[:, [index[name] for name in discrete]] = np.array([float(v) for v in discrete.values()])
+    chosen = [(index[name], float(v)) for name, v in discrete.items() if name in index]
+    if chosen:  # (with an output demand, only the discrete values demanded have columns)
+        columns, values_ = zip(*chosen)
+        block[:, list(columns)] = np.array(values_)
     return failed
 
 

@@ -287,6 +287,7 @@ class _Run:
         self._clock_texts = [c.text for c in translation.partitioned.clocks]
         #: state events per relation and direction: their last times (Zeno detection)
         self._state_event_times: dict[tuple, list[float]] = {}
+        self._relation_of_text = {rel.text: rel.index for rel in self.relations}
         self._warned: set = set()
 
     def _next_time_event(self, t: float, relations) -> float:
@@ -484,8 +485,7 @@ class _Run:
     def _terminal_iteration(self, t: float, system: ModeSystem, x, discrete, relations) -> None:
         """At the end of a successful run, ``terminal()`` is true in one more event
         iteration (only if the model uses it); its values are the last row."""
-        if not any(n == "terminal()" for eq in self.evaluator.equations for n in eq[1]) and not any(
-                "terminal()" in args for _r, args, *_ in self.evaluator.terminations + self.evaluator.reinits):
+        if not self.evaluator.uses_terminal:
             return
         values = mode_values(system, t, x)
         outcome = self.evaluator.iterate(t, values, discrete, relations, terminal=True)
@@ -511,7 +511,7 @@ class _Run:
         bounce and the ball falls through the floor: a wrong result, silently.
         """
         span = t1 - self.recorder.grid[0]
-        index = {rel.text: rel.index for rel in self.relations}
+        index = self._relation_of_text
         for name in fired:
             # a relation's flips one way (h <= 0 becoming true) are timed apart from its flips back
             times = self._state_event_times.setdefault((name, bool(relations[index[name]])), [])
@@ -528,8 +528,7 @@ class _Run:
                 continue
             r = float(np.exp(np.mean(np.log(ratios))))
             t_star = t_e + gaps[-1] * r / (1 - r)
-            relation = next((rel for rel in self.relations if rel.text == name), None)
-            owners = relation.components if relation is not None else ()
+            owners = self.relations[index[name]].components
             raise ZenoError(
                 f"Zeno behaviour: the events of {name} come ever faster (each interval {r:.3g} times "
                 f"the one before, the last {gaps[-1]:.3g} s) and would accumulate at "

@@ -13,7 +13,6 @@ the blocks: they start passing (and must lose their mark) when it is fixed.
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -55,16 +54,11 @@ from examples.blocks_hysteresis import HysteresisTest
 from examples.blocks_logical import LogicalTest
 from examples.blocks_ondelay import OnDelayTest
 
-#: Where the ModelicaTest.Blocks references live when the configured folder lacks them.
-SHARED_REFERENCES = Path("/work/shared/reference/msl-4.1.0")
-
-
 def _reference(modelica_class: str):
-    for directory in (reference_dir(), SHARED_REFERENCES):
-        if (directory / modelica_class).is_dir():
-            return load_reference(modelica_class, directory)
-    pytest.skip(f"no reference results for {modelica_class} in {reference_dir()} or {SHARED_REFERENCES} "
-                f"(set ACAUSAL_REFERENCE_DIR)")
+    """The reference (bundled, or from $ACAUSAL_REFERENCE_DIR), or a skip saying where it was looked for."""
+    if not (reference_dir() / modelica_class).is_dir():
+        pytest.skip(f"no reference results for {modelica_class} in {reference_dir()} (ACAUSAL_REFERENCE_DIR)")
+    return load_reference(modelica_class)
 
 
 def _in_tube(model_class):

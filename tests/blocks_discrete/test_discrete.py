@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import importlib
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -34,17 +33,12 @@ from acausal.library.blocks.sources import (
 )
 from acausal.tools.compare import compare_signals, load_reference, reference_dir
 
-#: Where the MAP-LIB reference results are kept on the project machine (the bundled
-#: copy holds only the Rotational/Thermal examples).
-SHARED_REFERENCES = Path("/work/shared/reference/msl-4.1.0")
-
-
 def _reference_or_skip(modelica_class: str):
-    for directory in (reference_dir(), SHARED_REFERENCES):
-        if (directory / modelica_class).is_dir():
-            return load_reference(modelica_class, directory)
-    pytest.skip(f"MSL reference results of {modelica_class} not found in {reference_dir()} "
-                f"(ACAUSAL_REFERENCE_DIR) nor {SHARED_REFERENCES}")
+    """The reference (bundled, or from $ACAUSAL_REFERENCE_DIR), or a skip saying where it was looked for."""
+    if not (reference_dir() / modelica_class).is_dir():
+        pytest.skip(f"MSL reference results of {modelica_class} not found in {reference_dir()} "
+                    f"(ACAUSAL_REFERENCE_DIR)")
+    return load_reference(modelica_class)
 
 
 def _row_at(result, t: float) -> int:

@@ -247,3 +247,29 @@ def test_the_bouncing_ball_example_comes_to_rest_by_its_own_rule():
     v1 = math.sqrt(2 * 9.81 * 1.0)
     k = next(k for k in range(1, 100) if 0.8 ** k * v1 < 0.05)
     assert len(impacts(result)) == k
+
+
+class BodyRelation(Model):
+    """A relation in a when-clause's body is evaluated at the clause's events only."""
+
+    b = Boolean()
+    held_a = Variable(discrete=True)
+    held_b = Variable(discrete=True)
+
+    def equations(self):
+        return [When(sample(0, 0.1), Eq(self.b, time <= 0.05), Eq(self.held_a, time),
+                     Eq(self.held_b, 2 * time))]
+
+
+def test_a_relation_in_a_when_body_makes_no_event_of_its_own():
+    result = simulate(BodyRelation(), stop_time=0.35, interval=0.05)
+    assert result.status == 0, result.message
+    assert [ev.time for ev in result.events] == pytest.approx([0.0, 0.1, 0.2, 0.3])
+    assert result["b"][0] == 1 and result["b"][-1] == 0
+    assert result["held_b"][-1] == pytest.approx(0.6)
+
+
+def test_an_output_demand_may_leave_out_discrete_reals():
+    result = simulate(BodyRelation(), stop_time=0.35, interval=0.05, outputs=["held_a"])
+    assert result.status == 0, result.message
+    assert result["held_a"][-1] == pytest.approx(0.3) and "held_b" not in result
