@@ -5,7 +5,7 @@ from __future__ import annotations
 from acausal.language import Boolean, Component, Integer, Parameter, RealInput, RealOutput
 
 __all__ = ["SO", "SignalSource", "SI2SO", "SISO", "BooleanInput", "BooleanOutput", "IntegerInput",
-           "IntegerOutput"]
+           "IntegerOutput", "PartialBooleanSISO", "PartialBooleanSI2SO", "PartialBooleanSI3SO"]
 
 
 def BooleanInput(**kw) -> Boolean:  # noqa: N802 - Modelica's connector name
@@ -54,3 +54,27 @@ class SISO(Component):
 
     u = RealInput(description="Connector of Real input signal")
     y = RealOutput(description="Connector of Real output signal")
+
+
+class PartialBooleanSISO(Component):
+    """One Boolean input, one Boolean output (Modelica.Blocks.Interfaces.partialBooleanSISO)."""
+
+    u = BooleanInput(description="Connector of Boolean input signal")
+    y = BooleanOutput(description="Connector of Boolean output signal")
+
+
+class PartialBooleanSI2SO(Component):
+    """Two Boolean inputs, one Boolean output (Modelica.Blocks.Interfaces.partialBooleanSI2SO)."""
+
+    u1 = BooleanInput(description="Connector of first Boolean input signal")
+    u2 = BooleanInput(description="Connector of second Boolean input signal")
+    y = BooleanOutput(description="Connector of Boolean output signal")
+
+
+class PartialBooleanSI3SO(Component):
+    """Three Boolean inputs, one Boolean output (Modelica.Blocks.Interfaces.partialBooleanSI3SO)."""
+
+    u1 = BooleanInput(description="Connector of first Boolean input signal")
+    u2 = BooleanInput(description="Connector of second Boolean input signal")
+    u3 = BooleanInput(description="Connector of third Boolean input signal")
+    y = BooleanOutput(description="Connector of Boolean output signal")

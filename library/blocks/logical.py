@@ -23,7 +23,8 @@ import sympy as sp
 from acausal.errors import ModifierError
 from acausal.hybrid import Assert, When, change, edge, terminate
 from acausal.language import Boolean, Component, Eq, If, Parameter, RealInput, RealOutput, Variable, initial, pre, time
-from acausal.components.blocks import BooleanInput, BooleanOutput
+from acausal.components.blocks import (BooleanInput, BooleanOutput, PartialBooleanSI2SO, PartialBooleanSI3SO,
+                                       PartialBooleanSISO)
 from acausal.components.logic import is_initial, pre_boolean
 
 __all__ = [
@@ -50,30 +51,6 @@ def _fix_pre(component: Component, variable: str, value) -> None:
 
 # --------------------------------------------------------------------------
 # partial blocks (Modelica.Blocks.Interfaces.partialBoolean*)
-
-
-class PartialBooleanSISO(Component):
-    """One Boolean input, one Boolean output (Modelica.Blocks.Interfaces.partialBooleanSISO)."""
-
-    u = BooleanInput(description="Connector of Boolean input signal")
-    y = BooleanOutput(description="Connector of Boolean output signal")
-
-
-class PartialBooleanSI2SO(Component):
-    """Two Boolean inputs, one Boolean output (Modelica.Blocks.Interfaces.partialBooleanSI2SO)."""
-
-    u1 = BooleanInput(description="Connector of first Boolean input signal")
-    u2 = BooleanInput(description="Connector of second Boolean input signal")
-    y = BooleanOutput(description="Connector of Boolean output signal")
-
-
-class PartialBooleanSI3SO(Component):
-    """Three Boolean inputs, one Boolean output (Modelica.Blocks.Interfaces.partialBooleanSI3SO)."""
-
-    u1 = BooleanInput(description="Connector of first Boolean input signal")
-    u2 = BooleanInput(description="Connector of second Boolean input signal")
-    u3 = BooleanInput(description="Connector of third Boolean input signal")
-    y = BooleanOutput(description="Connector of Boolean output signal")
 
 
 class PartialBooleanThresholdComparison(Component):
