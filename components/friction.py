@@ -8,7 +8,7 @@ from acausal.language import Boolean, Component, Eq, Integer, Parameter, Variabl
 
 from .logic import is_initial, pre_boolean
 
-__all__ = ["PartialFriction", "Unknown", "Free", "Forward", "Stuck", "Backward"]
+__all__ = ["PartialFriction", "friction_state_machine", "Unknown", "Free", "Forward", "Stuck", "Backward"]
 
 #: Values of ``mode``.
 Unknown = 3  #: value of mode is not known
@@ -109,38 +109,69 @@ class PartialFriction(Component):
                                "2 inactive, 3 unknown)")
 
     def equations(self):
-        sa, w = self.sa, self.w_relfric
-        tau0, tau0_max = self.tau0, self.tau0_max
-        pre_mode = pre(self.mode)
-        was = {value: sp.Eq(pre_mode, value) for value in (Stuck, Forward, Backward, Free)}
+        return friction_state_machine(self, self.w_relfric, self.a_relfric, self.tau0, self.tau0_max,
+                                      self.w_small, locked_acceleration=-self.K_locked * self.w_relfric)
 
-        start_forward = sp.Or(
-            sp.And(was[Stuck], sp.Or(sa > tau0_max, sp.And(pre_boolean(self.startForward), sa > tau0))),
-            sp.And(was[Backward], w > self.w_small),
-            sp.And(is_initial(), w > 0))
-        start_backward = sp.Or(
-            sp.And(was[Stuck], sp.Or(sa < -tau0_max, sp.And(pre_boolean(self.startBackward), sa < -tau0))),
-            sp.And(was[Forward], w < -self.w_small),
-            sp.And(is_initial(), w < 0))
-        locked = sp.And(sp.Not(self.free),
-                        sp.Not(sp.Or(was[Forward], self.startForward, was[Backward], self.startBackward)))
-        a_relfric = sp.Piecewise(
-            (-self.K_locked * w, self.locked),
-            (sa, self.free),
-            (sa - tau0_max, self.startForward),
-            (sa + tau0_max, self.startBackward),
-            (sa - tau0_max, was[Forward]),
-            (sa + tau0_max, was[Backward]),
-            (sa - sp.sign(w) * tau0_max, True))
-        mode = sp.Piecewise(
-            (Free, self.free),
-            (Forward, sp.And(sp.Or(was[Forward], was[Free], self.startForward), w > 0)),
-            (Backward, sp.And(sp.Or(was[Backward], was[Free], self.startBackward), w < 0)),
-            (Stuck, True))
-        return [
-            Eq(self.startForward, start_forward),   # F1
-            Eq(self.startBackward, start_backward),  # F2
-            Eq(self.locked, locked),                 # F3
-            Eq(self.a_relfric, a_relfric),           # F4
-            Eq(self.mode, mode),                     # F5
-        ]
+
+def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, locked_acceleration=0):
+    """The five equations F1-F5 of the MSL friction state machine, for either domain.
+
+    Rotational and Translational ``PartialFriction`` share these equations
+    (only the names of the relative motion and the limits differ), so both
+    build them here from the element's ``sa``, ``startForward``,
+    ``startBackward``, ``locked``, ``free`` and ``mode``.
+
+    Parameters
+    ----------
+    element : Component
+        The friction element, declaring sa, startForward, startBackward,
+        locked, free and mode.
+    v_relfric, a_relfric : sympy expressions
+        Relative velocity and acceleration between the frictional surfaces.
+    f0, f0_max : sympy expressions
+        Friction force (torque) at zero speed when sliding, and its static limit.
+    v_small : sympy expression
+        Relative speed above which a reversal of sliding is accepted directly.
+    locked_acceleration : sympy expression, default 0
+        ``a_relfric`` while locked (the MSL has 0; the rotational elements'
+        ``K_locked`` extension uses ``-K_locked*w_relfric``).
+
+    Returns
+    -------
+    list of Eq
+        startForward (F1), startBackward (F2), locked (F3), a_relfric (F4), mode (F5).
+    """
+    sa, w = element.sa, v_relfric
+    pre_mode = pre(element.mode)
+    was = {value: sp.Eq(pre_mode, value) for value in (Stuck, Forward, Backward, Free)}
+
+    start_forward = sp.Or(
+        sp.And(was[Stuck], sp.Or(sa > f0_max, sp.And(pre_boolean(element.startForward), sa > f0))),
+        sp.And(was[Backward], w > v_small),
+        sp.And(is_initial(), w > 0))
+    start_backward = sp.Or(
+        sp.And(was[Stuck], sp.Or(sa < -f0_max, sp.And(pre_boolean(element.startBackward), sa < -f0))),
+        sp.And(was[Forward], w < -v_small),
+        sp.And(is_initial(), w < 0))
+    locked = sp.And(sp.Not(element.free),
+                    sp.Not(sp.Or(was[Forward], element.startForward, was[Backward], element.startBackward)))
+    acceleration = sp.Piecewise(
+        (locked_acceleration, element.locked),
+        (sa, element.free),
+        (sa - f0_max, element.startForward),
+        (sa + f0_max, element.startBackward),
+        (sa - f0_max, was[Forward]),
+        (sa + f0_max, was[Backward]),
+        (sa - sp.sign(w) * f0_max, True))
+    mode = sp.Piecewise(
+        (Free, element.free),
+        (Forward, sp.And(sp.Or(was[Forward], was[Free], element.startForward), w > 0)),
+        (Backward, sp.And(sp.Or(was[Backward], was[Free], element.startBackward), w < 0)),
+        (Stuck, True))
+    return [
+        Eq(element.startForward, start_forward),   # F1
+        Eq(element.startBackward, start_backward),  # F2
+        Eq(element.locked, locked),                 # F3
+        Eq(a_relfric, acceleration),                # F4
+        Eq(element.mode, mode),                     # F5
+    ]
