@@ -22,10 +22,7 @@ from acausal.language import (
     Connector,
     Integer,
     Model,
-    Parameter,
-    Potential,
     StateSelect,
-    Variable,
     initial,
     pre,
     time,
@@ -74,73 +71,7 @@ from acausal.library.thermal import (
     ThermalResistor,
 )
 
-# --------------------------------------------------------------------------
-# helpers
-
-
-def attach(component, name="x"):
-    m = Model()
-    setattr(m, name, component)
-    component.ensure_built()
-    return component
-
-
-def collect(component, method="equations"):
-    """Equations of every class along the MRO, base first (as the flattener does)."""
-    items = []
-    for klass in reversed(type(component).__mro__):
-        own = vars(klass).get(method)
-        if own is not None:
-            items.extend(own(component))
-    return items
-
-
-def enabled_declarations(component):
-    return {k: d for k, d in component.declarations().items() if d.enabled(component)}
-
-
-def own_names(component):
-    """Every symbol name the component may use: its variables, parameters and connector variables."""
-    names = set()
-    for key, decl in enabled_declarations(component).items():
-        path = component._path_of(key)
-        if isinstance(decl, Connector):
-            names.update(f"{path}.{v}" for v in type(decl).variables())
-        elif isinstance(decl, (Variable, Parameter)):
-            names.add(path)
-    return names
-
-
-def local_balance(component):
-    """(equations, unknowns) with Modelica's local rule: unknowns = non-input variables + potentials."""
-    unknowns = 0
-    for decl in enabled_declarations(component).values():
-        if isinstance(decl, Connector):
-            unknowns += sum(isinstance(v, Potential) for v in type(decl).variables().values())
-        elif isinstance(decl, Variable) and decl.causality != "input":
-            unknowns += 1
-    return len(collect(component)), unknowns
-
-
-def value(expr, subs):
-    """Evaluate a sympy expression after substitution."""
-    return float(sp.sympify(expr).subs(subs))
-
-
-def rhs_of(component, symbol, klass=None):
-    """The right-hand side of the (unique) equation with ``symbol`` alone on the left.
-
-    ``klass`` restricts the search to the equations that class itself writes.
-    """
-    equations = collect(component) if klass is None else vars(klass)["equations"](component)
-    found = [e.rhs for e in equations if isinstance(e, sp.Equality) and e.lhs == symbol]
-    assert len(found) == 1, f"expected one equation defining {symbol}, found {len(found)}"
-    return found[0]
-
-
-def params(component, **values):
-    """Substitution dict for parameters given by their short names."""
-    return {getattr(component, k): v for k, v in values.items()}
+from library_checks import attach, collect, enabled_declarations, local_balance, own_names, params, rhs_of, value  # noqa: F401
 
 
 # --------------------------------------------------------------------------

@@ -1,0 +1,101 @@
+"""Checks of a component's declarations and equations without a simulator, shared by the library tests.
+
+``check_declarations(component)`` is what every library test module runs on
+each of its components (with defaults and with modifiers): equations are
+sympy equalities naming only the component's own declarations, the component
+is locally balanced (Modelica's rule: equations = non-input variables +
+connector potentials), and every Boolean or Integer is defined by exactly
+one equation with it on the left.  Import it as ``from library_checks import
+...`` (pytest puts ``tests/`` on the path).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from acausal.language import Boolean, Connector, Integer, Model, Parameter, Potential, Variable, time
+
+
+
+def attach(component, name="x"):
+    m = Model()
+    setattr(m, name, component)
+    component.ensure_built()
+    return component
+
+
+def collect(component, method="equations"):
+    """Equations of every class along the MRO, base first (as the flattener does)."""
+    items = []
+    for klass in reversed(type(component).__mro__):
+        own = vars(klass).get(method)
+        if own is not None:
+            items.extend(own(component))
+    return items
+
+
+def enabled_declarations(component):
+    return {k: d for k, d in component.declarations().items() if d.enabled(component)}
+
+
+def own_names(component):
+    """Every symbol name the component may use: its variables, parameters and connector variables."""
+    names = set()
+    for key, decl in enabled_declarations(component).items():
+        path = component._path_of(key)
+        if isinstance(decl, Connector):
+            names.update(f"{path}.{v}" for v in type(decl).variables())
+        elif isinstance(decl, (Variable, Parameter)):
+            names.add(path)
+    return names
+
+
+def local_balance(component):
+    """(equations, unknowns) with Modelica's local rule: unknowns = non-input variables + potentials."""
+    unknowns = 0
+    for decl in enabled_declarations(component).values():
+        if isinstance(decl, Connector):
+            unknowns += sum(isinstance(v, Potential) for v in type(decl).variables().values())
+        elif isinstance(decl, Variable) and decl.causality != "input":
+            unknowns += 1
+    return len(collect(component)), unknowns
+
+
+def value(expr, subs):
+    """Evaluate a sympy expression after substitution."""
+    return float(sp.sympify(expr).subs(subs))
+
+
+def rhs_of(component, symbol, klass=None):
+    """The right-hand side of the (unique) equation with ``symbol`` alone on the left.
+
+    ``klass`` restricts the search to the equations that class itself writes.
+    """
+    equations = collect(component) if klass is None else vars(klass)["equations"](component)
+    found = [e.rhs for e in equations if isinstance(e, sp.Equality) and e.lhs == symbol]
+    assert len(found) == 1, f"expected one equation defining {symbol}, found {len(found)}"
+    return found[0]
+
+
+def params(component, **values):
+    """Substitution dict for parameters given by their short names."""
+    return {getattr(component, k): v for k, v in values.items()}
+
+
+def check_declarations(component) -> None:
+    """Assert the three structural rules above for one (unbuilt) component instance."""
+    x = attach(component)
+    name = type(x).__name__
+    allowed = own_names(x)
+    equations = collect(x)
+    assert equations, f"{name} has no equations"
+    for eq in equations:
+        assert isinstance(eq, sp.Equality), f"{name}: {eq!r} is not a sympy equality"
+        for sym in eq.free_symbols:
+            assert sym is time or sym.name in allowed, f"{name}: unknown name {sym.name} in {eq}"
+    n_equations, n_unknowns = local_balance(x)
+    assert n_equations == n_unknowns, f"{name}: {n_equations} equations, {n_unknowns} unknowns"
+    lhs = [e.lhs for e in equations]
+    for key, decl in enabled_declarations(x).items():
+        if isinstance(decl, (Boolean, Integer)):
+            assert lhs.count(getattr(x, key)) == 1, f"{name}.{key} needs exactly one defining equation"
