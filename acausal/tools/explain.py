@@ -294,7 +294,7 @@ def _write_flat(w: _Writer, translation: Translation) -> None:
         w.line(f"Discrete equations ({len(flat.discrete_equations)}), for Boolean and Integer "
                f"variables:")
         for k, eq in enumerate(flat.discrete_equations, start=1):
-            w.line(f"  [D{k}] {eq.origin}")
+            w.line("  " + textwrap.shorten(f"[D{k}] {eq.origin}", _WIDTH - 2, placeholder=" ..."))
     w.line()
 
 
@@ -518,10 +518,11 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
                f"($relK is relation K):")
         for eq in partitioned.discrete_equations:
             w.line(f"  {eq.variable} := {eq.rhs}")
-            w.line(f"      from {eq.origin}")
+            w.line("      " + textwrap.shorten(f"from {eq.origin}", _WIDTH - 6, placeholder=" ..."))
     else:
         w.line("Discrete equations: none")
     w.line()
+    _write_when_clauses(w, translation)
     w.items("A discrete state is the values of: ",
             [_selector_text(translation, s) for s in translation.selectors], empty="(nothing)")
     if visited is not None:
@@ -590,6 +591,69 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
             if isinstance(step, (LinearSolve, NewtonSolve)) and block.size > 1:
                 w.items("        tearing: ", step.tears)
         flush()
+
+
+def _readable(translation: Translation, expr) -> str:
+    """An expression with each relation indicator $relK written as its relation."""
+    import sympy as sp
+
+    relations = {rel.symbol: sp.Symbol(f"({rel.text})") for rel in translation.partitioned.relations}
+    return str(sp.sympify(expr).xreplace(relations)) if relations else str(expr)
+
+
+def _write_when_clauses(w: _Writer, translation: Translation) -> None:
+    """The when-clauses, reinits, sample clocks, held Reals and assertions of a hybrid model."""
+    partitioned = translation.partitioned
+    hybrid = translation.flat.hybrid
+    clauses = [eq for eq in partitioned.discrete_equations if parse(str(eq.variable)).text.split(".")[-1]
+               .startswith("$when")]
+    if not (clauses or partitioned.clocks or hybrid):
+        return
+    w.paragraph(f"When-clauses ({len(clauses)}): each condition is a hidden Boolean $whenK; the "
+                f"clause acts at the event where it becomes true (fires = $whenK and not "
+                f"pre($whenK) and not initial()).  Between events the variables it assigns keep "
+                f"their values; its reinits are applied after the event iteration has converged, "
+                f"then the iteration runs again.")
+    for eq in clauses:
+        symbol = str(eq.variable)
+        w.line(f"  {symbol} = {_readable(translation, eq.rhs)}")
+        assigned = [str(other.variable) for other in partitioned.discrete_equations
+                    if other is not eq and symbol in sp_free_symbols(other.rhs)]
+        if assigned:
+            w.items("      assigns: ", assigned, indent=8)
+        for reinit in hybrid.reinits:
+            if symbol in sp_free_symbols(reinit.fires):
+                w.lines += textwrap.wrap(f"reinit({reinit.variable}, {_readable(translation, reinit.value)})",
+                                         _WIDTH, initial_indent="      ", subsequent_indent="        ")
+        for termination in hybrid.terminations:
+            if symbol in sp_free_symbols(termination.fires):
+                w.line(f"      terminate({termination.message!r})")
+        w.lines += textwrap.wrap(f"from {eq.origin.component or '(model)'} "
+                                 f"({eq.origin.declared_in} eq. {eq.origin.index + 1})",
+                                 _WIDTH, initial_indent="      ", subsequent_indent="        ")
+    if partitioned.clocks:
+        w.line("Sample clocks (exact time events at start + i*interval, i = 0, 1, ...):")
+        for clock in partitioned.clocks:
+            w.line(f"  {clock.symbol.name} = sample({_number_or_text(clock.start)}, "
+                   f"{_number_or_text(clock.interval)})")
+    if partitioned.held_variables:
+        w.items("Discrete Reals (held between events: der = 0, set by the event iteration): ",
+                partitioned.held_variables, indent=4)
+    for check in hybrid.asserts:
+        when = "at events where it is active" if check.fires is not None else "after every step and event"
+        w.lines += textwrap.wrap(f"assert({_readable(translation, check.condition)}, {check.message!r}, "
+                                 f"level={check.level}): checked {when}",
+                                 _WIDTH, initial_indent="  ", subsequent_indent="      ")
+    w.line()
+
+
+def _number_or_text(expr) -> str:
+    return f"{float(expr):g}" if getattr(expr, "is_number", False) else str(expr)
+
+
+def sp_free_symbols(expr) -> set[str]:
+    """The names of the free symbols of a sympy expression (empty for numbers and None)."""
+    return {str(sym) for sym in getattr(expr, "free_symbols", ())}
 
 
 def _selector_text(translation: Translation, sym) -> str:
