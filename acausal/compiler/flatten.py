@@ -1147,7 +1147,7 @@ class _Flattener:
                     position[el] = len(order)
                     order.append(el)
 
-        signal_edges: list[tuple[str, str, str]] = []
+        signal_edges: list[tuple[str, str, Component, str]] = []
         connect_text: dict[tuple, str] = {}
         for component in self.components:
             for a, b in component._connections:
@@ -1163,7 +1163,7 @@ class _Flattener:
                 if ea[0] != eb[0]:
                     raise ConnectionError_(f"{statement}: cannot connect a signal to a physical connector")
                 if ea[0] == "signal":
-                    signal_edges.append((ea[1], eb[1], statement))
+                    signal_edges.append((ea[1], eb[1], component, statement))
                     continue
                 fa, fb = type(ba.declaration).family, type(bb.declaration).family
                 if fa != fb:
@@ -1221,31 +1221,8 @@ class _Flattener:
                         total, Origin(origin.component, origin.component_class, "connect", 0,
                                       lambda total=total, text=text: f"0 = {total}  [{text}]")))
 
-        # signals: equality per connection; every input must be connected
-        connected_inputs = set()
-        for a, b, statement in signal_edges:
-            da, db = self.signal_declarations[a][0], self.signal_declarations[b][0]
-            if da.causality == "output" and db.causality == "output":
-                raise ConnectionError_(f"{statement}: two outputs cannot be connected",
-                                       hint="connect an output to one or more inputs")
-            for name, decl in ((a, da), (b, db)):
-                if decl.causality == "input":
-                    connected_inputs.add(name)
-            va, vb = self.variables[a], self.variables[b]
-            if va.is_discrete or vb.is_discrete:
-                # Boolean and Integer signals: the input is the output's value
-                if va.kind != vb.kind:
-                    raise ConnectionError_(f"{statement}: a {va.kind} signal cannot be connected to a "
-                                           f"{vb.kind} one", hint="convert it with a block (e.g. "
-                                                                  "BooleanToReal) first")
-                target, source = (b, a) if db.causality == "input" or da.causality == "output" else (a, b)
-                value = sp.Symbol(source, integer=True) if va.kind == "integer" else sp.Symbol(source)
-                self.discrete_equations.append(DiscreteEquation(
-                    target, value, Origin("", type(self.model).__name__, "connect", 0, f"{target} = {source}")))
-                continue
-            self.equations.append(FlatEquation(
-                real_symbol(b) - real_symbol(a),
-                Origin("", type(self.model).__name__, "connect", 0, f"{b} = {a}")))
+        # signals: connection sets with one driver each; every input must be connected
+        connected_inputs = self._connect_signals(signal_edges)
         for name, (decl, component) in self.signal_declarations.items():
             if decl.causality == "input" and name not in connected_inputs and component is not self.model:
                 # an input driven from inside its own component (hierarchical) is fine
@@ -1284,6 +1261,72 @@ class _Flattener:
                 form[0] = None
             return expr
         return renamed
+
+    def _connect_signals(self, edges: list) -> set[str]:
+        """Equations of the signal connections; returns the inputs that are driven by one.
+
+        As in Modelica (spec 9.2), the signals joined by connect() form
+        connection sets, and each set has exactly one driver.  Which end
+        drives depends on where the connect() is written: an output of a
+        component inside is a source and its input a sink, while the writing
+        component's own connectors act the other way round (its input feeds
+        what is inside, its output is fed from inside).  A composite's input
+        or output is thus a sink on one side and a source on the other; the
+        driver is the member that is never a sink.  Every other member equals
+        the driver: a continuous equation for Reals, a discrete one for
+        Boolean and Integer signals.
+        """
+        parent: dict[str, str] = {}
+        order: list[str] = []
+        sink: set[str] = set()
+        statements: dict[str, str] = {}
+
+        def find(x: str) -> str:
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+
+        for a, b, owner, statement in edges:
+            for name in (a, b):
+                if name not in parent:
+                    parent[name] = name
+                    order.append(name)
+                    statements[name] = statement
+                decl, component = self.signal_declarations[name]
+                own = component is owner
+                if (decl.causality == "input") != own:
+                    sink.add(name)
+            parent[find(a)] = find(b)
+            va, vb = self.variables[a], self.variables[b]
+            if (va.is_discrete or vb.is_discrete) and va.kind != vb.kind:
+                raise ConnectionError_(f"{statement}: a {va.kind} signal cannot be connected to a "
+                                       f"{vb.kind} one", hint="convert it with a block (e.g. "
+                                                              "BooleanToReal) first")
+        sets: dict[str, list[str]] = {}
+        for name in order:
+            sets.setdefault(find(name), []).append(name)
+        for members in sets.values():
+            drivers = [m for m in members if m not in sink]
+            if len(drivers) > 1:
+                raise ConnectionError_(f"{statements[drivers[1]]}: {' and '.join(drivers[:2])} both drive "
+                                       f"one connection set (two outputs cannot be connected)",
+                                       hint="connect an output to one or more inputs")
+            if not drivers:
+                continue  # no driver: its inputs are reported as not connected below
+            source = drivers[0]
+            for target in members:
+                if target == source:
+                    continue
+                origin = Origin("", type(self.model).__name__, "connect", 0, f"{target} = {source}")
+                if self.variables[source].is_discrete:
+                    kind = self.variables[source].kind
+                    value = sp.Symbol(source, integer=True) if kind == "integer" else sp.Symbol(source)
+                    self.discrete_equations.append(DiscreteEquation(target, value, origin))
+                else:
+                    self.equations.append(FlatEquation(real_symbol(target) - real_symbol(source), origin))
+        return {name for members in sets.values() if any(m not in sink for m in members)
+                for name in members if name in sink}
 
     def _assigned_inside(self, name: str) -> bool:
         sym = real_symbol(name)

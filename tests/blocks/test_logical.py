@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from acausal import Component, Eq, Experiment, Integer, Model, When, pre, simulate
+from acausal.errors import ConnectionError_
 from acausal.components.blocks import BooleanInput, BooleanOutput
 from acausal.library.blocks import Constant, Integrator, Sine, Step
 from acausal.library.blocks.booleans import (
@@ -517,13 +518,10 @@ def test_assert_condition_levels():
 
 
 # --------------------------------------------------------------------------
-# connections the MSL models use that the engine does not take yet (the blocks and
-# examples here avoid them: RSFlipFlop sets Q and QI by equations, the Logical example
-# connects timer.u to table2.y)
+# signal connection sets as the MSL models use them: an inner block's output connected to
+# the composite's own output, and an input connected to another input (one driver per set)
 
 
-@pytest.mark.xfail(strict=True, reason="engine: connect(inner.y, y) from an inner block's output to "
-                                       "the composite's own output is rejected as output-output")
 def test_composite_output_connected_inside():
     class Inverter(Component):
         u = BooleanInput()
@@ -546,8 +544,6 @@ def test_composite_output_connected_inside():
     assert _value_at(result, "inverter.y", 0.25) == 1 and _value_at(result, "inverter.y", 0.75) == 0
 
 
-@pytest.mark.xfail(strict=True, reason="engine: a Boolean input-input connection is an assignment, "
-                                       "not a merged connection set (the input is defined twice)")
 def test_boolean_input_to_input_connection():
     class Fanout(Model):
         experiment = Experiment(stop_time=1.0)
@@ -561,3 +557,20 @@ def test_boolean_input_to_input_connection():
 
     result = simulate(Fanout())
     assert _value_at(result, "not2.y", 0.25) == 1 and _value_at(result, "not2.y", 0.75) == 0
+
+
+def test_two_drivers_in_one_signal_set_are_refused():
+    class TwoSources(Model):
+        experiment = Experiment(stop_time=1.0)
+
+        def build(self):
+            self.a = BooleanStep(startTime=0.5)
+            self.b = BooleanStep(startTime=0.2)
+            self.not1 = Not()
+            self.not2 = Not()
+            self.connect(self.a.y, self.not1.u)
+            self.connect(self.b.y, self.not2.u)
+            self.connect(self.not1.u, self.not2.u)  # joins the sets of a.y and b.y
+
+    with pytest.raises(ConnectionError_, match=r"a\.y and b\.y both drive one connection set"):
+        simulate(TwoSources())
