@@ -59,7 +59,9 @@ class Relation:
     rhs: sp.Expr
     op: str
     text: str
-    is_time_event: bool  #: g depends on time and parameters only
+    #: g is linear in time, with coefficients of parameters and held discrete Reals only:
+    #: its crossing time is known in advance (recomputed after each event for held values)
+    is_time_event: bool
     #: the components whose equations contain the relation (for their hints)
     components: tuple[str, ...] = ()
 
@@ -174,6 +176,7 @@ class _RelationFinder:
     def __init__(self, flat: FlatModel, variables: dict) -> None:
         self.parameters = flat.parameter_values
         self.continuous = {n for n, v in variables.items() if not v.is_discrete}
+        self.held = {n for n, v in variables.items() if v.is_held}
         self.relations: dict[tuple, Relation] = {}
         self.owners: dict[tuple, dict[str, None]] = {}
         self.evaluated: set[str] = set()
@@ -181,7 +184,7 @@ class _RelationFinder:
 
     def copy(self) -> "_RelationFinder":
         other = object.__new__(_RelationFinder)
-        other.parameters, other.continuous = self.parameters, self.continuous
+        other.parameters, other.continuous, other.held = self.parameters, self.continuous, self.held
         other.clocks = self.clocks  # shared: templates never meet sample()
         other.relations = dict(self.relations)
         other.owners = {key: dict(found) for key, found in self.owners.items()}
@@ -197,9 +200,11 @@ class _RelationFinder:
         return sym is time or name in self.continuous or is_derivative(name)
 
     def is_time_event(self, g: sp.Expr) -> bool:
-        """A time event needs the crossing time in closed form: g linear in time."""
-        parameters = self.parameters
-        return (all(s is time or s.name in parameters for s in g.free_symbols) and g.has(time)
+        """A time event needs the crossing time in closed form: g linear in time, its
+        coefficients of parameters and of discrete Reals, which are constant between events
+        (``time >= t_next`` is hit exactly, as Modelica tools do)."""
+        constant = self.parameters.keys() | self.held
+        return (all(s is time or s.name in constant for s in g.free_symbols) and g.has(time)
                 and not sp.diff(g, time).has(time))
 
     def decide(self, relation: type, g: sp.Expr) -> bool:

@@ -31,7 +31,7 @@ import sympy as sp
 from ..compiler.codegen import vectorised
 from ..language import time as time_symbol
 
-__all__ = ["time_event_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip", "states_at",
+__all__ = ["time_event_roots", "held_time_events", "held_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip", "states_at",
            "state_at", "sample_states", "step_samples", "vectorised_function"]
 
 #: Most samples taken in one step (a long step of a stuck model on a fine grid).
@@ -68,10 +68,40 @@ def _time_event_roots(relations: Sequence, parameter_symbols: Mapping) -> tuple[
     for rel in relations:
         if rel.is_time_event:
             g = sp.sympify(rel.g).xreplace(parameter_symbols)
+            if g.free_symbols - {time_symbol}:
+                continue  # reads held values: see held_time_events
             slope = float(sp.diff(g, time_symbol))
             offset = float(g.xreplace({time_symbol: 0}))
             roots.append((rel.index, -offset / slope if slope else math.inf))
     return tuple(roots)
+
+
+def held_time_events(relations: Sequence, parameter_symbols: Mapping) -> tuple:
+    """The time events whose crossing time depends on held discrete Reals.
+
+    ``time >= t_next`` with a discrete ``t_next`` crosses at ``t_next``: a time
+    event, but one whose instant is known only once the event that sets
+    ``t_next`` is over.  Returns ``(relation index, names, root)`` per such
+    relation, ``root(values)`` being the crossing time for the held values.
+    """
+    found = []
+    for rel in relations:
+        if not rel.is_time_event:
+            continue
+        g = sp.sympify(rel.g).xreplace(parameter_symbols)
+        held = sorted((s for s in g.free_symbols if s is not time_symbol), key=lambda s: s.name)
+        if not held:
+            continue
+        slope = sp.diff(g, time_symbol)
+        offset = g.xreplace({time_symbol: 0})
+        root = sp.lambdify(held, sp.Piecewise((-offset / slope, sp.Ne(slope, 0)), (sp.oo, True)), "math")
+        found.append((rel.index, tuple(s.name for s in held), root))
+    return tuple(found)
+
+
+def held_roots(found: tuple, values: Mapping) -> tuple[tuple[int, float], ...]:
+    """``(relation index, instant)`` of :func:`held_time_events` for the current held values."""
+    return tuple((index, float(root(*(values[n] for n in names)))) for index, names, root in found)
 
 
 def next_time_event(t: float, roots, relations: Sequence, values) -> float:

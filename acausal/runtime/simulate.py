@@ -37,7 +37,7 @@ from ..language import Component
 from ..names import base_name, der_name
 from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, states_at, step_samples,
                         ticking_at,
-                        time_event_roots)
+                        held_roots, held_time_events, time_event_roots)
 from .events import evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
@@ -278,7 +278,9 @@ class _Run:
         self.timeout: float | None = None
         # where the wall time goes, for a budget's message
         self.seconds = {"output": 0.0, "events": 0.0}
-        self._time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
+        self._static_time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
+        self._held_time_events = held_time_events(self.relations, translation.cache.parameters.symbols)
+        self._time_roots = self._static_time_roots
         try:
             self._ticks = clock_ticks(translation.partitioned.clocks, translation.cache.parameters.symbols)
         except ValueError as exc:
@@ -289,6 +291,11 @@ class _Run:
         self._state_event_times: dict[tuple, list[float]] = {}
         self._relation_of_text = {rel.text: rel.index for rel in self.relations}
         self._warned: set = set()
+
+    def _update_time_roots(self, values) -> None:
+        """Time events at instants set by held discrete Reals move when those are set."""
+        if self._held_time_events:
+            self._time_roots = self._static_time_roots + held_roots(self._held_time_events, values)
 
     def _next_time_event(self, t: float, relations) -> float:
         found = next_time_event(t, self._time_roots, self.relations, relations)
@@ -388,6 +395,7 @@ class _Run:
         relations = outcome.relations
         values = outcome.values
         self._record_mode(system)
+        self._update_time_roots(values)
         x = np.array([values[s] for s in system.states], dtype=float)
         recorder.add(t, system, x, discrete)
         recorder.skip_grid_through(t, round_off=False)
@@ -438,6 +446,7 @@ class _Run:
             self._add_event(t_e, kind, tuple(fired), outcome)
             system, discrete, relations = outcome.system, outcome.discrete, outcome.relations
             self._record_mode(system)
+            self._update_time_roots(outcome.values)
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
             _check_finite(t_e, system.states, x, "the states after the event")
             self._check_asserts(t_e, system, x, discrete)

@@ -402,9 +402,6 @@ def test_ondelay_delays_rising_edges_only():
     assert result["undelayed.y"].all() and result.final("undelayed.t_next") == -1
 
 
-@pytest.mark.xfail(strict=True, reason="engine: time >= t_next with a discrete Real t_next is a state "
-                                       "event located with the relation margin (1e-10 relative), not "
-                                       "a time event; Modelica tools hit it exactly")
 def test_ondelay_delay_is_exact():
     result = simulate(_OnDelayModel())
     rises = [e.time for e in result.events if ("onDelay.y", False, True) in e.changes]
