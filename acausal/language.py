@@ -562,12 +562,18 @@ def _condition_text(declaration: Declaration) -> str:
 
 @dataclass(frozen=True)
 class Experiment:
-    """Modelica's experiment annotation."""
+    """Modelica's experiment annotation.
+
+    ``method`` names the integrator a model needs (e.g. ``"BDF"`` for a stiff
+    one), as Modelica tools read it from a vendor annotation
+    (``__Dymola_Algorithm``); ``simulate`` uses it unless told otherwise.
+    """
 
     start_time: float = 0.0
     stop_time: float = 1.0
     interval: float | None = None
     tolerance: float | None = None
+    method: str | None = None
 
 
 _DOC_SECTIONS = ("Parameters", "Connectors", "Variables")

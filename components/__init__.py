@@ -2,6 +2,7 @@
 
 Mirrors the ``Interfaces`` packages of the Modelica Standard Library:
 :mod:`acausal.components.rotational` (flanges and rotational partials),
+:mod:`acausal.components.translational` (translational flanges and partials),
 :mod:`acausal.components.thermal` (heat ports and conditional heat ports),
 :mod:`acausal.components.blocks` (signal block partials) and
 :mod:`acausal.components.friction` (the friction state machine).
@@ -17,6 +18,7 @@ from .rotational import (
     PartialCompliant,
     PartialCompliantWithRelativeStates,
     PartialElementaryOneFlangeAndSupport2,
+    PartialElementaryRotationalToTranslational,
     PartialElementaryTwoFlangesAndSupport2,
     PartialRelativeSensor,
     PartialTorque,
@@ -36,7 +38,7 @@ __all__ = [
     "Flange", "Flange_a", "Flange_b", "Support",
     "PartialTwoFlanges", "PartialCompliant", "PartialCompliantWithRelativeStates",
     "PartialElementaryOneFlangeAndSupport2", "PartialElementaryTwoFlangesAndSupport2",
-    "PartialTorque", "PartialAbsoluteSensor", "PartialRelativeSensor",
+    "PartialElementaryRotationalToTranslational", "PartialTorque", "PartialAbsoluteSensor", "PartialRelativeSensor",
     "HeatPort", "HeatPort_a", "HeatPort_b", "Element1D",
     "PartialElementaryConditionalHeatPortWithoutT", "PartialElementaryConditionalHeatPort",
     "SO", "SignalSource", "SI2SO", "SISO",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from . import translational
 from acausal.language import (
     Component,
     Connector,
@@ -26,6 +27,7 @@ __all__ = [
     "PartialCompliantWithRelativeStates",
     "PartialElementaryOneFlangeAndSupport2",
     "PartialElementaryTwoFlangesAndSupport2",
+    "PartialElementaryRotationalToTranslational",
     "PartialTorque",
     "PartialAbsoluteSensor",
     "PartialRelativeSensor",
@@ -160,6 +162,48 @@ class PartialElementaryTwoFlangesAndSupport2(PartialTwoFlanges):
             return [Eq(self.support.phi, self.phi_support),
                     Eq(self.support.tau, -self.flange_a.tau - self.flange_b.tau)]
         return [Eq(self.phi_support, 0)]
+
+
+class PartialElementaryRotationalToTranslational(Component):
+    """Rotational flange and translational flange, each with an optional support
+    (Modelica.Mechanics.Rotational.Interfaces.PartialElementaryRotationalToTranslational).
+
+    The MSL routes each housing through a protected InternalSupport, fixed to
+    ground by a conditional Fixed when the support is disabled.  Here the
+    housing positions are the variables ``phi_support`` and ``s_support``:
+
+    * ``useSupportR``: ``supportR.phi = phi_support`` and ``supportR.tau =
+      -flangeR.tau`` (the reaction torque goes to the housing); otherwise
+      ``phi_support = 0``.
+    * ``useSupportT``: ``supportT.s = s_support`` and ``supportT.f =
+      -flangeT.f``; otherwise ``s_support = 0``.
+    """
+
+    useSupportR = Parameter(False, structural=True,  # noqa: N815 - Modelica name
+                            description="= true, if rotational support flange enabled, otherwise implicitly grounded")
+    useSupportT = Parameter(False, structural=True,  # noqa: N815 - Modelica name
+                            description="= true, if translational support flange enabled, otherwise implicitly "
+                                        "grounded")
+    flangeR = Flange_a(description="Flange of rotational shaft")  # noqa: N815 - Modelica name
+    flangeT = translational.Flange_b(description="Flange of translational rod")  # noqa: N815 - Modelica name
+    supportR = Support(condition="useSupportR",  # noqa: N815 - Modelica name
+                       description="Rotational support/housing of component")
+    supportT = translational.Support(condition="useSupportT",  # noqa: N815 - Modelica name
+                                     description="Translational support/housing of component")
+    phi_support = Variable(unit="rad", description="Absolute angle of the rotational support (protected)")
+    s_support = Variable(unit="m", description="Absolute position of the translational support (protected)")
+
+    def equations(self):
+        equations = []
+        if self.useSupportR:
+            equations += [Eq(self.supportR.phi, self.phi_support), Eq(self.supportR.tau, -self.flangeR.tau)]
+        else:
+            equations.append(Eq(self.phi_support, 0))
+        if self.useSupportT:
+            equations += [Eq(self.supportT.s, self.s_support), Eq(self.supportT.f, -self.flangeT.f)]
+        else:
+            equations.append(Eq(self.s_support, 0))
+        return equations
 
 
 class PartialTorque(PartialElementaryOneFlangeAndSupport2):

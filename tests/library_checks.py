@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from acausal.hybrid import Assert, When
 from acausal.language import Boolean, Connector, Integer, Model, Parameter, Potential, Variable, time
 
 
@@ -58,7 +59,40 @@ def local_balance(component):
             unknowns += sum(isinstance(v, Potential) for v in type(decl).variables().values())
         elif isinstance(decl, Variable) and decl.causality != "input":
             unknowns += 1
-    return len(collect(component)), unknowns
+    return sum(equation_count(item) for item in collect(component)), unknowns
+
+
+def equation_count(item) -> int:
+    """How many equations an item of equations() stands for (Modelica's counting rule).
+
+    An equation is one; a when-clause as many as the variables it assigns (the
+    same in every branch); an assertion none.
+    """
+    if isinstance(item, When):
+        return len(assigned_in(item))
+    if isinstance(item, Assert):
+        return 0
+    return 1
+
+
+def assigned_in(clause: When) -> set:
+    """The variables a when-clause assigns (the left sides of its first branch's equations)."""
+    _conditions, items = clause.branches[0]
+    return {item.lhs for item in items if isinstance(item, sp.Equality)}
+
+
+def symbols_in(item) -> set:
+    """The symbols an item of equations() uses, when-clauses and assertions included."""
+    if isinstance(item, When):
+        found = set()
+        for conditions, items in item.branches:
+            for part in (*conditions, *items):
+                found |= symbols_in(part)
+        return found
+    if isinstance(item, sp.Basic):
+        return set(item.free_symbols)
+    # reinit, terminate, assert: the sympy values among their fields
+    return {sym for value in vars(item).values() if isinstance(value, sp.Basic) for sym in value.free_symbols}
 
 
 def value(expr, subs):
@@ -87,15 +121,20 @@ def check_declarations(component) -> None:
     x = attach(component)
     name = type(x).__name__
     allowed = own_names(x)
+    inner = tuple(f"{child.path}." for child in x.children.values())  # a composite reads its parts
     equations = collect(x)
-    assert equations, f"{name} has no equations"
+    assert equations or x.children, f"{name} has no equations"
     for eq in equations:
-        assert isinstance(eq, sp.Equality), f"{name}: {eq!r} is not a sympy equality"
-        for sym in eq.free_symbols:
-            assert sym is time or sym.name in allowed, f"{name}: unknown name {sym.name} in {eq}"
-    n_equations, n_unknowns = local_balance(x)
-    assert n_equations == n_unknowns, f"{name}: {n_equations} equations, {n_unknowns} unknowns"
-    lhs = [e.lhs for e in equations]
+        assert isinstance(eq, (sp.Equality, When, Assert)), f"{name}: {eq!r} is not a sympy equality"
+        for sym in symbols_in(eq):
+            assert sym is time or sym.name in allowed or sym.name.startswith(("pre(", "$", *inner)), \
+                f"{name}: unknown name {sym.name} in {eq}"
+    if not x.children:
+        # a composite's equations are its parts' (each checked on its own) and its connections
+        n_equations, n_unknowns = local_balance(x)
+        assert n_equations == n_unknowns, f"{name}: {n_equations} equations, {n_unknowns} unknowns"
+    lhs = [e.lhs for e in equations if isinstance(e, sp.Equality)]
+    lhs += [v for e in equations if isinstance(e, When) for v in assigned_in(e)]
     for key, decl in enabled_declarations(x).items():
-        if isinstance(decl, (Boolean, Integer)):
+        if isinstance(decl, (Boolean, Integer)) and decl.causality != "input":
             assert lhs.count(getattr(x, key)) == 1, f"{name}.{key} needs exactly one defining equation"

@@ -18,6 +18,7 @@ import sympy as sp
 
 from acausal.errors import ConnectionError_, ModifierError, ParameterError
 from acausal.language import (
+    Component,
     Boolean,
     Connector,
     Integer,
@@ -71,7 +72,7 @@ from acausal.library.thermal import (
     ThermalResistor,
 )
 
-from library_checks import attach, collect, enabled_declarations, local_balance, own_names, params, rhs_of, value  # noqa: F401
+from library_checks import check_declarations, attach, collect, enabled_declarations, local_balance, own_names, params, rhs_of, value  # noqa: F401
 
 
 # --------------------------------------------------------------------------
@@ -159,15 +160,23 @@ def test_discrete_variables_are_defined_with_the_variable_on_the_left(make):
             assert lhs.count(getattr(x, key)) == 1, f"{key} needs exactly one defining equation"
 
 
-def test_every_library_class_is_exported_and_tested():
-    exported = {getattr(pkg, n) for pkg in (rotational, thermal, blocks) for n in pkg.__all__}
-    exported = {c for c in exported if isinstance(c, type) and not issubclass(c, Connector)}
-    # The logical and Boolean blocks are tested by behaviour in tests/blocks; the balance check
-    # here does not count when-clauses yet (issue 12 note), so they are not in DEFAULTS.
-    from acausal.library.blocks import booleans, logical
-    hybrid = {getattr(m, n) for m in (booleans, logical) for n in dir(m)
-              if isinstance(getattr(m, n), type) and getattr(m, n).__module__ == m.__name__}
-    assert exported - hybrid <= set(DEFAULTS)
+def _exported_classes():
+    from acausal.library import translational
+
+    found = {}
+    for package in (rotational, translational, thermal, blocks):
+        for name in package.__all__:
+            value = getattr(package, name)
+            if isinstance(value, type) and issubclass(value, Component) and not issubclass(value, Connector):
+                found[f"{package.__name__.rsplit('.', 1)[-1]}.{name}"] = value
+    return found
+
+
+@pytest.mark.parametrize("name, klass", sorted(_exported_classes().items()), ids=sorted(_exported_classes()))
+def test_every_exported_class_passes_the_declaration_checks(name, klass):
+    """Each class of the libraries, with its defaults: own names only, balanced, discrete
+    variables defined once (their behaviour is tested in the library test folders)."""
+    check_declarations(klass())
 
 
 def test_modifiers_are_applied():

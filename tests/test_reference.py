@@ -1,29 +1,66 @@
 """Every reproduced MSL example lies in the csv-compare tube of its reference result.
 
 These are the acceptance checks of the project: the Modelica Association's
-reference results (Dymola, DASSL, tolerance 1e-6) against acausal at its
-default settings.  The references of these examples ship with acausal
-(library/reference/msl-4.1.0), so the checks run on a fresh clone; with
-ACAUSAL_REFERENCE_DIR pointing at a folder that lacks a class they skip,
+reference results (Dymola, DASSL, tolerance 1e-6) against acausal at the
+example's experiment settings.  The references of these examples ship with
+acausal (library/reference/msl-4.1.0), so the checks run on a fresh clone;
+with ACAUSAL_REFERENCE_DIR pointing at a folder that lacks a class they skip,
 saying where they looked.
+
+Every example in ``examples/`` that declares ``modelica_class`` is listed here
+(a test checks that none is missing), with the number of mode-changing state
+events where it was checked against the event log of another tool.
 """
 
 from __future__ import annotations
 
 import importlib
+import inspect
+from pathlib import Path
 
+import numpy as np
 import pytest
 
-from acausal import simulate
+from acausal import Model, simulate
 from acausal.tools.compare import bundled_reference_dir, compare_signals, load_reference, reference_dir
 
+#: (module in examples/, model class, mode-changing state events or None when not checked)
 EXAMPLES = [
     ("first", "First", 0),
     ("two_masses", "TwoMasses", 0),
     ("friction", "Friction", 8),
     ("coupled_clutches", "CoupledClutches", 9),
     ("friction_elements", "TestFriction", 8),
+    ("blocks_hysteresis", "HysteresisTest", None),
+    ("blocks_ondelay", "OnDelayTest", None),
+    ("blocks_logical", "LogicalTest", None),
+    ("blocks_discrete", "Discrete", None),
+    ("blocks_reset_integrator", "ResetHoldIntegrator", None),
+    ("rotational_backlash", "Backlash", None),
+    ("rotational_lossy_gear_demo1", "LossyGearDemo1", None),
+    ("rotational_simple_gear_shift", "SimpleGearShift", None),
+    ("rotational_rolling_wheel", "RollingWheel", None),
+    ("rotational_eddy_current_brake", "EddyCurrentBrake", None),
+    ("translational_sign_convention", "SignConvention", None),
+    ("translational_initial_conditions", "InitialConditions", None),
+    ("translational_why_arrows", "WhyArrows", None),
+    ("translational_accelerate", "Accelerate", None),
+    ("translational_damper", "Damper", None),
+    ("translational_oscillator", "Oscillator", None),
+    ("translational_sensors", "Sensors", None),
+    ("translational_friction", "Friction", None),
+    ("translational_preload", "PreLoad", None),
+    ("translational_elasto_gap", "ElastoGap", None),
+    ("translational_brake", "Brake", None),
+    ("translational_vehicle", "Vehicle", None),
 ]
+
+#: Examples that do not reproduce their reference yet, with the reason (strict xfail).
+NOT_YET = {
+    "LossyGearDemo2": "a LossyGear and a BearingFriction stuck on one shaft leave the split of the "
+                      "holding torque undetermined: StructurallySingularError at t = 0 (issue 13 note)",
+}
+EXAMPLES += [("rotational_lossy_gear_demo2", "LossyGearDemo2", None)]
 
 
 def _reference_or_skip(modelica_class):
@@ -35,15 +72,65 @@ def _reference_or_skip(modelica_class):
     return load_reference(modelica_class)
 
 
-@pytest.mark.parametrize("module, name, state_events", EXAMPLES, ids=[e[1] for e in EXAMPLES])
-def test_example_matches_reference(module, name, state_events):
+def _cases():
+    for module, name, state_events in EXAMPLES:
+        marks = [pytest.mark.xfail(strict=True, reason=NOT_YET[name])] if name in NOT_YET else []
+        yield pytest.param(module, name, state_events, id=f"{module}:{name}", marks=marks)
+
+
+@pytest.fixture(scope="module")
+def runs():
+    return {}
+
+
+def _run(runs, module, name):
+    if (module, name) not in runs:
+        model_class = getattr(importlib.import_module(f"examples.{module}"), name)
+        reference = _reference_or_skip(model_class.modelica_class)
+        runs[module, name] = reference, simulate(model_class())
+    return runs[module, name]
+
+
+@pytest.mark.parametrize("module, name, state_events", list(_cases()))
+def test_example_matches_reference(runs, module, name, state_events):
     """All compared signals (states, modes, start flags) lie in the tube."""
-    model_class = getattr(importlib.import_module(f"examples.{module}"), name)
-    reference = _reference_or_skip(model_class.modelica_class)
-    result = simulate(model_class())
+    reference, result = _run(runs, module, name)
     assert result.success, result.message
     comparison = compare_signals(reference, result.time, result.columns)
     assert comparison.passed, comparison.table()
-    # the same number of mode-changing state events as Dymola reports
-    changing = [e for e in result.events if e.kind == "state" and e.changes]
-    assert len(changing) == state_events, [str(e) for e in changing]
+    if state_events is not None:
+        # the same number of mode-changing state events as Dymola reports
+        changing = [e for e in result.events if e.kind == "state" and e.changes]
+        assert len(changing) == state_events, [str(e) for e in changing]
+
+
+@pytest.mark.parametrize("module, name, state_events", list(_cases()))
+def test_every_reference_event_happens(runs, module, name, state_events):
+    """Each event of the reference (a time written twice) is an event of acausal's run at that time.
+
+    Within the tube's half-width dx; the start and stop times are left out
+    (Dymola writes them twice too).  acausal may have more events (Dymola
+    keeps no rows for some, e.g. a Ramp's corners), never fewer.
+    """
+    reference, result = _run(runs, module, name)
+    assert result.success, result.message
+    t = np.asarray(reference.time)
+    start, stop = t[0], t[-1]
+    instants = np.unique(t[1:][np.diff(t) == 0])
+    instants = instants[(instants > start) & (instants < stop)]
+    ours = np.array(sorted({e.time for e in result.events}))
+    dx = 2e-3 * (stop - start)
+    missing = [float(x) for x in instants if ours.size == 0 or np.min(np.abs(ours - x)) > dx]
+    assert not missing, f"reference events without an acausal event: {missing}"
+
+
+def test_every_reproducing_example_is_checked():
+    listed = {(module, name) for module, name, _ in EXAMPLES}
+    declared = set()
+    for path in sorted((Path(__file__).resolve().parent.parent / "examples").glob("*.py")):
+        module = importlib.import_module(f"examples.{path.stem}")
+        for name, klass in inspect.getmembers(module, inspect.isclass):
+            if (issubclass(klass, Model) and klass.__module__ == module.__name__
+                    and getattr(klass, "modelica_class", None)):
+                declared.add((path.stem, name))
+    assert declared == listed

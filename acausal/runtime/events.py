@@ -38,6 +38,11 @@ __all__ = ["DiscreteEvaluator", "EventOutcome", "evaluator_for", "mode_values"]
 #: From this many watched relations on, they are checked with numpy at once.
 _VECTORISE_FROM = 48
 
+#: Relative size of ``lhs - rhs`` that counts as zero for a time event's relation at
+#: its own instant: its crossing time is computed in closed form, so what is left of
+#: g there is round-off (``(t - T_start) - width`` against ``t - (T_start + width)``).
+_ROUND_OFF = 1e-13
+
 #: Whether a pass of event iteration re-evaluates only what changed since the
 #: last (:meth:`DiscreteEvaluator._evaluate_again`) and the relevant relations
 #: are found again only where something changed.  False evaluates everything;
@@ -327,7 +332,9 @@ class DiscreteEvaluator:
             lhs, rhs = raw[2 * k], raw[2 * k + 1]
             # an argument exactly at its limit takes the relation's own value (u <= 0 for
             # u = 0 is true): the margin only keeps round-off from flipping a relation
-            if exact or timed or k in fired or lhs == rhs:
+            if timed and k in fired and abs(lhs - rhs) <= _ROUND_OFF * max(1.0, abs(lhs), abs(rhs)):
+                v = 0.0  # at its time event: the crossing instant was computed exactly
+            elif exact or timed or k in fired or lhs == rhs:
                 v = d * (lhs - rhs)
             else:
                 v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(1.0, abs(lhs), abs(rhs))))
@@ -356,6 +363,12 @@ class DiscreteEvaluator:
                 if fired:
                     plain[list(fired)] = True
                 v = d * np.where(plain, g, g + toward * margin)
+            if fired:
+                # a time event's relation at its instant: the round-off of g is not a side
+                at_root = np.zeros_like(timed)
+                at_root[list(fired)] = True
+                at_root &= timed & (np.abs(g) <= _ROUND_OFF * np.maximum(np.maximum(np.abs(lhs), np.abs(rhs)), 1.0))
+                v = np.where(at_root, 0.0, v)
             holds = np.where(strict, v > 0, v >= 0)
         return tuple(holds.tolist())
 
@@ -804,7 +817,9 @@ class DiscreteEvaluator:
             # again from the new states, with sample() false; pre = the values reached
             pre = dict(outcome.discrete)
             relations_before = outcome.relations
-            fired, ticks = frozenset(), frozenset()
+            # a time event's relations stay at their instant (see _ROUND_OFF); the others
+            # are judged with their margins again
+            fired, ticks = frozenset(k for k in fired if self._kinds[k][2]), frozenset()
         else:
             self._fail(t, [], "reinitialization at events")
         self._extra = {}

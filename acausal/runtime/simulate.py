@@ -62,7 +62,7 @@ METHODS = {
 
 
 def simulate(model: Component | Translation, *, start_time: float | None = None,
-             stop_time: float | None = None, interval: float | None = None, method: str = "RK45",
+             stop_time: float | None = None, interval: float | None = None, method: str | None = None,
              rtol: float | None = None, atol: float | None = None, max_step: float | None = None,
              relation_epsilon: float = 1e-10, max_event_iterations: int = 20,
              chattering_events: int = 100, outputs: Sequence[str] | None = None,
@@ -78,8 +78,10 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     start_time, stop_time, interval : float, optional
         Default to the model's experiment annotation (interval: 500 points).
         At most :data:`MAX_OUTPUT_POINTS` output points.
-    method : {'RK45', 'DOP853', 'Radau', 'BDF', 'LSODA', 'Euler', 'RK4'}
-        The last two have a fixed step, ``max_step``.
+    method : {'RK45', 'DOP853', 'Radau', 'BDF', 'LSODA', 'Euler', 'RK4'}, optional
+        The last two have a fixed step, ``max_step``.  Defaults to the
+        experiment's ``method`` (a stiff model names an implicit one, as
+        Modelica models name theirs in the experiment annotation), else RK45.
     rtol, atol : float, optional
         ``rtol`` (0 < rtol < 1) defaults to the experiment's tolerance or
         1e-6; ``atol`` (>= 0) to ``rtol`` times each state's nominal value.
@@ -131,7 +133,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` is the partial
         result, status -2.
     """
-    if method not in METHODS:
+    if method is not None and method not in METHODS:
         raise SettingError(f"unknown method {method!r}", hint=f"choose one of {', '.join(METHODS)}")
     t_setup = _time.perf_counter()
     if isinstance(model, Translation):
@@ -154,6 +156,11 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         interval = experiment.interval or (t1 - t0) / 500
     if rtol is None:
         rtol = experiment.tolerance or 1e-6
+    if method is None:
+        method = experiment.method or "RK45"
+        if method not in METHODS:
+            raise SettingError(f"the experiment's method {method!r} is unknown",
+                               hint=f"choose one of {', '.join(METHODS)}")
     _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_epsilon,
                     max_event_iterations, chattering_events, max_steps, timeout)
     run = _Run(translation, method, float(rtol), atol, max_step, relation_epsilon, max_event_iterations,
@@ -431,6 +438,10 @@ class _Run:
                 ticks = ticking_at(t_e, self._ticks) if self._ticks else frozenset()
                 fired += tuple(self._clock_texts[k] for k in sorted(ticks))
                 kind = "time"
+                # time events that do not move time on (a relation that keeps firing at its
+                # own instant) are chattering too
+                recent.append((t_e, fired, tuple(sorted(discrete.items()))))
+                self._check_chattering(recent, t1)
             # left limit, event iteration, right limit
             recorder.add(t_e, system, x_e, discrete)
             self.t = t_e
@@ -610,7 +621,7 @@ class _Run:
                                       *(n.rpartition(".")[0] for n in changing)]))
         own = self.translation.flat.hints_for("chattering", owners)
         raise ChatteringError(
-            f"chattering: {len(recent)} state events between t = {recent[0][0]:.12g} "
+            f"chattering: {len(recent)} events between t = {recent[0][0]:.12g} "
             f"and {recent[-1][0]:.12g}; the crossing firing most is {worst}",
             hint="; ".join(("the model switches back and forth without time passing; check the "
                             "relation named (a threshold that its own switching crosses)", *own)),

@@ -65,24 +65,8 @@ def _module_name(path: Path) -> str:
     return f"_acausal_model_{stem}"
 
 
-def load_model_class(spec: str) -> type:
-    """The model class named by ``FILE.py[:Model]``.
-
-    The file is imported as a module with its own folder on ``sys.path``
-    (so that it can import its neighbours).
-
-    Raises
-    ------
-    CommandError
-        If the file is missing or cannot be imported, or the class is not
-        there or not a Model; the message lists the models the file defines.
-    """
-    filename, wanted = _split_spec(spec)
-    path = Path(filename)
-    if not path.is_file():
-        if path.exists():
-            raise CommandError(f"{filename} is not a file")
-        raise CommandError(f"file not found: {filename}")
+def _import_file(path: Path, filename: str):
+    """Import a Python file as a module, with its own folder on ``sys.path``."""
     path = path.resolve()
     folder = str(path.parent)
     if folder not in sys.path:
@@ -102,11 +86,49 @@ def load_model_class(spec: str) -> type:
         if isinstance(exc, (KeyboardInterrupt, SystemExit)):
             raise
         raise CommandError(f"cannot import {filename}: {_describe_exception(exc, path)}") from exc
+    return module
 
-    defined = sorted((obj for obj in vars(module).values()
-                      if isinstance(obj, type) and issubclass(obj, Model) and obj is not Model
-                      and obj.__module__ == module.__name__),
-                     key=lambda c: c.__name__)
+
+def _models_defined(module) -> list[type]:
+    """The Model subclasses a module defines (not those it imports), by name."""
+    return sorted((obj for obj in vars(module).values()
+                   if isinstance(obj, type) and issubclass(obj, Model) and obj is not Model
+                   and obj.__module__ == module.__name__),
+                  key=lambda c: c.__name__)
+
+
+def reproducing_models(folder: str) -> list[str]:
+    """``FILE.py:Model`` of every model in a folder's Python files that declares ``modelica_class``."""
+    specs = []
+    for path in sorted(Path(folder).glob("*.py")):
+        module = _import_file(path, str(path))
+        specs += [f"{path}:{cls.__name__}" for cls in _models_defined(module)
+                  if getattr(cls, "modelica_class", None)]
+    if not specs:
+        raise CommandError(f"no model in {folder}/*.py declares modelica_class: nothing to compare")
+    return specs
+
+
+def load_model_class(spec: str) -> type:
+    """The model class named by ``FILE.py[:Model]``.
+
+    The file is imported as a module with its own folder on ``sys.path``
+    (so that it can import its neighbours).
+
+    Raises
+    ------
+    CommandError
+        If the file is missing or cannot be imported, or the class is not
+        there or not a Model; the message lists the models the file defines.
+    """
+    filename, wanted = _split_spec(spec)
+    path = Path(filename)
+    if not path.is_file():
+        if path.exists():
+            raise CommandError(f"{filename} is not a file")
+        raise CommandError(f"file not found: {filename}")
+    module = _import_file(path, filename)
+    defined = _models_defined(module)
     listing = ", ".join(c.__name__ for c in defined) or "none"
     if wanted is not None:
         obj = getattr(module, wanted, None)
@@ -355,8 +377,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="default: the model's experiment")
     sim.add_argument("--interval", type=_positive_float, metavar="DT",
                      help="output interval; default: the model's experiment or 500 points")
-    sim.add_argument("--method", type=_method, default="RK45", metavar="M",
-                     help=f"integration method: {', '.join(METHODS)} (default RK45)")
+    sim.add_argument("--method", type=_method, default=None, metavar="M",
+                     help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
+                          f"method, else RK45)")
     sim.add_argument("--rtol", type=_positive_float, metavar="R",
                      help="relative tolerance; default: the experiment's or 1e-6")
     sim.add_argument("--atol", type=_positive_float, metavar="A",
@@ -377,13 +400,15 @@ def _parser() -> argparse.ArgumentParser:
                                            "tube-test every signal of the reference's "
                                            "comparisonSignals.txt (csv-compare's test).")
     cmp_.add_argument("models", metavar="MODEL", nargs="+",
-                      help="FILE.py or FILE.py:ClassName (with modelica_class); several may be given")
+                      help="FILE.py or FILE.py:ClassName (with modelica_class), or a folder (every such "
+                           "model in its .py files); several may be given")
     cmp_.add_argument("--reference-dir", metavar="DIR",
                       help="folder of reference results (default: ACAUSAL_REFERENCE_DIR, else "
                            "the references bundled with acausal for its examples)")
     cmp_.add_argument("--plot", metavar="DIR", help="write one PNG per compared signal into DIR")
-    cmp_.add_argument("--method", type=_method, default="RK45", metavar="M",
-                      help=f"integration method: {', '.join(METHODS)} (default RK45)")
+    cmp_.add_argument("--method", type=_method, default=None, metavar="M",
+                      help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
+                           f"method, else RK45)")
     cmp_.add_argument("--rtol", type=_positive_float, metavar="R",
                       help=f"relative tolerance (default {COMPARE_RTOL:g}, or the experiment's "
                            f"if tighter)")
@@ -505,12 +530,22 @@ def _cmd_simulate(args) -> int:
 def _cmd_compare(args) -> int:
     if args.plot:
         _check_writable(Path(args.plot), "the plots into", folder=True)
+    # a folder stands for every model in it that names the Modelica class it reproduces
+    args.models = [spec for model in args.models
+                   for spec in (reproducing_models(model) if Path(model).is_dir() else [model])]
     statuses = []
     for model in args.models:
         if len(args.models) > 1:
             print(f"== {model}")
         try:
             statuses.append(_compare_one(args, model, len(args.models) > 1))
+        except (CommandError, AcausalError) as exc:
+            if len(args.models) == 1:
+                raise
+            # one model that cannot be compared does not stop the others
+            kind = "" if isinstance(exc, CommandError) else f"{type(exc).__name__}: "
+            print(f"acausal compare: error: {kind}{exc}", file=sys.stderr)
+            statuses.append(2 if isinstance(exc, (CommandError, ValueError)) else 1)
         except KeyboardInterrupt:
             print(f"acausal compare: interrupted while comparing {model}", file=sys.stderr)
             statuses.append(130)

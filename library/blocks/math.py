@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import sympy as sp
+
 from acausal.language import Eq, Parameter
 from acausal.components.blocks import SI2SO, SISO
 
-__all__ = ["Gain", "Product", "Add", "Feedback"]
+__all__ = ["Gain", "Product", "Add", "Feedback", "Atan", "Sin"]
 
 
 class Gain(SISO):
@@ -42,3 +44,17 @@ class Feedback(SI2SO):
 
     def equations(self):
         return [Eq(self.y, self.u1 - self.u2)]
+
+
+class Atan(SISO):
+    """Output the arc tangent of the input (Modelica.Blocks.Math.Atan): ``y = atan(u)``."""
+
+    def equations(self):
+        return [Eq(self.y, sp.atan(self.u))]
+
+
+class Sin(SISO):
+    """Output the sine of the input (Modelica.Blocks.Math.Sin): ``y = sin(u)``."""
+
+    def equations(self):
+        return [Eq(self.y, sp.sin(self.u))]

@@ -14,19 +14,24 @@ from acausal.language import (
     If,
     Parameter,
     RealInput,
+    RealOutput,
     StateSelect,
     Variable,
     der,
     pre,
+    time,
 )
+from acausal.hybrid import noEvent
 from acausal.tables import table_function, validate_table
 from acausal.components.friction import Forward, PartialFriction
 from acausal.components.logic import is_initial, pre_boolean
 from acausal.components.rotational import (
+    EPS,
     Flange_a,
     Flange_b,
     PartialCompliant,
     PartialCompliantWithRelativeStates,
+    PartialElementaryRotationalToTranslational,
     PartialElementaryTwoFlangesAndSupport2,
     PartialTwoFlanges,
 )
@@ -44,6 +49,17 @@ __all__ = [
     "Clutch",
     "Brake",
     "OneWayClutch",
+    "IdealGearR2T",
+    "IdealRollingWheel",
+    "ElastoBacklash",
+    "ElastoBacklash2",
+    "Disc",
+    "RelativeStates",
+    "InitializeFlange",
+    "TorqueToAngleAdaptor",
+    "AngleToTorqueAdaptor",
+    "GeneralTorqueToAngleAdaptor",
+    "GeneralAngleToTorqueAdaptor",
 ]
 
 
@@ -446,3 +462,563 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
             Eq(self.stuck, sp.Or(self.locked, w_rel <= 0)),
             Eq(self.lossPower, If(self.stuck, 0, self.tau * w_rel)),
         ]
+
+
+# --------------------------------------------------------------------------
+# rotational <-> translational
+
+
+class IdealGearR2T(PartialElementaryRotationalToTranslational):
+    """Ideal gearbox from rotation to translation (Modelica.Mechanics.Rotational.Components.IdealGearR2T).
+
+    Massless and lossless (a rack and pinion, a spindle):
+
+    * ``flangeR.phi - phi_support = ratio*(flangeT.s - s_support)``
+    * ``0 = ratio*flangeR.tau + flangeT.f``
+
+    so the power ``flangeR.tau*w + flangeT.f*v`` (speeds relative to the
+    supports) is zero.
+    """
+
+    ratio = Parameter(1.0, unit="rad/m", description="Transmission ratio (flange_a.phi/flange_b.s)")
+
+    def equations(self):
+        return [
+            Eq(self.flangeR.phi - self.phi_support, self.ratio * (self.flangeT.s - self.s_support)),
+            Eq(0, self.ratio * self.flangeR.tau + self.flangeT.f),
+        ]
+
+
+class IdealRollingWheel(PartialElementaryRotationalToTranslational):
+    """Ideal wheel rolling without slip and without inertia (Modelica.Mechanics.Rotational.Components.IdealRollingWheel).
+
+    * ``(flangeR.phi - phi_support)*radius = flangeT.s - s_support``
+    * ``0 = radius*flangeT.f + flangeR.tau``
+    """
+
+    radius = Parameter(0.3, unit="m", description="Wheel radius")
+
+    def equations(self):
+        return [
+            Eq((self.flangeR.phi - self.phi_support) * self.radius, self.flangeT.s - self.s_support),
+            Eq(0, self.radius * self.flangeT.f + self.flangeR.tau),
+        ]
+
+
+# --------------------------------------------------------------------------
+# backlash
+
+
+#: Modelica.Constants.small: the least spring constant ElastoBacklash accepts.
+_SMALL = 1.0e-60
+
+#: Backlash below which ElastoBacklash(2) ignores the gap (constant bEps of the MSL): a zero
+#: gap would put the equilibrium of the spring on the switching surface, an endless stream
+#: of contact events.
+BACKLASH_EPS = 1.0e-10
+
+_C_HINT = ("c is the contact stiffness and must be > 0 (the MSL requires c > 0); for a gap "
+           "without any contact force use no element at all")
+_B_HINT = "b is the total backlash (the gap width, rad); it must be >= 0 (0: no backlash)"
+_D_HINT = "d is the damping constant of the contact; it must be >= 0"
+
+
+class _Backlash:
+    """Parameters, checks and the shared characteristic of ElastoBacklash and ElastoBacklash2.
+
+    ``phi_diff = phi_rel - phi_rel0``, ``bMax = b/2``, ``bMin = -b/2``.  At
+    initialization the characteristic is the strictly increasing
+    approximation the MSL uses there (so that initial values can be solved
+    for through it):
+
+    * ``tau_c = c*(phi_diff - bMax)`` if ``phi_diff > 1.5*bMax``,
+      ``c*(phi_diff - bMin)`` if ``phi_diff < 1.5*bMin``, else ``(c/3)*phi_diff``
+    * ``tau_d = d*w_rel``, ``tau = tau_c + tau_d``, ``lossPower = tau_d*w_rel``
+
+    After initialization the spring torque is
+
+    * ``tau_c = c*phi_diff`` if ``|b| <= bEps`` (1e-10 rad: no gap),
+      ``c*(phi_diff - bMax)`` if ``phi_diff > bMax``,
+      ``c*(phi_diff - bMin)`` if ``phi_diff < bMin``, else 0
+
+    and ``tau_d = d*w_rel``; the subclass gives the contact torque and the loss.
+    """
+
+    c = Parameter(1.0e5, unit="N.m/rad", min=_SMALL, description="Spring constant (c > 0 required)")
+    d = Parameter(0.0, unit="N.m.s/rad", min=0, description="Damping constant")
+    b = Parameter(0.0, unit="rad", min=0, description="Total backlash")
+    phi_rel0 = Parameter(0.0, unit="rad", description="Unstretched spring angle")
+    tau_c = Variable(unit="N.m", description="Spring torque (protected)")
+    tau_d = Variable(unit="N.m", description="Damping torque (protected)")
+    phi_diff = Variable(unit="rad", description="phi_rel - phi_rel0 (protected)")
+
+    def build(self) -> None:
+        self.check_parameters()
+
+    def check_parameters(self) -> None:
+        """Raise ParameterError for c <= 0, b < 0 or d < 0 (numbers; expressions at flattening)."""
+        _check_min(self, "c", _SMALL, _C_HINT)
+        _check_min(self, "b", 0.0, _B_HINT)
+        _check_min(self, "d", 0.0, _D_HINT)
+
+    def _gap(self):
+        """(bMax, bMin, no_gap): the gap limits and the parameter condition |b| <= bEps."""
+        b_max = self.b / 2
+        return b_max, -b_max, sp.Abs(self.b) <= BACKLASH_EPS
+
+    def _characteristic(self):
+        """Equations common to both: phi_diff, tau_d and the two forms of tau_c.
+
+        Returns the equations and ``(initializing, tau_c_initial)``: the
+        subclass selects its own torque and loss with the same condition.
+        """
+        b_max, b_min, no_gap = self._gap()
+        phi_diff, c = self.phi_diff, self.c
+        initializing = is_initial()
+        tau_c_initial = sp.Piecewise((c * (phi_diff - b_max), phi_diff > 1.5 * b_max),
+                                     (c * (phi_diff - b_min), phi_diff < 1.5 * b_min),
+                                     (c / 3 * phi_diff, True))
+        tau_c_running = sp.Piecewise((c * phi_diff, no_gap),
+                                     (c * (phi_diff - b_max), phi_diff > b_max),
+                                     (c * (phi_diff - b_min), phi_diff < b_min),
+                                     (0, True))
+        equations = [
+            Eq(self.phi_diff, self.phi_rel - self.phi_rel0),
+            Eq(self.tau_c, If(initializing, tau_c_initial, tau_c_running)),
+            Eq(self.tau_d, self.d * self.w_rel),
+        ]
+        return equations, initializing
+
+
+class ElastoBacklash(_Backlash, PartialCompliantWithRelativeStates, PartialElementaryConditionalHeatPortWithoutT):
+    """Backlash in series with a spring and a damper in parallel (Modelica.Mechanics.Rotational.Components.ElastoBacklash).
+
+    No torque inside the gap ``bMin <= phi_diff <= bMax`` (``phi_diff =
+    phi_rel - phi_rel0``, ``bMax = -bMin = b/2``); outside it the spring
+    ``tau_c`` (measured from the gap edge) and the damper ``tau_d = d*w_rel``
+    act, limited so that the contact only pushes and the damping never
+    exceeds the spring torque (the torque is continuous at the start of
+    contact):
+
+    * ``phi_diff > bMax``: ``tau = 0`` if ``tau_c + tau_d <= 0``, else
+      ``tau_c + min(tau_c, tau_d)``; ``lossPower = min(tau_c, tau_d)*w_rel``
+      (0 without contact force);
+    * ``phi_diff < bMin``: ``tau = 0`` if ``tau_c + tau_d >= 0``, else
+      ``tau_c + max(tau_c, tau_d)``; ``lossPower = max(tau_c, tau_d)*w_rel``
+      (0 without contact force);
+    * inside the gap ``tau = 0``, ``lossPower = 0``;
+    * with ``|b| <= 1e-10`` rad the gap is ignored: ``tau = tau_c + tau_d``,
+      ``lossPower = tau_d*w_rel`` (a SpringDamper).
+
+    The gap edges ``phi_diff = bMax`` and ``phi_diff = bMin`` are events; the
+    limiting of the contact torque is wrapped in ``smooth(0, noEvent(...))``
+    as in the MSL and makes none.  The spring torque ``tau_c`` and the
+    initialization form are those of the shared characteristic (see
+    ``_Backlash``).  ``lossPower`` goes to the optional heat port.
+    """
+
+    def equations(self):
+        equations, initializing = self._characteristic()
+        b_max, b_min, no_gap = self._gap()
+        tau_c, tau_d, w_rel, phi_diff = self.tau_c, self.tau_d, self.w_rel, self.phi_diff
+        pushing_forward = tau_c + tau_d <= 0   # true: a forward contact would pull
+        pushing_backward = tau_c + tau_d >= 0  # true: a backward contact would pull
+        tau_running = sp.Piecewise(
+            (tau_c + tau_d, no_gap),
+            (noEvent(If(pushing_forward, 0, tau_c + sp.Min(tau_c, tau_d))), phi_diff > b_max),
+            (noEvent(If(pushing_backward, 0, tau_c + sp.Max(tau_c, tau_d))), phi_diff < b_min),
+            (0, True))
+        loss_running = sp.Piecewise(
+            (tau_d * w_rel, no_gap),
+            (noEvent(If(pushing_forward, 0, sp.Min(tau_c, tau_d) * w_rel)), phi_diff > b_max),
+            (noEvent(If(pushing_backward, 0, sp.Max(tau_c, tau_d) * w_rel)), phi_diff < b_min),
+            (0, True))
+        return equations + [
+            Eq(self.tau, If(initializing, tau_c + tau_d, tau_running)),
+            Eq(self.lossPower, If(initializing, tau_d * w_rel, loss_running)),
+        ]
+
+
+class ElastoBacklash2(_Backlash, PartialCompliantWithRelativeStates, PartialElementaryConditionalHeatPortWithoutT):
+    """Backlash in series with a spring and a damper; the torque may jump at contact (Modelica.Mechanics.Rotational.Components.ElastoBacklash2).
+
+    Like :class:`ElastoBacklash`, but the contact torque is the plain
+    ``tau_c + tau_d`` (set to 0 where it would pull), so it jumps by
+    ``d*w_rel`` when contact starts:
+
+    * ``phi_diff > bMax``: ``tau = 0`` if ``tau_c + tau_d <= 0``, else
+      ``tau_c + tau_d``; ``lossPower`` 0 or ``tau_d*w_rel`` alike;
+    * ``phi_diff < bMin``: ``tau = 0`` if ``tau_c + tau_d >= 0``, else
+      ``tau_c + tau_d``; ``lossPower`` 0 or ``tau_d*w_rel`` alike;
+    * inside the gap ``tau = 0``, ``lossPower = 0``;
+    * with ``|b| <= 1e-10`` rad: ``tau = tau_c + tau_d``, ``lossPower = tau_d*w_rel``.
+
+    Every relation, including the release condition ``tau_c + tau_d <= 0``,
+    makes events (there is no ``noEvent`` in this model), so contact and
+    release are event instants.
+    """
+
+    def equations(self):
+        equations, initializing = self._characteristic()
+        b_max, b_min, no_gap = self._gap()
+        tau_c, tau_d, w_rel, phi_diff = self.tau_c, self.tau_d, self.w_rel, self.phi_diff
+        contact = tau_c + tau_d
+        tau_running = sp.Piecewise(
+            (contact, no_gap),
+            (If(contact <= 0, 0, contact), phi_diff > b_max),
+            (If(contact >= 0, 0, contact), phi_diff < b_min),
+            (0, True))
+        loss_running = sp.Piecewise(
+            (tau_d * w_rel, no_gap),
+            (If(contact <= 0, 0, tau_d * w_rel), phi_diff > b_max),
+            (If(contact >= 0, 0, tau_d * w_rel), phi_diff < b_min),
+            (0, True))
+        return equations + [
+            Eq(self.tau, If(initializing, contact, tau_running)),
+            Eq(self.lossPower, If(initializing, tau_d * w_rel, loss_running)),
+        ]
+
+
+# --------------------------------------------------------------------------
+# rigid elements, state definitions, initialization
+
+
+class Disc(PartialTwoFlanges):
+    """Massless rigid disc turning flange_b by a fixed angle against flange_a (Modelica.Mechanics.Rotational.Components.Disc).
+
+    * ``flange_a.phi = phi - deltaPhi/2``, ``flange_b.phi = phi + deltaPhi/2``
+    * ``0 = flange_a.tau + flange_b.tau``
+    """
+
+    deltaPhi = Parameter(0.0, unit="rad",  # noqa: N815 - Modelica name
+                         description="Fixed rotation of left flange with respect to right flange "
+                                     "(= flange_b.phi - flange_a.phi)")
+    phi = Variable(unit="rad", description="Absolute rotation angle of component")
+
+    def equations(self):
+        return [
+            Eq(self.flange_a.phi, self.phi - self.deltaPhi / 2),
+            Eq(self.flange_b.phi, self.phi + self.deltaPhi / 2),
+            Eq(0, self.flange_a.tau + self.flange_b.tau),
+        ]
+
+
+class RelativeStates(PartialTwoFlanges):
+    """Relative angle and speed between two flanges as preferred states (Modelica.Mechanics.Rotational.Components.RelativeStates).
+
+    Transmits no torque (``flange_a.tau = flange_b.tau = 0``); it only
+    declares ``phi_rel = flange_b.phi - flange_a.phi``, ``w_rel =
+    der(phi_rel)``, ``a_rel = der(w_rel)`` with ``stateSelect`` (prefer) on
+    ``phi_rel`` and ``w_rel``, so that the relative motion is integrated.
+    ``phi_nominal`` (1 rad) scales the error control of ``phi_rel``.
+    """
+
+    stateSelect = Parameter(StateSelect.prefer, structural=True,  # noqa: N815 - Modelica name
+                            description="Priority to use the relative angle and relative speed as states")
+    phi_nominal = Parameter(1.0, unit="rad", min=0,
+                            description="Nominal value of the relative angle (used for scaling)")
+    phi_rel = Variable(start=0.0, unit="rad",
+                       nominal=lambda c: sp.Piecewise((c.phi_nominal, c.phi_nominal >= EPS), (1, True)),
+                       state_select=lambda c: c.stateSelect,
+                       description="Relative rotation angle used as state variable")
+    w_rel = Variable(start=0.0, unit="rad/s", state_select=lambda c: c.stateSelect,
+                     description="Relative angular velocity used as state variable")
+    a_rel = Variable(start=0.0, unit="rad/s2", description="Relative angular acceleration")
+
+    def equations(self):
+        return [
+            Eq(self.phi_rel, self.flange_b.phi - self.flange_a.phi),
+            Eq(self.w_rel, der(self.phi_rel)),
+            Eq(self.a_rel, der(self.w_rel)),
+            Eq(self.flange_a.tau, 0),
+            Eq(self.flange_b.tau, 0),
+        ]
+
+
+class InitializeFlange(Component):
+    """Initialize a flange's angle, speed and acceleration from input signals (Modelica.Mechanics.Rotational.Components.InitializeFlange).
+
+    Exerts no torque (``flange.tau = 0``).  ``phi_flange = flange.phi`` and
+    ``w_flange = der(phi_flange)`` carry ``stateSelect``.  Each enabled input
+    adds one initial equation:
+
+    * ``use_phi_start``: ``flange.phi = phi_start``
+    * ``use_w_start``: ``w_flange = w_start``
+    * ``use_a_start``: ``der(w_flange) = a_start``
+
+    The MSL sets the flange angle to StateSelect.avoid inside its protected
+    acceleration-setting part; that hint on a connector alias is not
+    expressed here (``stateSelect`` on ``phi_flange`` and ``w_flange`` is).
+    """
+
+    use_phi_start = Parameter(True, structural=True,
+                              description="= true, if initial angle is defined by input phi_start, "
+                                          "otherwise not initialized")
+    use_w_start = Parameter(True, structural=True,
+                            description="= true, if initial speed is defined by input w_start, "
+                                        "otherwise not initialized")
+    use_a_start = Parameter(True, structural=True,
+                            description="= true, if initial angular acceleration is defined by input a_start, "
+                                        "otherwise not initialized")
+    stateSelect = Parameter(StateSelect.default, structural=True,  # noqa: N815 - Modelica name
+                            description="Priority to use flange angle and speed as states")
+    phi_start = RealInput(unit="rad", condition="use_phi_start", description="Initial angle of flange")
+    w_start = RealInput(unit="rad/s", condition="use_w_start", description="Initial speed of flange")
+    a_start = RealInput(unit="rad/s2", condition="use_a_start",
+                        description="Initial angular acceleration of flange")
+    flange = Flange_b(description="Flange that is initialized")
+    phi_flange = Variable(unit="rad", state_select=lambda c: c.stateSelect, description="Flange angle")
+    w_flange = Variable(unit="rad/s", state_select=lambda c: c.stateSelect, description="= der(phi_flange)")
+
+    def equations(self):
+        return [
+            Eq(self.phi_flange, self.flange.phi),
+            Eq(self.w_flange, der(self.phi_flange)),
+            Eq(self.flange.tau, 0),
+        ]
+
+    def initial_equations(self):
+        equations = []
+        if self.use_phi_start:
+            equations.append(Eq(self.flange.phi, self.phi_start))
+        if self.use_w_start:
+            equations.append(Eq(self.w_flange, self.w_start))
+        if self.use_a_start:
+            equations.append(Eq(der(self.w_flange), self.a_start))
+        return equations
+
+
+# --------------------------------------------------------------------------
+# signal adaptors (for FMU export)
+
+
+def _prescribed_value(value: float, derivative: float, t: float) -> float:
+    return value
+
+
+class Prescribed(sp.Function):
+    """``Prescribed(q, qd, time)``: the value ``q`` whose time derivative is ``qd``.
+
+    The adaptors' inputs carry a signal and, separately, its derivatives;
+    Modelica passes them through functions with a ``derivative`` annotation
+    (Blocks.Interfaces.Adaptors.Functions.state1/state2, the position
+    functions of Rotational.Sources.Move) so that index reduction takes
+    the given derivative instead of differentiating the input.  Here the
+    chain rule does the same: the partial derivatives with respect to ``q``
+    and ``qd`` are 0 (Modelica's ``noDerivative``) and the one with respect
+    to ``time`` is ``qd``.  Nest it for a second derivative:
+    ``Prescribed(q, Prescribed(qd, qdd, time), time)``.
+
+    Notes
+    -----
+    Because the partial derivative with respect to ``q`` is 0, ``q`` must
+    not be an unknown of an algebraic loop through this function (as for the
+    Modelica functions, whose Jacobian is not defined either).
+    """
+
+    nargs = 3
+    _imp_ = staticmethod(_prescribed_value)
+
+    def fdiff(self, argindex: int = 1):
+        if argindex == 3:
+            return self.args[1]
+        return sp.Integer(0)
+
+    def _eval_is_real(self):
+        return self.args[0].is_real
+
+
+class TorqueToAngleAdaptor(Component):
+    """Flange driven by an input torque; angle, speed and acceleration as outputs (Modelica.Mechanics.Rotational.Components.TorqueToAngleAdaptor).
+
+    * ``phi = flange.phi``, ``flange.tau = tau``
+    * ``w_internal = der(phi)`` if ``use_w``, else 0; ``a_internal =
+      der(w_internal)`` if ``use_a``, else 0
+    * the conditional outputs: ``w = w_internal``, ``a = a_internal``
+    """
+
+    use_w = Parameter(True, structural=True, description="= true, enable the output connector w (angular velocity)")
+    use_a = Parameter(True, structural=True,
+                      description="= true, enable the output connector a (angular acceleration)")
+    flange = Flange_a(description="Flange")
+    phi = RealOutput(unit="rad", description="Flange moves with angle phi due to torque tau")
+    w = RealOutput(unit="rad/s", condition="use_w", description="Flange moves with speed w due to torque tau")
+    a = RealOutput(unit="rad/s2", condition="use_a",
+                   description="Flange moves with angular acceleration a due to torque tau")
+    tau = RealInput(unit="N.m", description="Torque to drive the flange")
+    w_internal = Variable(unit="rad/s", description="Needed to connect to conditional connector w (protected)")
+    a_internal = Variable(unit="rad/s2", description="Needed to connect to conditional connector a (protected)")
+
+    def equations(self):
+        equations = [
+            Eq(self.phi, self.flange.phi),
+            Eq(self.w_internal, der(self.phi) if self.use_w else 0),
+            Eq(self.a_internal, der(self.w_internal) if self.use_a else 0),
+            Eq(self.flange.tau, self.tau),
+        ]
+        if self.use_w:
+            equations.append(Eq(self.w, self.w_internal))
+        if self.use_a:
+            equations.append(Eq(self.a, self.a_internal))
+        return equations
+
+
+class AngleToTorqueAdaptor(Component):
+    """Flange moved by input angle, speed and acceleration; the torque needed as output (Modelica.Mechanics.Rotational.Components.AngleToTorqueAdaptor).
+
+    The flange follows the inputs (the MSL builds this from Sources.Move
+    and a torque sensor): ``flange.phi`` is ``phi`` whose first derivative
+    is taken as ``w`` and second as ``a`` (see :class:`Prescribed`):
+
+    * ``use_a``: ``flange.phi = Prescribed(phi, Prescribed(w, a, time), time)``
+    * ``use_w`` only: ``flange.phi = Prescribed(phi, w, time)``
+    * neither: ``flange.phi = phi`` (its derivatives are those of the input)
+
+    and ``tau = -flange.tau``: the torque the flange needs.  The input ``w``
+    exists if ``use_w`` or ``use_a``.  The inputs must be consistent
+    (``w = der(phi)``, ``a = der(w)``).
+    """
+
+    use_w = Parameter(True, structural=True, description="= true, enable the input connector w (angular velocity)")
+    use_a = Parameter(True, structural=True,
+                      description="= true, enable the input connector a (angular acceleration)")
+    flange = Flange_b(description="Flange")
+    phi = RealInput(unit="rad", description="Angle to drive the flange")
+    w = RealInput(unit="rad/s", condition=lambda c: c.use_w or c.use_a,
+                  description="Speed to drive the flange (w=der(phi) required)")
+    a = RealInput(unit="rad/s2", condition="use_a",
+                  description="Angular acceleration to drive the flange (a = der(w) required)")
+    tau = RealOutput(unit="N.m", description="Torque needed to drive the flange according to phi, w, a")
+
+    def equations(self):
+        if self.use_a:
+            angle = Prescribed(self.phi, Prescribed(self.w, self.a, time), time)
+        elif self.use_w:
+            angle = Prescribed(self.phi, self.w, time)
+        else:
+            angle = self.phi
+        return [Eq(self.flange.phi, angle), Eq(self.tau, -self.flange.tau)]
+
+
+class _FlowToPotentialAdaptor(Component):
+    """Flow (and optional derivatives) in, potential and its derivatives out (Modelica.Blocks.Interfaces.Adaptors.FlowToPotentialAdaptor).
+
+    Only the part the rotational adaptor uses: its flow derivatives are
+    disabled (``use_fder = use_fder2 = false`` are final there), so ``u1 =
+    u2 = 0`` and ``u = f``.  ``y = p``; ``y1 = der(y)`` if ``use_pder``,
+    else 0; ``y2 = der(y1)`` if ``use_pder`` and ``use_pder2``, else 0;
+    the enabled outputs ``pder = y1``, ``pder2 = y2``.  The subclass ties
+    ``y`` and ``u`` to its flange.
+    """
+
+    use_pder = Parameter(True, structural=True, description="Use output for 1st derivative of potential")
+    use_pder2 = Parameter(True, structural=True,
+                          description="Use output for 2nd derivative of potential (only if 1st derivative "
+                                      "is used, too)")
+    y = Variable(description="Output signal (protected)")
+    y1 = Variable(description="Optional 1st derivative of output (protected)")
+    y2 = Variable(description="Optional 2nd derivative of output (protected)")
+    u = Variable(description="Input signal (protected)")
+    u1 = Variable(description="Optional 1st derivative of input (protected)")
+    u2 = Variable(description="Optional 2nd derivative of input (protected)")
+
+    def equations(self):
+        second = self.use_pder and self.use_pder2
+        equations = [
+            Eq(self.y, self.p),
+            Eq(self.y1, der(self.y) if self.use_pder else 0),
+            Eq(self.y2, der(self.y1) if second else 0),
+            Eq(self.u1, 0),
+            Eq(self.u2, 0),
+            Eq(self.u, self.f),
+        ]
+        if self.use_pder:
+            equations.append(Eq(self.pder, self.y1))
+        if second:
+            equations.append(Eq(self.pder2, self.y2))
+        return equations
+
+
+class _PotentialToFlowAdaptor(Component):
+    """Potential and optional derivatives in, flow out (Modelica.Blocks.Interfaces.Adaptors.PotentialToFlowAdaptor).
+
+    Only the part the rotational adaptor uses: its flow derivative outputs
+    are disabled (``use_fder = use_fder2 = false`` are final there), so
+    ``y1 = y2 = 0``.  ``y = -f``; ``u1 = pder`` if ``use_pder``, else 0;
+    ``u2 = pder2`` if ``use_pder`` and ``use_pder2``, else 0; and
+
+    * both: ``u = Prescribed(p, Prescribed(u1, u2, time), time)``
+    * ``use_pder`` only: ``u = Prescribed(p, u1, time)``
+    * neither: ``u = p``
+
+    (:class:`Prescribed` stands for the MSL functions state2 and state1:
+    the given derivatives replace differentiation of ``p``).
+    """
+
+    use_pder = Parameter(True, structural=True, description="Use input for 1st derivative of potential")
+    use_pder2 = Parameter(True, structural=True,
+                          description="Use input for 2nd derivative of potential (only if 1st derivative "
+                                      "is used, too)")
+    y = Variable(description="Output signal (protected)")
+    y1 = Variable(description="Optional 1st derivative of output (protected)")
+    y2 = Variable(description="Optional 2nd derivative of output (protected)")
+    u = Variable(description="Input signal (protected)")
+    u1 = Variable(description="Optional 1st derivative of input (protected)")
+    u2 = Variable(description="Optional 2nd derivative of input (protected)")
+
+    def equations(self):
+        second = self.use_pder and self.use_pder2
+        if second:
+            potential = Prescribed(self.p, Prescribed(self.u1, self.u2, time), time)
+        elif self.use_pder:
+            potential = Prescribed(self.p, self.u1, time)
+        else:
+            potential = self.p
+        return [
+            Eq(self.y, -self.f),
+            Eq(self.y1, 0),
+            Eq(self.y2, 0),
+            Eq(self.u1, self.pder if self.use_pder else 0),
+            Eq(self.u2, self.pder2 if second else 0),
+            Eq(self.u, potential),
+        ]
+
+
+class GeneralTorqueToAngleAdaptor(_FlowToPotentialAdaptor):
+    """Torque in; angle, speed and acceleration out, generic form (Modelica.Mechanics.Rotational.Components.GeneralTorqueToAngleAdaptor).
+
+    The flow-to-potential adaptor (see ``_FlowToPotentialAdaptor``) on a
+    rotational flange: ``y = flange.phi`` (potential = angle) and ``u =
+    flange.tau`` (flow = torque), so ``flange.phi = p``, ``pder = der(p)``,
+    ``pder2 = der(pder)`` and ``flange.tau = f``.
+    """
+
+    flange = Flange_a(description="Flange")
+    p = RealOutput(unit="rad", description="Output for potential (angle)")
+    pder = RealOutput(unit="rad/s", condition="use_pder", description="Optional output for der(potential) (speed)")
+    pder2 = RealOutput(unit="rad/s2", condition=lambda c: c.use_pder and c.use_pder2,
+                       description="Optional output for der2(potential) (angular acceleration)")
+    f = RealInput(unit="N.m", description="Input for flow (torque)")
+
+    def equations(self):
+        return [Eq(self.y, self.flange.phi), Eq(self.u, self.flange.tau)]
+
+
+class GeneralAngleToTorqueAdaptor(_PotentialToFlowAdaptor):
+    """Angle, speed and acceleration in; torque out, generic form (Modelica.Mechanics.Rotational.Components.GeneralAngleToTorqueAdaptor).
+
+    The potential-to-flow adaptor (see ``_PotentialToFlowAdaptor``) on a
+    rotational flange: ``y = flange.tau`` (flow = torque) and ``u =
+    flange.phi`` (potential = angle), so ``f = -flange.tau`` and the
+    flange follows ``p`` with the derivatives ``pder`` and ``pder2``.
+    """
+
+    flange = Flange_b(description="Flange")
+    p = RealInput(unit="rad", description="Input for potential (angle)")
+    pder = RealInput(unit="rad/s", condition="use_pder", description="Optional input for der(potential) (speed)")
+    pder2 = RealInput(unit="rad/s2", condition=lambda c: c.use_pder and c.use_pder2,
+                      description="Optional input for der2(potential) (angular acceleration)")
+    f = RealOutput(unit="N.m", description="Output for flow (torque)")
+
+    def equations(self):
+        return [Eq(self.y, self.flange.tau), Eq(self.u, self.flange.phi)]

@@ -6,7 +6,7 @@ from acausal.language import Eq, RealOutput, Variable, der
 from acausal.components.rotational import PartialAbsoluteSensor, PartialRelativeSensor
 
 __all__ = ["AngleSensor", "SpeedSensor", "AccSensor", "TorqueSensor", "RelAngleSensor",
-           "RelSpeedSensor", "PowerSensor", "MultiSensor"]
+           "RelSpeedSensor", "RelAccSensor", "PowerSensor", "MultiSensor"]
 
 
 class AngleSensor(PartialAbsoluteSensor):
@@ -15,7 +15,7 @@ class AngleSensor(PartialAbsoluteSensor):
     ``phi = flange.phi``.
     """
 
-    phi = RealOutput(unit="rad", description="Absolute angle of flange")
+    phi = RealOutput(unit="rad", description="Absolute angle of flange as output signal")
 
     def equations(self):
         return [Eq(self.phi, self.flange.phi)]
@@ -27,7 +27,7 @@ class SpeedSensor(PartialAbsoluteSensor):
     ``w = der(flange.phi)``.
     """
 
-    w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange")
+    w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange as output signal")
 
     def equations(self):
         return [Eq(self.w, der(self.flange.phi))]
@@ -40,7 +40,7 @@ class AccSensor(PartialAbsoluteSensor):
     """
 
     w = Variable(unit="rad/s", description="Absolute angular velocity of flange")
-    a = RealOutput(unit="rad/s2", description="Absolute angular acceleration of flange")
+    a = RealOutput(unit="rad/s2", description="Absolute angular acceleration of flange as output signal")
 
     def equations(self):
         return [Eq(self.w, der(self.flange.phi)), Eq(self.a, der(self.w))]
@@ -53,7 +53,8 @@ class TorqueSensor(PartialRelativeSensor):
     """
 
     tau = RealOutput(unit="N.m",
-                     description="Torque in flange flange_a and flange_b (tau = flange_a.tau = -flange_b.tau)")
+                     description="Torque in flange flange_a and flange_b "
+                                 "(tau = flange_a.tau = -flange_b.tau) as output signal")
 
     def equations(self):
         return [Eq(self.flange_a.phi, self.flange_b.phi), Eq(self.tau, self.flange_a.tau)]
@@ -66,7 +67,8 @@ class RelAngleSensor(PartialRelativeSensor):
     """
 
     phi_rel = RealOutput(unit="rad",
-                         description="Relative angle between two flanges (= flange_b.phi - flange_a.phi)")
+                         description="Relative angle between two flanges (= flange_b.phi - flange_a.phi) "
+                                     "as output signal")
 
     def equations(self):
         return [Eq(self.phi_rel, self.flange_b.phi - self.flange_a.phi), Eq(0, self.flange_a.tau)]
@@ -79,14 +81,36 @@ class RelSpeedSensor(PartialRelativeSensor):
     """
 
     w_rel = RealOutput(unit="rad/s",
-                       description="Relative angular velocity between two flanges (= der(flange_b.phi) - der(flange_a.phi))")
+                       description="Relative angular velocity between two flanges "
+                                   "(= der(flange_b.phi) - der(flange_a.phi)) as output signal")
     phi_rel = Variable(unit="rad",
-                       description="Relative angle between two flanges (flange_b.phi - flange_a.phi) (protected)")
+                       description="Relative angle between two flanges (flange_b.phi - flange_a.phi)")
 
     def equations(self):
         return [
             Eq(self.phi_rel, self.flange_b.phi - self.flange_a.phi),
             Eq(self.w_rel, der(self.phi_rel)),
+            Eq(0, self.flange_a.tau),
+        ]
+
+
+class RelAccSensor(PartialRelativeSensor):
+    """Ideal sensor of the relative angular acceleration (Modelica.Mechanics.Rotational.Sensors.RelAccSensor).
+
+    ``phi_rel = flange_b.phi - flange_a.phi``, ``w_rel = der(phi_rel)``,
+    ``a_rel = der(w_rel)`` and ``0 = flange_a.tau`` (it transmits no torque).
+    """
+
+    phi_rel = Variable(unit="rad", description="Relative angle between two flanges (flange_b.phi - flange_a.phi)")
+    w_rel = Variable(unit="rad/s", description="Relative angular velocity between two flanges")
+    a_rel = RealOutput(unit="rad/s2",
+                       description="Relative angular acceleration between two flanges as output signal")
+
+    def equations(self):
+        return [
+            Eq(self.phi_rel, self.flange_b.phi - self.flange_a.phi),
+            Eq(self.w_rel, der(self.phi_rel)),
+            Eq(self.a_rel, der(self.w_rel)),
             Eq(0, self.flange_a.tau),
         ]
 
@@ -97,7 +121,7 @@ class PowerSensor(PartialRelativeSensor):
     ``power = flange_a.tau*der(flange_a.phi)``.
     """
 
-    power = RealOutput(unit="W", description="Power in flange flange_a")
+    power = RealOutput(unit="W", description="Power in flange flange_a as output signal")
 
     def equations(self):
         return [Eq(self.flange_a.phi, self.flange_b.phi),
@@ -111,10 +135,11 @@ class MultiSensor(PartialRelativeSensor):
     flange_a.tau`` and ``power = tau*w``.
     """
 
-    power = RealOutput(unit="W", description="Power in flange flange_a")
-    w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange_a")
+    power = RealOutput(unit="W", description="Power in flange flange_a as output signal")
+    w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange_a as output signal")
     tau = RealOutput(unit="N.m",
-                     description="Torque in flange flange_a and flange_b (tau = flange_a.tau = -flange_b.tau)")
+                     description="Torque in flange flange_a and flange_b "
+                                 "(tau = flange_a.tau = -flange_b.tau) as output signal")
 
     def equations(self):
         return [
