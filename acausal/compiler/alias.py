@@ -248,20 +248,30 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     merged = {name: merged[name] for name in variables if name in merged}
 
     substitution = {real_symbol(n): e for n, e in aliases.items()}
-    # derivatives of aliases: der(a) -> s*der(rep), or 0 for constants
     for eq in kept:
-        for sym in eq.residual.free_symbols:
-            if is_derivative(sym.name) and base_name(sym.name) in aliases and sym not in substitution:
-                order = derivative_order(sym.name)
-                expr = aliases[base_name(sym.name)]
-                rep_syms = [s for s in expr.free_symbols if s.name in merged]
-                if not rep_syms:
-                    substitution[sym] = sp.Integer(0)
-                else:
-                    (rep_sym,) = rep_syms
-                    substitution[sym] = expr.coeff(rep_sym) * real_symbol(der_name(rep_sym.name, order))
+        substitution.update(derivative_substitution(eq.residual.free_symbols, aliases, merged, substitution))
     new_equations = tuple(FlatEquation(eq.residual.xreplace(substitution), eq.origin) for eq in kept)
     return AliasResult(new_equations, aliases, merged, tuple(eliminated), tuple(fixed_constants))
+
+
+def derivative_substitution(symbols, aliases: dict, representatives, known=()) -> dict:
+    """``der(a) -> s*der(rep)`` (or 0 for a constant) for the derivatives of aliases among ``symbols``.
+
+    An alias is ``a = s*rep`` (or a constant), so its derivatives are those
+    of its representative times ``s``; ``known`` lists symbols already handled.
+    """
+    found = {}
+    for sym in symbols:
+        if is_derivative(sym.name) and base_name(sym.name) in aliases and sym not in known:
+            order = derivative_order(sym.name)
+            expr = aliases[base_name(sym.name)]
+            rep_syms = [s for s in expr.free_symbols if s.name in representatives]
+            if not rep_syms:
+                found[sym] = sp.Integer(0)
+            else:
+                (rep_sym,) = rep_syms
+                found[sym] = expr.coeff(rep_sym) * real_symbol(der_name(rep_sym.name, order))
+    return found
 
 
 def _folded(residual: sp.Expr, memo: AliasMemo, candidates: set[str], parameters: set[str], find,

@@ -24,7 +24,7 @@ import sympy as sp
 from ..errors import InitializationError, OverDeterminedError
 from ..language import real_symbol
 from .algebraic import AlgebraicResult, solve_blocks
-from .alias import AliasResult
+from .alias import AliasResult, derivative_substitution
 from .blt import BLTResult, sort_blt
 from .cache import ModelCache
 from .codegen import GeneratedCode, generate
@@ -103,6 +103,10 @@ def compile_initial_system(mode: ModeSystem, initial_equations: Sequence[FlatEqu
     parameters = cache.parameters
     with passes.run("initial equations"):
         substitution = {real_symbol(n): e for n, e in mode.aliases.aliases.items()}
+        # der() of an alias in an initial equation is der() of its representative
+        for e in initial_equations:
+            substitution.update(derivative_substitution(e.residual.free_symbols, mode.aliases.aliases,
+                                                        mode.aliases.variables, substitution))
         user = [FlatEquation(e.residual.xreplace(substitution), e.origin) for e in initial_equations]
         variables = mode.aliases.variables
         state_set = set(mode.structure.states)

@@ -67,11 +67,22 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     notes: list[str] = []
     values = None
     history = [dict(discrete)]
+    guessed = False
     for _ in range(evaluator.max_iterations):
         pre = {**discrete, **fixed_pre}
         key = evaluator.key(discrete, pre, relations, True)
         problem = translation.initial_system(key)
-        values = dict(zip(problem.unknowns, problem.outputs(start_time, ())))
+        try:
+            values = dict(zip(problem.unknowns, problem.outputs(start_time, ())))
+        except (ArithmeticError, ValueError):  # a domain error in the generated code
+            if guessed:
+                raise
+            # the first guess (every relation false) selects a branch that cannot be
+            # evaluated here (1/|w| at w = 0): guess again from the start values, as a
+            # Modelica tool starts its mixed system from them
+            guessed = True
+            relations = start_value_relations(translation, start_time)
+            continue
         system = translation.system(key)
         x = evaluator._states(system, values, discrete)
         # |g| within the relation margin counts as g = 0, as at events: a load one
@@ -108,6 +119,34 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
                                                translation.cache.parameters.symbols))
     outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False, ticks=ticks)
     return InitialState(start_time, values, discrete, relations, outcome, tuple(notes), ticks)
+
+
+def start_value_relations(translation: Translation, start_time: float) -> tuple[bool, ...]:
+    """Each relation evaluated with the start values of the variables (0 when none is given).
+
+    A guess for the initial event iteration: derivatives count as 0, and a
+    relation that cannot be evaluated this way is guessed false.
+    """
+    import sympy as sp
+
+    from ..language import time as time_symbol
+    from ..names import is_derivative
+
+    variables = translation.flat.variable_map
+    parameters = translation.cache.parameters.symbols
+    guesses = []
+    for rel in translation.partitioned.relations:
+        g = sp.sympify(rel.g).xreplace(parameters)
+        values = {time_symbol: start_time}
+        for sym in g.free_symbols - {time_symbol}:
+            variable = variables.get(sym.name)
+            start = getattr(variable, "start", None) if variable is not None and not is_derivative(sym.name) else None
+            values[sym] = start if isinstance(start, (int, float)) else 0.0
+        try:
+            guesses.append(rel.holds(float(g.xreplace(values))))
+        except (TypeError, ValueError, ZeroDivisionError):
+            guesses.append(False)
+    return tuple(guesses)
 
 
 def start_system(translation: Translation) -> ModeSystem:
