@@ -405,6 +405,8 @@ class _Run:
         self._update_time_roots(values)
         x = np.array([values[s] for s in system.states], dtype=float)
         recorder.add(t, system, x, discrete)
+        # assertions hold from the start: a violated one stops the run at its first row
+        self._check_asserts(t, system, x, discrete)
         recorder.skip_grid_through(t, round_off=False)
         recent = deque(maxlen=self.chattering_events)
         while t < t1:

@@ -335,9 +335,6 @@ def test_hysteresis_limits_are_checked():
     assert result.time[-1] < 0.01
 
 
-@pytest.mark.xfail(strict=True, reason="engine: assertions are first checked after the first step or "
-                                       "event, not at initialization (a model without states runs on "
-                                       "to its first event)")
 def test_hysteresis_limits_are_checked_at_the_start():
     result = simulate(_wrong_limits(stateless=True))
     assert not result.success and "Hysteresis limits wrong" in result.message
