@@ -106,11 +106,12 @@ class _Hermite(DenseOutput):
 
     def _call_impl(self, t):
         s = (np.asarray(t) - self.t_old) / self.h
-        h00 = 2 * s**3 - 3 * s**2 + 1
+        # y_old + h01*(y - y_old) rather than h00*y_old + h01*y: h00 + h01 = 1 does not
+        # hold in floating point, and a constant state must interpolate to itself exactly
         h10 = s**3 - 2 * s**2 + s
         h01 = -2 * s**3 + 3 * s**2
         h11 = s**3 - s**2
         if np.ndim(t) == 0:
-            return h00 * self.y_old + h10 * self.h * self.f_old + h01 * self.y + h11 * self.h * self.f
-        return (np.outer(self.y_old, h00) + np.outer(self.h * self.f_old, h10)
-                + np.outer(self.y, h01) + np.outer(self.h * self.f, h11))
+            return self.y_old + h01 * (self.y - self.y_old) + h10 * self.h * self.f_old + h11 * self.h * self.f
+        return (self.y_old[:, None] + np.outer(self.y - self.y_old, h01) + np.outer(self.h * self.f_old, h10)
+                + np.outer(self.h * self.f, h11))

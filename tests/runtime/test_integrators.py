@@ -103,3 +103,18 @@ def test_simulate_runs_the_fixed_step_methods_with_max_step(method, expected_rat
         if method == "Euler":
             assert result["x"][-1] == pytest.approx((1 - step) ** round(1 / step), rel=1e-12)
     assert errors[0] / errors[1] == pytest.approx(expected_ratio, rel=0.05)
+
+
+def test_fixed_step_dense_output_keeps_a_constant_state_exact():
+    """The Hermite interpolation of the fixed-step methods returns a constant state unchanged."""
+
+    class Still(Model):
+        experiment = Experiment(stop_time=1.0)
+        x = Variable(start=0.9, fixed=True)
+
+        def equations(self):
+            return [Eq(der(self.x), 0)]
+
+    for method in ("RK4", "Euler"):
+        result = simulate(Still(), method=method, max_step=3e-3, interval=1e-3)
+        assert (result["x"] == 0.9).all(), method
