@@ -491,9 +491,6 @@ def test_inverse_speed_dependent_torque_terminal_speed():
     assert result.final("inertia.w") == pytest.approx(math.sqrt(w_inf2), rel=1e-6)
 
 
-@pytest.mark.xfail(strict=True, reason="engine: initialization starts from all relations false and stops at the "
-                                       "first failing evaluation (here tau_n*w_n/abs(w) at w = 0) instead of "
-                                       "taking the relations from the start values")
 def test_inverse_speed_dependent_torque_from_rest():
     result = simulate(_ConstantPower(0.0), rtol=1e-8)
     assert result.success, result.message
