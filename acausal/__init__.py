@@ -33,6 +33,7 @@ from .language import (
     pre,
     time,
 )
+from .functions import prescribed
 from .hybrid import (Assert, When, ceil, change, div, edge, floor, integer, mod, noEvent, reinit, rem,
                      sample, smooth, terminal, terminate)
 from .runtime.result import Event, SimulationResult
@@ -49,6 +50,8 @@ __all__ = [
     # the hybrid language (Modelica chapter 8)
     "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "Assert", "terminate",
     "floor", "ceil", "integer", "div", "mod", "rem",
+    # functions with given derivatives (Modelica's derivative annotation)
+    "prescribed",
     # the engine
     "METHODS", "Event", "SimulationResult", "Translation", "simulate", "translate",
     # the errors

@@ -5,7 +5,14 @@ Mirrors the ``Interfaces`` packages of the Modelica Standard Library:
 :mod:`acausal.components.translational` (translational flanges and partials),
 :mod:`acausal.components.thermal` (heat ports and conditional heat ports),
 :mod:`acausal.components.blocks` (signal block partials) and
-:mod:`acausal.components.friction` (the friction state machine).
+:mod:`acausal.components.friction` (the friction state machine and the
+friction tables of both mechanical domains).
+
+Helpers the libraries share: :mod:`acausal.components.declarations` (array
+declarations sized by structural parameters, parameters defaulting to
+expressions of others), :mod:`acausal.components.checks` (parameter checks
+naming the component) and :mod:`acausal.components.logic` (``initial()`` and
+``pre(b)`` as sympy Booleans).
 """
 
 from .blocks import SI2SO, SISO, SO, SignalSource

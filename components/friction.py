@@ -1,14 +1,28 @@
-"""The friction state machine shared by BearingFriction, Brake and Clutch."""
+"""The friction state machine and the friction tables, shared by both mechanical domains.
+
+:func:`friction_state_machine` holds the equations of the MSL's
+``PartialFriction`` (Rotational and Translational alike, and the variant of
+Translational's ``MassWithStopAndFriction``); :class:`PartialFriction` is the
+rotational partial model built on it.  The table-driven elements (Rotational
+BearingFriction, Clutch, Brake, OneWayClutch; Translational SupportFriction
+and Brake) check their characteristic with :func:`check_friction_table`,
+evaluate it through :func:`friction_table` and mirror it for negative speeds
+with :func:`table_signs`.
+"""
 
 from __future__ import annotations
 
 import sympy as sp
 
+from acausal.errors import ParameterError
 from acausal.language import Boolean, Component, Eq, Integer, Parameter, Variable, pre
+from acausal.tables import table_function, validate_table
 
+from .checks import where
 from .logic import is_initial, pre_boolean
 
-__all__ = ["PartialFriction", "friction_state_machine", "Unknown", "Free", "Forward", "Stuck", "Backward"]
+__all__ = ["PartialFriction", "friction_state_machine", "Unknown", "Free", "Forward", "Stuck", "Backward",
+           "TABLE_QUANTITIES", "check_friction_table", "friction_table", "table_signs"]
 
 #: Values of ``mode``.
 Unknown = 3  #: value of mode is not known
@@ -113,13 +127,16 @@ class PartialFriction(Component):
                                       self.w_small, locked_acceleration=-self.K_locked * self.w_relfric)
 
 
-def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, locked_acceleration=0):
+def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, locked_acceleration=0, *,
+                           forward_allowed=sp.true, backward_allowed=sp.true, sign_fallback=True):
     """The five equations F1-F5 of the MSL friction state machine, for either domain.
 
     Rotational and Translational ``PartialFriction`` share these equations
     (only the names of the relative motion and the limits differ), so both
     build them here from the element's ``sa``, ``startForward``,
-    ``startBackward``, ``locked``, ``free`` and ``mode``.
+    ``startBackward``, ``locked``, ``free`` and ``mode``.  Translational
+    ``MassWithStopAndFriction`` (its ``PartialFrictionWithStop``) uses them
+    too, with the conditions that keep a body from sliding into a stop.
 
     Parameters
     ----------
@@ -135,6 +152,16 @@ def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, l
     locked_acceleration : sympy expression, default 0
         ``a_relfric`` while locked (the MSL has 0; the rotational elements'
         ``K_locked`` extension uses ``-K_locked*w_relfric``).
+    forward_allowed, backward_allowed : sympy Boolean, default true
+        Conditions for sliding forward (backward): sliding from Stuck starts,
+        and the mode is Forward (Backward), only while they hold
+        (``PartialFrictionWithStop``: the body is not at its right, left stop).
+    sign_fallback : bool, default True
+        Whether ``a_relfric`` ends with the MSL PartialFriction's branches
+        ``sa + f0_max`` if ``pre(mode) == Backward``, else ``sa -
+        sign(v_relfric)*f0_max``; False: it ends with ``sa + f0_max`` for
+        every remaining case (``PartialFrictionWithStop``, where not locked
+        and not free implies one of the cases before it).
 
     Returns
     -------
@@ -146,27 +173,32 @@ def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, l
     was = {value: sp.Eq(pre_mode, value) for value in (Stuck, Forward, Backward, Free)}
 
     start_forward = sp.Or(
-        sp.And(was[Stuck], sp.Or(sa > f0_max, sp.And(pre_boolean(element.startForward), sa > f0))),
+        sp.And(was[Stuck], forward_allowed,
+               sp.Or(sa > f0_max, sp.And(pre_boolean(element.startForward), sa > f0))),
         sp.And(was[Backward], w > v_small),
         sp.And(is_initial(), w > 0))
     start_backward = sp.Or(
-        sp.And(was[Stuck], sp.Or(sa < -f0_max, sp.And(pre_boolean(element.startBackward), sa < -f0))),
+        sp.And(was[Stuck], backward_allowed,
+               sp.Or(sa < -f0_max, sp.And(pre_boolean(element.startBackward), sa < -f0))),
         sp.And(was[Forward], w < -v_small),
         sp.And(is_initial(), w < 0))
     locked = sp.And(sp.Not(element.free),
                     sp.Not(sp.Or(was[Forward], element.startForward, was[Backward], element.startBackward)))
+    if sign_fallback:
+        ending = [(sa + f0_max, was[Backward]), (sa - sp.sign(w) * f0_max, True)]
+    else:
+        ending = [(sa + f0_max, True)]
     acceleration = sp.Piecewise(
         (locked_acceleration, element.locked),
         (sa, element.free),
         (sa - f0_max, element.startForward),
         (sa + f0_max, element.startBackward),
         (sa - f0_max, was[Forward]),
-        (sa + f0_max, was[Backward]),
-        (sa - sp.sign(w) * f0_max, True))
+        *ending)
     mode = sp.Piecewise(
         (Free, element.free),
-        (Forward, sp.And(sp.Or(was[Forward], was[Free], element.startForward), w > 0)),
-        (Backward, sp.And(sp.Or(was[Backward], was[Free], element.startBackward), w < 0)),
+        (Forward, sp.And(sp.Or(was[Forward], was[Free], element.startForward), w > 0, forward_allowed)),
+        (Backward, sp.And(sp.Or(was[Backward], was[Free], element.startBackward), w < 0, backward_allowed)),
         (Stuck, True))
     return [
         Eq(element.startForward, start_forward),   # F1
@@ -175,3 +207,64 @@ def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, l
         Eq(a_relfric, acceleration),                # F4
         Eq(element.mode, mode),                     # F5
     ]
+
+
+# --------------------------------------------------------------------------
+# friction tables (CombiTable1D characteristics given for relative speeds >= 0)
+
+
+#: What the second column of a friction table holds, by the MSL's parameter names (for messages).
+TABLE_QUANTITIES = {"tau_pos": "friction torque", "f_pos": "friction force", "mu_pos": "friction coefficient"}
+
+
+def check_friction_table(component: Component, name: str, *, speed: str = "w", unit: str = "rad/s") -> None:
+    """Raise ParameterError unless table parameter ``name`` is a valid friction characteristic.
+
+    A valid CombiTable1D table (see :func:`acausal.tables.validate_table`)
+    whose first column, the relative speed, starts at ``speed >= 0`` and
+    whose second column (a friction torque, force or coefficient, see
+    :data:`TABLE_QUANTITIES`) is ``>= 0``.
+
+    Parameters
+    ----------
+    component : Component
+        The friction element; the table is its attribute ``name``.
+    name : str
+        The table parameter (``tau_pos``, ``f_pos``, ``mu_pos``).
+    speed, unit : str
+        Name and unit of the relative speed in the first column, for the
+        messages (``"w"``, ``"rad/s"`` rotational; ``"v"``, ``"m/s"``
+        translational).
+    """
+    path = f"{where(component)}.{name}"
+    quantity = TABLE_QUANTITIES.get(name, "friction characteristic")
+    data = validate_table(getattr(component, name), path, value_min=0.0,
+                          value_hint=f"a {quantity} must not be negative: it would drive the motion "
+                                     f"it opposes (the MSL assumes {name}[:, 2] >= 0; 0 means no "
+                                     f"friction at that speed)")
+    if data[0, 0] < 0:
+        raise ParameterError(f"table {path}: the first column (relative speed {speed} >= 0, in {unit}) "
+                             f"starts at {data[0, 0]:g} < 0",
+                             hint=f"the characteristic is given for {speed} >= 0 and mirrored for {speed} < 0; "
+                                  f"start the table at {speed} = 0")
+
+
+def friction_table(component: Component, name: str) -> type[sp.Function]:
+    """The table function of the structural table parameter ``name``, named after the component path."""
+    return table_function(f"{component.path}.{name}" if component.path else name, getattr(component, name))
+
+
+def table_signs(component: Component, clutch_quirk: bool = False) -> tuple[sp.Expr, sp.Expr]:
+    """``(s1, s2)``: the signs of the abscissa and of the table value (the MSL's table_signs).
+
+    A friction table is given for relative speeds >= 0; the elements
+    evaluate ``s2*table(s1*speed)``: ``(+1, +1)`` when forward sliding
+    starts or goes on, ``(-1, -1)`` otherwise.  ``clutch_quirk``: at the start
+    of backward sliding the MSL's Clutch evaluates the table at ``+speed``
+    (``s1 = +1``).
+    """
+    forward = sp.Eq(pre(component.mode), Forward)
+    s1 = sp.Piecewise((1, component.startForward), (1 if clutch_quirk else -1, component.startBackward),
+                      (1, forward), (-1, True))
+    s2 = sp.Piecewise((1, component.startForward), (-1, component.startBackward), (1, forward), (-1, True))
+    return s1, s2

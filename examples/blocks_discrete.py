@@ -12,9 +12,11 @@ MSL reference results (ModelicaTest.Blocks.Discrete).
 """
 
 from acausal import Experiment, Model, Parameter
-from acausal.library.blocks.discrete import (
+from acausal.library.blocks import (
+    BooleanPulse,
     FirstOrderHold,
     Sampler,
+    Sine,
     StateSpace,
     TransferFunction,
     TriggeredMax,
@@ -22,8 +24,6 @@ from acausal.library.blocks.discrete import (
     UnitDelay,
     ZeroOrderHold,
 )
-from acausal.library.blocks.booleans import BooleanPulse
-from acausal.library.blocks.sources import Sine
 
 
 class Discrete(Model):

@@ -10,8 +10,7 @@ MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.blocks import Sine
-from acausal.library.blocks.logical import Hysteresis
+from acausal.library.blocks import Hysteresis, Sine
 
 
 class HysteresisTest(Model):

@@ -13,11 +13,11 @@ MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.blocks import Ramp, Sine
-from acausal.library.blocks.booleans import BooleanPulse, BooleanTable
-from acausal.library.blocks.logical import (
+from acausal.library.blocks import (
     And,
     AssertCondition,
+    BooleanPulse,
+    BooleanTable,
     Change,
     Edge,
     FallingEdge,
@@ -38,6 +38,8 @@ from acausal.library.blocks.logical import (
     Or,
     Pre,
     RSFlipFlop,
+    Ramp,
+    Sine,
     Switch,
     Timer,
     TriggeredTrapezoid,

@@ -12,8 +12,7 @@ examples/blocks_ondelay.py`` to check it against the MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.blocks.booleans import BooleanStep, BooleanTable
-from acausal.library.blocks.logical import OnDelay
+from acausal.library.blocks import BooleanStep, BooleanTable, OnDelay
 
 
 class OnDelayTest(Model):

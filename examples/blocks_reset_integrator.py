@@ -11,10 +11,7 @@ against the MSL reference results (ModelicaTest.Blocks.ResetHoldIntegrator).
 """
 
 from acausal import Experiment, Model
-from acausal.library.blocks.booleans import BooleanPulse
-from acausal.library.blocks.continuous import Integrator
-from acausal.library.blocks.logical import FallingEdge, Switch
-from acausal.library.blocks.sources import Constant
+from acausal.library.blocks import BooleanPulse, Constant, FallingEdge, Integrator, Switch
 
 
 class ResetHoldIntegrator(Model):

@@ -17,7 +17,7 @@ the MSL reference results.
 import math
 
 from acausal import Experiment, Model
-from acausal.library.rotational.components import ElastoBacklash, ElastoBacklash2, Fixed, Inertia, SpringDamper
+from acausal.library.rotational import ElastoBacklash, ElastoBacklash2, Fixed, Inertia, SpringDamper
 
 
 class Backlash(Model):

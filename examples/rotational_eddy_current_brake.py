@@ -12,8 +12,7 @@ against the MSL reference results.
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Ramp
-from acausal.library.rotational import Inertia
-from acausal.library.rotational.sources import EddyCurrentTorque
+from acausal.library.rotational import EddyCurrentTorque, Inertia
 from acausal.library.thermal import HeatCapacitor
 
 #: Modelica.Electrical.Machines.Thermal.Constants.alpha20Copper (1/K)

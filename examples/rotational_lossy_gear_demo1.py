@@ -13,8 +13,7 @@ equal ``gear.lossPower`` (Pelchen et al. 2002, equation 16).
 
 from acausal import Eq, Experiment, Model, Variable, der
 from acausal.library.blocks import Ramp, Sine
-from acausal.library.rotational import Fixed, Inertia, Torque
-from acausal.library.rotational.lossy_gear import LossyGear
+from acausal.library.rotational import Fixed, Inertia, LossyGear, Torque
 
 
 class LossyGearDemo1(Model):

@@ -12,10 +12,8 @@ against the MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.rotational.components import IdealRollingWheel, Inertia
-from acausal.library.rotational.sources import TorqueStep
-from acausal.library.translational.components import Mass
-from acausal.library.translational.sources import QuadraticSpeedDependentForce
+from acausal.library.rotational import IdealRollingWheel, Inertia, TorqueStep
+from acausal.library.translational import Mass, QuadraticSpeedDependentForce
 
 
 class RollingWheel(Model):

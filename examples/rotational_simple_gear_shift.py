@@ -16,8 +16,14 @@ import sympy as sp
 
 from acausal import Eq, Experiment, Model, Variable
 from acausal.library.blocks import Constant, Feedback, Ramp
-from acausal.library.rotational import Brake, Clutch, IdealPlanetary, Inertia
-from acausal.library.rotational.sources import QuadraticSpeedDependentTorque, TorqueStep
+from acausal.library.rotational import (
+    Brake,
+    Clutch,
+    IdealPlanetary,
+    Inertia,
+    QuadraticSpeedDependentTorque,
+    TorqueStep,
+)
 
 
 class SimpleGearShift(Model):

@@ -11,8 +11,7 @@ against the MSL reference results.
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Constant
-from acausal.library.translational.components import Mass
-from acausal.library.translational.sources import Accelerate as AccelerateSource
+from acausal.library.translational import Accelerate as AccelerateSource, Mass
 
 
 class Accelerate(Model):

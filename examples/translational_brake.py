@@ -9,8 +9,7 @@ Fixed flange; both give the same motion.
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Step
-from acausal.library.translational.components import Fixed, Mass
-from acausal.library.translational.friction import Brake as BrakeElement
+from acausal.library.translational import Brake as BrakeElement, Fixed, Mass
 
 
 class Brake(Model):

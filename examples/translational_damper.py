@@ -13,8 +13,7 @@ against the MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.translational.components import Damper as DamperElement
-from acausal.library.translational.components import Fixed, Mass, Spring, SpringDamper
+from acausal.library.translational import Damper as DamperElement, Fixed, Mass, Spring, SpringDamper
 
 
 class Damper(Model):

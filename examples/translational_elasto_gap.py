@@ -19,8 +19,7 @@ against the MSL reference results.
 """
 
 from acausal import Experiment, Model, Parameter
-from acausal.library.translational.components import ElastoGap as ElastoGapElement
-from acausal.library.translational.components import Fixed, Mass, Rod, SpringDamper
+from acausal.library.translational import ElastoGap as ElastoGapElement, Fixed, Mass, Rod, SpringDamper
 
 
 class ElastoGap(Model):

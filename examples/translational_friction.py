@@ -14,9 +14,7 @@ import numpy as np
 from acausal import Experiment, Model
 from acausal.errors import ParameterError
 from acausal.library.blocks import Sine
-from acausal.library.translational.components import Fixed, Mass, Spring
-from acausal.library.translational.friction import MassWithStopAndFriction, SupportFriction
-from acausal.library.translational.sources import Force
+from acausal.library.translational import Fixed, Force, Mass, MassWithStopAndFriction, Spring, SupportFriction
 
 
 def GenerateStribeckFrictionTable(F_prop: float, F_Coulomb: float,  # noqa: N802,N803 - Modelica names

@@ -14,7 +14,7 @@ check it against the MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.translational.components import Fixed, Mass, Spring, SpringDamper
+from acausal.library.translational import Fixed, Mass, Spring, SpringDamper
 
 
 class InitialConditions(Model):

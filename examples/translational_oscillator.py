@@ -13,8 +13,7 @@ against the MSL reference results.
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Sine
-from acausal.library.translational.components import Damper, Fixed, Mass, Spring
-from acausal.library.translational.sources import Force
+from acausal.library.translational import Damper, Fixed, Force, Mass, Spring
 
 
 class Oscillator(Model):

@@ -23,8 +23,7 @@ MSL reference results (it passes at RK45 too).
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Sine
-from acausal.library.translational.components import Damper, ElastoGap, Fixed, Mass, Rod, Spring
-from acausal.library.translational.sources import Force
+from acausal.library.translational import Damper, ElastoGap, Fixed, Force, Mass, Rod, Spring
 
 
 class PreLoad(Model):

@@ -14,15 +14,15 @@ the MSL reference results.
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Sine
-from acausal.library.translational.components import Mass
-from acausal.library.translational.sensors import (
+from acausal.library.translational import (
     AccSensor,
+    Force,
     ForceSensor,
+    Mass,
     MultiSensor,
     PositionSensor,
     SpeedSensor,
 )
-from acausal.library.translational.sources import Force
 
 
 class Sensors(Model):

@@ -14,8 +14,7 @@ it against the MSL reference results.
 
 from acausal import Experiment, Model
 from acausal.library.blocks import Constant
-from acausal.library.translational.components import Fixed, Mass
-from acausal.library.translational.sources import Force
+from acausal.library.translational import Fixed, Force, Mass
 
 
 class SignConvention(Model):

@@ -16,12 +16,9 @@ the MSL reference results.
 import sympy as sp
 
 from acausal import Experiment, Model, Parameter
-from acausal.library.blocks import Gain
-from acausal.library.blocks.sources import CombiTimeTable, Extrapolation
-from acausal.library.rotational.sources import Torque
-from acausal.library.translational.sensors import MultiSensor
-from acausal.library.translational.vehicle import G_N
-from acausal.library.translational.vehicle import Vehicle as VehicleModel
+from acausal.library.blocks import CombiTimeTable, Extrapolation, Gain
+from acausal.library.rotational import Torque
+from acausal.library.translational import G_N, MultiSensor, Vehicle as VehicleModel
 
 #: [time, torque profile, inclination]
 TORQUE_AND_INCLINATION = [

@@ -17,8 +17,7 @@ against the MSL reference results.
 """
 
 from acausal import Experiment, Model
-from acausal.library.translational.components import Fixed, Mass, Rod, Spring
-from acausal.library.translational.sensors import PositionSensor
+from acausal.library.translational import Fixed, Mass, PositionSensor, Rod, Spring
 
 
 class WhyArrows(Model):

@@ -14,7 +14,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import sympy as sp
 
 from acausal import Component, Eq, Integer, Model, Parameter, Variable, der, simulate
 from acausal.compiler.flatten import flatten

@@ -1,17 +1,33 @@
-"""Modelica.Blocks: sources, math, continuous, discrete, nonlinear, logical and Boolean blocks."""
+"""Modelica.Blocks: sources, math, continuous, discrete, nonlinear, logical and Boolean blocks.
+
+Every block is importable from here (``from acausal.library.blocks import
+Sine, Sampler``); the modules follow the MSL's sub-packages.  The partial
+classes of the discrete blocks (DiscreteBlock, DiscreteSISO, DiscreteMIMO)
+are in :mod:`acausal.library.blocks.discrete`.
+"""
 
 from .booleans import (BooleanConstant, BooleanPulse, BooleanStep, BooleanTable, BooleanToReal, RealToBoolean,
                        SampleTrigger)
-from .continuous import Integrator
+from .continuous import Der, FirstOrder, Init, Integrator, LimIntegrator
+from .discrete import (FirstOrderHold, Sampler, StateSpace, TransferFunction, TriggeredMax, TriggeredSampler,
+                       UnitDelay, ZeroOrderHold)
 from .logical import (And, AssertCondition, Change, Edge, FallingEdge, Greater, GreaterEqual, GreaterEqualThreshold,
                       GreaterThreshold, Hysteresis, Less, LessEqual, LessEqualThreshold, LessThreshold,
                       LogicalSwitch, Nand, Nor, Not, OnDelay, OnOffController, Or, Pre, RSFlipFlop, Switch,
                       TerminateSimulation, Timer, TriggeredTrapezoid, Xor, ZeroCrossing)
 from .math import Add, Atan, Feedback, Gain, Product, Sin
+from .nonlinear import DeadZone, Limiter, LimiterHomotopy, SlewRateLimiter, VariableLimiter, VariableLimiterHomotopy
 from .types import Regularization
-from .sources import Constant, Cosine, ExpSine, Ramp, Sine, Step
+from .sources import (CombiTimeTable, Constant, Cosine, ExpSine, Extrapolation, Pulse, Ramp, SawTooth, Sine,
+                      Smoothness, Step, TimeEvents, TimeTable, Trapezoid)
 
-__all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Gain", "Product", "Add", "Feedback", "Atan", "Sin", "Regularization", "Integrator",
+__all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid", "TimeTable",
+           "CombiTimeTable", "Smoothness", "Extrapolation", "TimeEvents",
+           "Gain", "Product", "Add", "Feedback", "Atan", "Sin", "Regularization",
+           "Init", "Integrator", "LimIntegrator", "FirstOrder", "Der",
+           "Sampler", "ZeroOrderHold", "FirstOrderHold", "UnitDelay", "TransferFunction", "StateSpace",
+           "TriggeredSampler", "TriggeredMax",
+           "LimiterHomotopy", "VariableLimiterHomotopy", "Limiter", "VariableLimiter", "DeadZone", "SlewRateLimiter",
            "BooleanConstant", "BooleanPulse", "BooleanStep", "BooleanTable", "BooleanToReal", "RealToBoolean",
            "SampleTrigger",
            "And", "AssertCondition", "Change", "Edge", "FallingEdge", "Greater", "GreaterEqual",

@@ -7,11 +7,10 @@ import enum
 import sympy as sp
 
 from acausal.components.blocks import SISO, BooleanInput
+from acausal.components.declarations import DerivedDefaults
 from acausal.hybrid import Assert, When, noEvent, reinit
 from acausal.language import Eq, If, Parameter, RealInput, der
 from acausal.components.logic import is_initial
-
-from .discrete import DerivedDefaults
 
 __all__ = ["Init", "Integrator", "LimIntegrator", "FirstOrder", "Der"]
 

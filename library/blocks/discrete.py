@@ -8,29 +8,24 @@ and records in ``firstTrigger`` whether the current sample is the first.
 The blocks with array connectors or states (:class:`TransferFunction`,
 :class:`StateSpace`) name their elements as Modelica does (``x[1]``,
 ``y[1]``): read them with ``getattr(block, "x[1]")`` or
-:meth:`VectorBlock.vector`, connect to ``getattr(block, "u[1]")``.  A
-modifier of the whole array applies to each element (Modelica's ``each``):
-``StateSpace(..., x=dict(start=0, fixed=True))``.
-
-This module also holds two helpers the other block modules use:
-:class:`VectorBlock` (array elements sized by structural parameters) and
-:class:`DerivedDefaults` (a parameter whose default is an expression of
-another, as ``uMin = -uMax``).
+:meth:`~acausal.components.declarations.VectorBlock.vector`, connect to
+``getattr(block, "u[1]")``.  A modifier of the whole array applies to each
+element (Modelica's ``each``): ``StateSpace(..., x=dict(start=0, fixed=True))``.
 """
 
 from __future__ import annotations
 
-from typing import Any, Callable, Mapping
+from typing import Any, Callable
 
 import sympy as sp
 
 from acausal.components.blocks import SISO, BooleanInput
-from acausal.errors import ModelDefinitionError, ModifierError
+from acausal.components.declarations import VectorBlock
+from acausal.errors import ModelDefinitionError
 from acausal.hybrid import When, noEvent, sample
 from acausal.language import (
     Boolean,
     Component,
-    Declaration,
     Eq,
     If,
     Parameter,
@@ -43,8 +38,6 @@ from acausal.language import (
 )
 
 __all__ = [
-    "VectorBlock",
-    "DerivedDefaults",
     "DiscreteBlock",
     "DiscreteSISO",
     "DiscreteMIMO",
@@ -63,117 +56,6 @@ EPS = 2.2204460492503131e-16
 
 #: ModelicaServices.Machine.small: the smallest positive normal float.
 SMALL = 2.2250738585072014e-308
-
-
-# --------------------------------------------------------------------------
-# helpers: arrays sized by structural parameters, defaults bound to parameters
-# --------------------------------------------------------------------------
-
-#: (class, sizes) -> the subclass declaring those elements; one class per shape.
-_SIZED: dict[tuple, type] = {}
-
-
-class VectorBlock(Component):
-    """A block with array declarations whose sizes depend on structural parameters.
-
-    A subclass lists its arrays in :meth:`arrays`: for each array name its
-    size and a function making the declaration of element ``i`` (counted
-    from 1).  An instance is of a subclass (with the same name) declaring the
-    elements ``name[1]`` ... ``name[n]``, so the flat model names them as
-    Modelica does (``stateSpace.x[1]``).  A modifier of a whole array is
-    applied to each element (Modelica's ``each``); a list of dicts gives one
-    per element; ``**{"x[2]": dict(start=1)}`` modifies a single element.
-    """
-
-    #: array name -> size, in the sized subclasses.
-    _array_sizes: Mapping[str, int] = {}
-
-    @classmethod
-    def arrays(cls, value: Callable[[str], Any]) -> dict[str, tuple[int, Callable[[int], Declaration]]]:
-        """``{array: (size, declaration_of_element)}``; ``value(p)`` reads structural parameter ``p``."""
-        return {}
-
-    def __new__(cls, **modifiers: Any):
-        base = vars(cls).get("_unsized", cls)
-        declarations = base.declarations()
-
-        def value(name: str) -> Any:
-            if name in modifiers:
-                return modifiers[name]
-            return declarations[name].default
-
-        arrays = base.arrays(value)
-        sizes = tuple((name, int(size)) for name, (size, _) in arrays.items())
-        key = (base, sizes)
-        klass = _SIZED.get(key)
-        if klass is None:
-            namespace: dict[str, Any] = {
-                "__module__": base.__module__,
-                "__qualname__": base.__qualname__,
-                "__doc__": vars(base).get("__doc__"),
-                "_unsized": base,
-                "_array_sizes": dict(sizes),
-            }
-            for name, (size, make) in arrays.items():
-                for i in range(1, int(size) + 1):
-                    namespace[f"{name}[{i}]"] = make(i)
-            doc = namespace["__doc__"]
-            if doc is not None and not isinstance(doc, str):
-                namespace["__doc__"] = getattr(doc, "_own", None)
-            klass = _SIZED[key] = type(base.__name__, (base,), namespace)
-        return object.__new__(klass)
-
-    def __init__(self, **modifiers: Any) -> None:
-        sizes = type(self)._array_sizes
-        expanded: dict[str, Any] = {}
-        for key, value in modifiers.items():
-            if key in sizes and key not in type(self).declarations():
-                n = sizes[key]
-                if isinstance(value, dict):
-                    for i in range(1, n + 1):
-                        expanded[f"{key}[{i}]"] = dict(value)
-                elif isinstance(value, (list, tuple)) and all(isinstance(v, dict) for v in value):
-                    if len(value) != n:
-                        raise ModifierError(f"{type(self).__name__}.{key} has {n} elements, "
-                                            f"the modifier gives {len(value)}",
-                                            hint=f"give one dict per element or a single dict "
-                                                 f"for each element: {key}=dict(start=0)")
-                    for i, v in enumerate(value, start=1):
-                        expanded[f"{key}[{i}]"] = dict(v)
-                else:
-                    raise ModifierError(f"{type(self).__name__}.{key} is an array of variables: "
-                                        f"modify its elements' attributes with a dict",
-                                        hint=f"{type(self).__name__}({key}=dict(start=0, fixed=True))")
-            else:
-                expanded[key] = value
-        super().__init__(**expanded)
-
-    def vector(self, name: str) -> list[sp.Symbol]:
-        """The symbols of the elements ``name[1]`` ... ``name[n]``."""
-        n = type(self)._array_sizes.get(name)
-        if n is None:
-            raise ModelDefinitionError(f"{type(self).__name__} has no array {name!r}")
-        return [getattr(self, f"{name}[{i}]") for i in range(1, n + 1)]
-
-
-class DerivedDefaults(Component):
-    """A block whose parameters default to expressions of its other parameters.
-
-    ``derived_defaults = {"uMin": lambda block: -block.uMax}`` binds ``uMin``
-    to ``-uMax`` unless a modifier gives it a value (Modelica's
-    ``parameter Real uMin = -uMax``).  The parameter's declared default
-    is ignored; give it ``None``.
-    """
-
-    derived_defaults: Mapping[str, Callable[[Component], Any]] = {}
-
-    def parameter_binding(self, name: str) -> Any:
-        if name not in self._modifiers:
-            for klass in type(self).__mro__:
-                derived = vars(klass).get("derived_defaults", {})
-                if name in derived:
-                    return derived[name](self)
-        return super().parameter_binding(name)
 
 
 def _matrix(value: Any, name: str, owner: str) -> list[list[Any]]:

@@ -15,11 +15,12 @@ import enum
 import sympy as sp
 
 from acausal.components.blocks import SISO
+from acausal.components.declarations import DerivedDefaults
 from acausal.hybrid import Assert, noEvent
 from acausal.language import Eq, Parameter, RealInput, Variable, der
 
 from .continuous import Init, _init_type
-from .discrete import SMALL, DerivedDefaults
+from .discrete import SMALL
 
 __all__ = ["LimiterHomotopy", "VariableLimiterHomotopy", "Limiter", "VariableLimiter", "DeadZone",
            "SlewRateLimiter"]

@@ -17,11 +17,12 @@ from typing import Any, Callable, Sequence
 import sympy as sp
 
 from acausal.components.blocks import SO, SignalSource
+from acausal.components.declarations import DerivedDefaults, VectorBlock
 from acausal.errors import ModelDefinitionError, ParameterError
 from acausal.hybrid import Assert, When, noEvent, sample
 from acausal.language import Eq, If, Integer, Parameter, RealOutput, Variable, initial, time
 
-from .discrete import EPS, SMALL, DerivedDefaults, VectorBlock
+from .discrete import EPS, SMALL
 
 __all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid",
            "TimeTable", "CombiTimeTable", "Smoothness", "Extrapolation", "TimeEvents"]

@@ -1,20 +1,65 @@
-"""Enumerations shared by blocks and components (Modelica.Blocks.Types)."""
+"""Enumerations shared by blocks and components (Modelica.Blocks.Types), and what they mean."""
 
 from __future__ import annotations
 
 import enum
+from typing import Any
 
-__all__ = ["Regularization"]
+import sympy as sp
+
+from acausal.components.checks import where
+from acausal.errors import ParameterError
+from acausal.hybrid import smooth
+from acausal.language import If
+
+__all__ = ["Regularization", "regularization", "regularized_sign"]
 
 
 class Regularization(enum.IntEnum):
     """How a sign function is smoothed around zero (Modelica.Blocks.Types.Regularization).
 
-    Used by SignTorque, SignForce and RollingResistance; the values are
-    Modelica's ordinals.
+    Used by SignTorque, SignForce and RollingResistance (see
+    :func:`regularized_sign`); the values are Modelica's ordinals.
     """
 
     Exp = 1  #: exponential (smooth)
     Sine = 2  #: sinusoidal (continuous first derivative)
     Linear = 3  #: linear
     Cosine = 4  #: cosine
+
+
+def regularization(component: Any, reg: Any) -> Regularization:
+    """``reg`` as a :class:`Regularization`; a ParameterError naming ``component.reg`` if it is none."""
+    try:
+        return Regularization(reg)
+    except ValueError:
+        raise ParameterError(f"{where(component)}.reg = {reg!r} is not a Regularization",
+                             hint="use Regularization.Exp, .Sine, .Linear or .Cosine",
+                             components=(component.path,)) from None
+
+
+def regularized_sign(component: Any, v: Any, v0: Any, reg: Any) -> sp.Basic:
+    """sign(v) smoothed for ``|v| < v0`` by the regularization ``reg``.
+
+    The expression SignTorque, SignForce and RollingResistance multiply
+    their nominal torque or force with (the MSL writes it out in each):
+
+    * Exp: ``2/(1 + exp(-v/(0.01*v0))) - 1`` (no events);
+    * Sine: ``sign(v)`` if ``|v| >= v0`` else ``sin(pi/2*v/v0)``, inside
+      ``smooth(1, ...)`` (no events);
+    * Linear: ``sign(v)`` if ``|v| >= v0`` else ``v/v0`` (events at ``|v| = v0``);
+    * Cosine: ``sign(v)`` if ``|v| >= v0`` else ``sign(v)*(1 - cos(pi/2*v/v0))``
+      (events at ``|v| = v0``).
+
+    ``component`` is used only to name it in the error for an unknown ``reg``
+    (see :func:`regularization`).
+    """
+    kind = regularization(component, reg)
+    outside = sp.Abs(v) >= v0
+    if kind is Regularization.Exp:
+        return 2 / (1 + sp.exp(-v / (0.01 * v0))) - 1
+    if kind is Regularization.Sine:
+        return smooth(1, If(outside, sp.sign(v), sp.sin(sp.pi / 2 * v / v0)))
+    if kind is Regularization.Linear:
+        return If(outside, sp.sign(v), v / v0)
+    return If(outside, sp.sign(v), sp.sign(v) * (1 - sp.cos(sp.pi / 2 * v / v0)))

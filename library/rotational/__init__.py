@@ -48,6 +48,7 @@ from .sources import (
     Move,
     Position,
     QuadraticSpeedDependentTorque,
+    Regularization,
     SignTorque,
     Speed,
     Torque,
@@ -66,7 +67,7 @@ __all__ = [
     # Sources
     "Position", "Speed", "Accelerate", "Move", "Torque", "Torque2", "InverseSpeedDependentTorque",
     "LinearSpeedDependentTorque", "QuadraticSpeedDependentTorque", "ConstantTorque", "SignTorque",
-    "ConstantSpeed", "TorqueStep", "EddyCurrentTorque",
+    "ConstantSpeed", "TorqueStep", "EddyCurrentTorque", "Regularization",
     # Sensors
     "AngleSensor", "SpeedSensor", "AccSensor", "RelAngleSensor", "RelSpeedSensor", "RelAccSensor",
     "TorqueSensor", "PowerSensor", "MultiSensor",

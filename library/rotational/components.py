@@ -2,11 +2,8 @@
 
 from __future__ import annotations
 
-import numbers
-
 import sympy as sp
 
-from acausal.errors import ParameterError
 from acausal.language import (
     Boolean,
     Component,
@@ -18,12 +15,12 @@ from acausal.language import (
     StateSelect,
     Variable,
     der,
-    pre,
-    time,
 )
+from acausal.functions import prescribed
 from acausal.hybrid import noEvent
-from acausal.tables import table_function, validate_table
-from acausal.components.friction import Forward, PartialFriction
+from acausal.components.adaptors import FlowToPotentialAdaptor, PotentialToFlowAdaptor
+from acausal.components.checks import check_min, where
+from acausal.components.friction import PartialFriction, check_friction_table, friction_table, table_signs
 from acausal.components.logic import is_initial, pre_boolean
 from acausal.components.rotational import (
     EPS,
@@ -67,47 +64,6 @@ __all__ = [
 # helpers for the table-driven friction elements
 
 
-def _where(component: Component) -> str:
-    return component.path or type(component).__name__
-
-
-#: What the second column of each friction table holds (for the error hint).
-_TABLE_QUANTITY = {"tau_pos": "friction torque", "mu_pos": "friction coefficient"}
-
-
-def _check_table(component: Component, name: str) -> None:
-    """tau_pos/mu_pos: a valid CombiTable1D table whose first column (w) starts at w >= 0
-    and whose second column (the friction torque or coefficient) is >= 0."""
-    where = f"{_where(component)}.{name}"
-    quantity = _TABLE_QUANTITY.get(name, "friction characteristic")
-    data = validate_table(getattr(component, name), where, value_min=0.0,
-                          value_hint=f"a {quantity} must not be negative: it would drive the motion "
-                                     f"it opposes (the MSL assumes {name}[:, 2] >= 0; 0 means no "
-                                     f"friction at that speed)")
-    if data[0, 0] < 0:
-        raise ParameterError(f"table {where}: the first column (relative speed w >= 0) starts at "
-                             f"{data[0, 0]:g} < 0",
-                             hint="the characteristic is given for w >= 0 and mirrored for w < 0; "
-                                  "start the table at w = 0")
-
-
-def _check_min(component: Component, name: str, minimum: float, hint: str) -> None:
-    """A numeric parameter bound must be >= minimum (expressions are checked at flattening)."""
-    value = component.parameter_binding(name)
-    if isinstance(value, sp.Basic):
-        if not value.is_number:
-            return
-        value = float(value)
-    if isinstance(value, numbers.Real) and value < minimum:
-        raise ParameterError(f"{_where(component)}.{name} = {value:g} is below its minimum {minimum:g}",
-                             hint=hint)
-
-
-def _table(component: Component, name: str) -> type[sp.Function]:
-    """The table function of a structural table parameter, named after the component path."""
-    return table_function(f"{component.path}.{name}" if component.path else name, getattr(component, name))
-
-
 _PEAK_HINT = "peak = tau0_max/tau0 (static over sliding friction at w = 0) must be >= 1"
 
 
@@ -121,19 +77,10 @@ class _TableFriction:
 
     def check_parameters(self) -> None:
         """Raise ParameterError for an invalid friction table, peak < 1 or fn_max < 0."""
-        _check_table(self, self._table_name)
-        _check_min(self, "peak", 1.0, _PEAK_HINT)
+        check_friction_table(self, self._table_name)
+        check_min(self, "peak", 1.0, _PEAK_HINT)
         if "fn_max" in self.declarations():
-            _check_min(self, "fn_max", 0.0, "fn_max is the maximum normal force; it must be >= 0")
-
-
-def _signs(component, clutch_quirk: bool = False):
-    """(s1, s2): the signs of the abscissa and of the table value (MSL table_signs)."""
-    forward = sp.Eq(pre(component.mode), Forward)
-    s1 = sp.Piecewise((1, component.startForward), (1 if clutch_quirk else -1, component.startBackward),
-                      (1, forward), (-1, True))
-    s2 = sp.Piecewise((1, component.startForward), (-1, component.startBackward), (1, forward), (-1, True))
-    return s1, s2
+            check_min(self, "fn_max", 0.0, "fn_max is the maximum normal force; it must be >= 0")
 
 
 class _NormalForceFriction(_TableFriction):
@@ -141,7 +88,8 @@ class _NormalForceFriction(_TableFriction):
 
     ``fn = fn_max*f_normalized``; free when ``fn <= 0``; sliding torque
     ``mu*cgeo*fn`` with ``mu`` from the table ``mu_pos`` (mirrored by the
-    signs of :func:`_signs`); static limit ``tau0_max = peak*mu_pos(0)*cgeo*fn``.
+    signs of :func:`~acausal.components.friction.table_signs`); static limit
+    ``tau0_max = peak*mu_pos(0)*cgeo*fn``.
     """
 
     _clutch_quirk = False
@@ -159,8 +107,8 @@ class _NormalForceFriction(_TableFriction):
     fn = Variable(unit="N", description="Normal force (=fn_max*f_normalized)")
 
     def equations(self):
-        MU = _table(self, "mu_pos")
-        s1, s2 = _signs(self, clutch_quirk=self._clutch_quirk)
+        MU = friction_table(self, "mu_pos")
+        s1, s2 = table_signs(self, clutch_quirk=self._clutch_quirk)
         mu0 = MU(0)
         return [
             Eq(self.fn, self.fn_max * self.f_normalized),
@@ -353,8 +301,8 @@ class BearingFriction(_HousingFriction, _TableFriction, PartialElementaryTwoFlan
                      description="Peak for maximum friction torque at w==0 (tau0_max = peak*tau_pos[1,2])")
 
     def equations(self):
-        T = _table(self, "tau_pos")
-        s1, s2 = _signs(self)
+        T = friction_table(self, "tau_pos")
+        s1, s2 = table_signs(self)
         return [
             Eq(self.tau0, T(0)),
             Eq(self.tau0_max, self.peak * self.tau0),
@@ -436,7 +384,7 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
                   description="Path parameter of tau = f(a_rel) friction characteristic (protected)")
 
     def equations(self):
-        MU = _table(self, "mu_pos")
+        MU = friction_table(self, "mu_pos")
         mu0 = MU(0)
         peak2 = sp.Max(self.peak, 1 + self.eps0)
         tau0_max_low = self.eps0 * mu0 * self.cgeo * self.fn_max
@@ -557,9 +505,9 @@ class _Backlash:
 
     def check_parameters(self) -> None:
         """Raise ParameterError for c <= 0, b < 0 or d < 0 (numbers; expressions at flattening)."""
-        _check_min(self, "c", _SMALL, _C_HINT)
-        _check_min(self, "b", 0.0, _B_HINT)
-        _check_min(self, "d", 0.0, _D_HINT)
+        check_min(self, "c", _SMALL, _C_HINT)
+        check_min(self, "b", 0.0, _B_HINT)
+        check_min(self, "d", 0.0, _D_HINT)
 
     def _gap(self):
         """(bMax, bMin, no_gap): the gap limits and the parameter condition |b| <= bEps."""
@@ -792,42 +740,6 @@ class InitializeFlange(Component):
 # signal adaptors (for FMU export)
 
 
-def _prescribed_value(value: float, derivative: float, t: float) -> float:
-    return value
-
-
-class Prescribed(sp.Function):
-    """``Prescribed(q, qd, time)``: the value ``q`` whose time derivative is ``qd``.
-
-    The adaptors' inputs carry a signal and, separately, its derivatives;
-    Modelica passes them through functions with a ``derivative`` annotation
-    (Blocks.Interfaces.Adaptors.Functions.state1/state2, the position
-    functions of Rotational.Sources.Move) so that index reduction takes
-    the given derivative instead of differentiating the input.  Here the
-    chain rule does the same: the partial derivatives with respect to ``q``
-    and ``qd`` are 0 (Modelica's ``noDerivative``) and the one with respect
-    to ``time`` is ``qd``.  Nest it for a second derivative:
-    ``Prescribed(q, Prescribed(qd, qdd, time), time)``.
-
-    Notes
-    -----
-    Because the partial derivative with respect to ``q`` is 0, ``q`` must
-    not be an unknown of an algebraic loop through this function (as for the
-    Modelica functions, whose Jacobian is not defined either).
-    """
-
-    nargs = 3
-    _imp_ = staticmethod(_prescribed_value)
-
-    def fdiff(self, argindex: int = 1):
-        if argindex == 3:
-            return self.args[1]
-        return sp.Integer(0)
-
-    def _eval_is_real(self):
-        return self.args[0].is_real
-
-
 class TorqueToAngleAdaptor(Component):
     """Flange driven by an input torque; angle, speed and acceleration as outputs (Modelica.Mechanics.Rotational.Components.TorqueToAngleAdaptor).
 
@@ -868,11 +780,16 @@ class AngleToTorqueAdaptor(Component):
 
     The flange follows the inputs (the MSL builds this from Sources.Move
     and a torque sensor): ``flange.phi`` is ``phi`` whose first derivative
-    is taken as ``w`` and second as ``a`` (see :class:`Prescribed`):
+    is taken as ``w`` and second as ``a`` (see :func:`acausal.prescribed`):
 
-    * ``use_a``: ``flange.phi = Prescribed(phi, Prescribed(w, a, time), time)``
-    * ``use_w`` only: ``flange.phi = Prescribed(phi, w, time)``
+    * ``use_a``: ``flange.phi = prescribed(phi, w, a)``
+    * ``use_w`` only: ``flange.phi = prescribed(phi, w)``
     * neither: ``flange.phi = phi`` (its derivatives are those of the input)
+
+    A derivative beyond the given ones is that of the last input (``der(w)``
+    with ``use_w`` only: ``differentiate_last``, as a Modelica tool
+    differentiates the MSL's ``Move_w`` when an inertia needs the
+    acceleration).
 
     and ``tau = -flange.tau``: the torque the flange needs.  The input ``w``
     exists if ``use_w`` or ``use_a``.  The inputs must be consistent
@@ -892,102 +809,19 @@ class AngleToTorqueAdaptor(Component):
 
     def equations(self):
         if self.use_a:
-            angle = Prescribed(self.phi, Prescribed(self.w, self.a, time), time)
+            angle = prescribed(self.phi, self.w, self.a, name=f"{where(self)}.phi", differentiate_last=True)
         elif self.use_w:
-            angle = Prescribed(self.phi, self.w, time)
+            angle = prescribed(self.phi, self.w, name=f"{where(self)}.phi", differentiate_last=True)
         else:
             angle = self.phi
         return [Eq(self.flange.phi, angle), Eq(self.tau, -self.flange.tau)]
 
 
-class _FlowToPotentialAdaptor(Component):
-    """Flow (and optional derivatives) in, potential and its derivatives out (Modelica.Blocks.Interfaces.Adaptors.FlowToPotentialAdaptor).
-
-    Only the part the rotational adaptor uses: its flow derivatives are
-    disabled (``use_fder = use_fder2 = false`` are final there), so ``u1 =
-    u2 = 0`` and ``u = f``.  ``y = p``; ``y1 = der(y)`` if ``use_pder``,
-    else 0; ``y2 = der(y1)`` if ``use_pder`` and ``use_pder2``, else 0;
-    the enabled outputs ``pder = y1``, ``pder2 = y2``.  The subclass ties
-    ``y`` and ``u`` to its flange.
-    """
-
-    use_pder = Parameter(True, structural=True, description="Use output for 1st derivative of potential")
-    use_pder2 = Parameter(True, structural=True,
-                          description="Use output for 2nd derivative of potential (only if 1st derivative "
-                                      "is used, too)")
-    y = Variable(description="Output signal (protected)")
-    y1 = Variable(description="Optional 1st derivative of output (protected)")
-    y2 = Variable(description="Optional 2nd derivative of output (protected)")
-    u = Variable(description="Input signal (protected)")
-    u1 = Variable(description="Optional 1st derivative of input (protected)")
-    u2 = Variable(description="Optional 2nd derivative of input (protected)")
-
-    def equations(self):
-        second = self.use_pder and self.use_pder2
-        equations = [
-            Eq(self.y, self.p),
-            Eq(self.y1, der(self.y) if self.use_pder else 0),
-            Eq(self.y2, der(self.y1) if second else 0),
-            Eq(self.u1, 0),
-            Eq(self.u2, 0),
-            Eq(self.u, self.f),
-        ]
-        if self.use_pder:
-            equations.append(Eq(self.pder, self.y1))
-        if second:
-            equations.append(Eq(self.pder2, self.y2))
-        return equations
-
-
-class _PotentialToFlowAdaptor(Component):
-    """Potential and optional derivatives in, flow out (Modelica.Blocks.Interfaces.Adaptors.PotentialToFlowAdaptor).
-
-    Only the part the rotational adaptor uses: its flow derivative outputs
-    are disabled (``use_fder = use_fder2 = false`` are final there), so
-    ``y1 = y2 = 0``.  ``y = -f``; ``u1 = pder`` if ``use_pder``, else 0;
-    ``u2 = pder2`` if ``use_pder`` and ``use_pder2``, else 0; and
-
-    * both: ``u = Prescribed(p, Prescribed(u1, u2, time), time)``
-    * ``use_pder`` only: ``u = Prescribed(p, u1, time)``
-    * neither: ``u = p``
-
-    (:class:`Prescribed` stands for the MSL functions state2 and state1:
-    the given derivatives replace differentiation of ``p``).
-    """
-
-    use_pder = Parameter(True, structural=True, description="Use input for 1st derivative of potential")
-    use_pder2 = Parameter(True, structural=True,
-                          description="Use input for 2nd derivative of potential (only if 1st derivative "
-                                      "is used, too)")
-    y = Variable(description="Output signal (protected)")
-    y1 = Variable(description="Optional 1st derivative of output (protected)")
-    y2 = Variable(description="Optional 2nd derivative of output (protected)")
-    u = Variable(description="Input signal (protected)")
-    u1 = Variable(description="Optional 1st derivative of input (protected)")
-    u2 = Variable(description="Optional 2nd derivative of input (protected)")
-
-    def equations(self):
-        second = self.use_pder and self.use_pder2
-        if second:
-            potential = Prescribed(self.p, Prescribed(self.u1, self.u2, time), time)
-        elif self.use_pder:
-            potential = Prescribed(self.p, self.u1, time)
-        else:
-            potential = self.p
-        return [
-            Eq(self.y, -self.f),
-            Eq(self.y1, 0),
-            Eq(self.y2, 0),
-            Eq(self.u1, self.pder if self.use_pder else 0),
-            Eq(self.u2, self.pder2 if second else 0),
-            Eq(self.u, potential),
-        ]
-
-
-class GeneralTorqueToAngleAdaptor(_FlowToPotentialAdaptor):
+class GeneralTorqueToAngleAdaptor(FlowToPotentialAdaptor):
     """Torque in; angle, speed and acceleration out, generic form (Modelica.Mechanics.Rotational.Components.GeneralTorqueToAngleAdaptor).
 
-    The flow-to-potential adaptor (see ``_FlowToPotentialAdaptor``) on a
+    The flow-to-potential adaptor
+    (:class:`acausal.components.adaptors.FlowToPotentialAdaptor`) on a
     rotational flange: ``y = flange.phi`` (potential = angle) and ``u =
     flange.tau`` (flow = torque), so ``flange.phi = p``, ``pder = der(p)``,
     ``pder2 = der(pder)`` and ``flange.tau = f``.
@@ -1004,14 +838,19 @@ class GeneralTorqueToAngleAdaptor(_FlowToPotentialAdaptor):
         return [Eq(self.y, self.flange.phi), Eq(self.u, self.flange.tau)]
 
 
-class GeneralAngleToTorqueAdaptor(_PotentialToFlowAdaptor):
+class GeneralAngleToTorqueAdaptor(PotentialToFlowAdaptor):
     """Angle, speed and acceleration in; torque out, generic form (Modelica.Mechanics.Rotational.Components.GeneralAngleToTorqueAdaptor).
 
-    The potential-to-flow adaptor (see ``_PotentialToFlowAdaptor``) on a
+    The potential-to-flow adaptor
+    (:class:`acausal.components.adaptors.PotentialToFlowAdaptor`) on a
     rotational flange: ``y = flange.tau`` (flow = torque) and ``u =
     flange.phi`` (potential = angle), so ``f = -flange.tau`` and the
-    flange follows ``p`` with the derivatives ``pder`` and ``pder2``.
+    flange follows ``p`` with the derivatives ``pder`` and ``pder2``.  A
+    derivative of ``p`` beyond the inputs is that of the last input
+    (``differentiate_last``: ``der(pder)`` without ``use_pder2``).
     """
+
+    differentiate_last = True
 
     flange = Flange_b(description="Flange")
     p = RealInput(unit="rad", description="Input for potential (angle)")

@@ -18,6 +18,7 @@ from acausal.hybrid import noEvent
 from acausal.language import Boolean, Component, Eq, If, Integer, Parameter, StateSelect, Variable, der, pre
 from acausal.library.blocks.sources import Smoothness
 from acausal.tables import table_function
+from acausal.components.checks import where
 from acausal.components.logic import is_initial
 from acausal.components.rotational import Flange_a, Flange_b, PartialElementaryTwoFlangesAndSupport2, Support
 from acausal.components.thermal import HeatPort_a, PartialElementaryConditionalHeatPortWithoutT
@@ -37,10 +38,6 @@ IDEAL_LOSS_TABLE = ((0.0, 1.0, 1.0, 0.0, 0.0),)
 _LOSS_COLUMNS = ("eta_mf1", "eta_mf2", "tau_bf1", "tau_bf2")
 
 
-def _where(component) -> str:
-    return component.path or type(component).__name__
-
-
 def _loss_table(component, table) -> np.ndarray:
     """``lossTable`` as a float array, checked: n x 5, finite, |w_a| strictly increasing, 0 < eta <= 1.
 
@@ -49,27 +46,27 @@ def _loss_table(component, table) -> np.ndarray:
     ParameterError
         Naming the component, the parameter and the offending row (counted from 1).
     """
-    where = f"{_where(component)}.lossTable"
+    path = f"{where(component)}.lossTable"
     example = "e.g. [[0, 0.5, 0.5, 0, 0]] or [[0, 0.95, 0.9, 0.1, 0.1], [100, 0.9, 0.85, 0.5, 0.5]]"
     try:
         data = np.array(table, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{where} is not a numeric matrix: {table!r}",
+        raise ParameterError(f"{path} is not a numeric matrix: {table!r}",
                              hint=f"one row [|w_a|, eta_mf1, eta_mf2, tau_bf1, tau_bf2] per speed, "
                                   f"{example}") from exc
     if data.ndim == 1 and data.size == 5:
         data = data.reshape(1, 5)
     if data.size == 0 or data.ndim != 2 or data.shape[1] != 5:
-        raise ParameterError(f"{where} must be an n x 5 matrix (n >= 1), but its shape is {data.shape}",
+        raise ParameterError(f"{path} must be an n x 5 matrix (n >= 1), but its shape is {data.shape}",
                              hint=f"columns |w_a|, eta_mf1, eta_mf2, tau_bf1, tau_bf2; {example}")
     if not np.all(np.isfinite(data)):
-        raise ParameterError(f"{where} contains non-finite values (nan or inf)",
+        raise ParameterError(f"{path} contains non-finite values (nan or inf)",
                              hint="every entry must be a finite number")
     steps = np.diff(data[:, 0])
     if np.any(steps <= 0):
         row = int(np.argmax(steps <= 0)) + 1
         raise ParameterError(
-            f"{where}: the speeds |w_a| (first column) must be strictly increasing, but row {row + 1} "
+            f"{path}: the speeds |w_a| (first column) must be strictly increasing, but row {row + 1} "
             f"(w = {data[row, 0]:g}) does not exceed row {row} (w = {data[row - 1, 0]:g})",
             hint="sort the rows by speed and remove repeated speeds (CombiTable1D needs this)")
     for column in (1, 2):
@@ -77,7 +74,7 @@ def _loss_table(component, table) -> np.ndarray:
         if np.any(bad):
             row = int(np.argmax(bad))
             raise ParameterError(
-                f"{where}: the mesh efficiency {_LOSS_COLUMNS[column - 1]} (column {column + 1}) must be "
+                f"{path}: the mesh efficiency {_LOSS_COLUMNS[column - 1]} (column {column + 1}) must be "
                 f"in (0, 1], but row {row + 1} (w = {data[row, 0]:g}) has {data[row, column]:g}",
                 hint="an efficiency above 1 would create energy and one <= 0 reverses or blocks the "
                      "power flow; 1 means no mesh losses")
@@ -284,13 +281,13 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
         _loss_table(self, self.lossTable)
         if Smoothness(self.smoothness) is not Smoothness.LinearSegments:
             raise ParameterError(
-                f"{_where(self)}.smoothness = {Smoothness(self.smoothness).name} is not supported",
+                f"{where(self)}.smoothness = {Smoothness(self.smoothness).name} is not supported",
                 hint="LossyGear interpolates its lossTable with Smoothness.LinearSegments (the MSL default)")
         ratio = self.parameter_binding("ratio")
         if isinstance(ratio, sp.Basic) and ratio.is_number:
             ratio = float(ratio)
         if isinstance(ratio, numbers.Real) and ratio == 0:
-            raise ParameterError(f"{_where(self)}.ratio = 0: the transmission ratio may not be zero",
+            raise ParameterError(f"{where(self)}.ratio = 0: the transmission ratio may not be zero",
                                  hint="ratio = flange_a.phi/flange_b.phi; e.g. ratio=2 for a reduction 2:1")
 
     @property

@@ -8,11 +8,9 @@ disabled support is the grounded housing, ``phi_support = 0``.
 
 from __future__ import annotations
 
-import numbers
-
 import sympy as sp
 
-from acausal.errors import ParameterError, StructuralError
+from acausal.functions import prescribed
 from acausal.hybrid import smooth
 from acausal.language import (
     Component,
@@ -25,6 +23,8 @@ from acausal.language import (
     der,
     time,
 )
+from acausal.components.checks import check_positive, where
+from acausal.components.declarations import VectorBlock
 from acausal.components.rotational import (
     EPS,
     PartialElementaryOneFlangeAndSupport2,
@@ -32,8 +32,7 @@ from acausal.components.rotational import (
     PartialTwoFlanges,
 )
 from acausal.components.thermal import PartialElementaryConditionalHeatPort
-from acausal.library.blocks.discrete import VectorBlock
-from acausal.library.blocks.types import Regularization
+from acausal.library.blocks.types import Regularization, regularization, regularized_sign
 
 __all__ = [
     "Regularization",
@@ -52,23 +51,6 @@ __all__ = [
     "SignTorque",
     "EddyCurrentTorque",
 ]
-
-
-
-def _where(component: Component) -> str:
-    return component.path or type(component).__name__
-
-
-def _check_positive(component: Component, name: str, hint: str) -> None:
-    """A numeric parameter that must be > 0 (an expression is left to flattening)."""
-    value = component.parameter_binding(name)
-    if isinstance(value, sp.Basic):
-        if not value.is_number:
-            return
-        value = float(value)
-    if isinstance(value, numbers.Real) and not value > 0:
-        raise ParameterError(f"{_where(component)}.{name} = {value:g} must be > 0", hint=hint,
-                             components=(component.path,))
 
 
 def _state_select(component: Component) -> StateSelect:
@@ -130,7 +112,7 @@ class Position(PartialElementaryOneFlangeAndSupport2):
     phi_ref = RealInput(unit="rad", description="Reference angle of flange with respect to support as input signal")
 
     def build(self) -> None:
-        _check_positive(self, "f_crit", _F_CRIT_HINT)
+        check_positive(self, "f_crit", _F_CRIT_HINT)
 
     def initial_equations(self):
         if self.exact:
@@ -175,7 +157,7 @@ class Speed(PartialElementaryOneFlangeAndSupport2):
                       description="Reference angular velocity of flange with respect to support as input signal")
 
     def build(self) -> None:
-        _check_positive(self, "f_crit", _F_CRIT_HINT)
+        check_positive(self, "f_crit", _F_CRIT_HINT)
 
     def initial_equations(self):
         return [] if self.exact else [Eq(self.w, self.w_ref)]
@@ -213,76 +195,9 @@ class Accelerate(PartialElementaryOneFlangeAndSupport2):
         ]
 
 
-class _MoveAngle(sp.Function):
-    """``position(u, time)`` of Move: the angle ``u[1]``.
-
-    Its time derivative is ``u[2]`` whatever the inputs do (MSL's derivative
-    annotation with ``noDerivative = u``): the inputs are never
-    differentiated, only the dummy argument ``time`` is.
-    """
-
-    nargs = 4
-
-    @staticmethod
-    def _imp_(angle, speed, acceleration, t):
-        return angle
-
-    def fdiff(self, argindex=1):
-        # only the dummy time argument carries the motion: the partials by the inputs are 0
-        return _MoveSpeed(*self.args) if argindex == 4 else sp.Integer(0)
-
-    def _eval_evalf(self, prec):
-        return self.args[0].evalf(prec)
-
-    def _eval_is_real(self):
-        return self.args[0].is_real
-
-
-class _MoveSpeed(sp.Function):
-    """The time derivative of :class:`_MoveAngle`: the speed ``u[2]`` (MSL's position_der)."""
-
-    nargs = 4
-
-    @staticmethod
-    def _imp_(angle, speed, acceleration, t):
-        return speed
-
-    def fdiff(self, argindex=1):
-        return _MoveAcceleration(*self.args) if argindex == 4 else sp.Integer(0)
-
-    def _eval_evalf(self, prec):
-        return self.args[1].evalf(prec)
-
-    def _eval_is_real(self):
-        return self.args[1].is_real
-
-
-class _MoveAcceleration(sp.Function):
-    """The second time derivative of :class:`_MoveAngle`: the acceleration ``u[3]`` (MSL's position_der2).
-
-    Modelica defines no further derivative (``order = 2``): differentiating it
-    again is an error.
-    """
-
-    nargs = 4
-
-    @staticmethod
-    def _imp_(angle, speed, acceleration, t):
-        return acceleration
-
-    def fdiff(self, argindex=1):
-        if argindex == 4:
-            raise StructuralError("Move: the model needs the third time derivative of a Move source's angle",
-                                  hint="Move's inputs give the angle and its first two derivatives only "
-                                       "(u[1], u[2], u[3]); no equation may need der() of the flange's "
-                                       "acceleration")
-        return sp.Integer(0)
-
-    def _eval_evalf(self, prec):
-        return self.args[2].evalf(prec)
-
-    def _eval_is_real(self):
-        return self.args[2].is_real
+#: What to do when a model needs the third derivative of a Move source's angle.
+_MOVE_HINT = ("Move's inputs give the angle and its first two derivatives only (u[1], u[2], u[3]); "
+              "no equation may need der() of the flange's acceleration")
 
 
 class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
@@ -290,11 +205,13 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
 
     ``phi = flange.phi - phi_support = u[1]``; where index reduction needs the
     derivatives of ``phi`` it takes ``der(phi) = u[2]`` and ``der(der(phi)) =
-    u[3]`` instead of differentiating the inputs.  The three inputs are meant
-    to be consistent (``u[2]`` the derivative of ``u[1]``, ``u[3]`` of
-    ``u[2]``), but need not be (e.g. an angle with zero speed and
-    acceleration to compute position-dependent terms only).  Connect to
-    ``getattr(move, "u[1]")``.
+    u[3]`` instead of differentiating the inputs (:func:`acausal.prescribed`,
+    the MSL function ``position`` with its derivative annotations); a model
+    that needs a third derivative is refused with a StructuralError.  The
+    three inputs are meant to be consistent (``u[2]`` the derivative of
+    ``u[1]``, ``u[3]`` of ``u[2]``), but need not be (e.g. an angle with zero
+    speed and acceleration to compute position-dependent terms only).
+    Connect to ``getattr(move, "u[1]")``.
     """
 
     phi = Variable(unit="rad", description="Rotation angle of flange with respect to support")
@@ -311,7 +228,7 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
         angle, speed, acceleration = self.vector("u")
         return [
             Eq(self.phi, self.flange.phi - self.phi_support),
-            Eq(self.phi, _MoveAngle(angle, speed, acceleration, time)),
+            Eq(self.phi, prescribed(angle, speed, acceleration, name=f"{where(self)}.phi", hint=_MOVE_HINT)),
         ]
 
 
@@ -484,7 +401,8 @@ class SignTorque(PartialTorque):
         Linear:  s = sign(w) if abs(w) >= w0 else w/w0
         Cosine:  s = sign(w) if abs(w) >= w0 else sign(w)*(1 - cos(pi/2*w/w0))
 
-    ``tau = -flange.tau``, ``w = der(phi)``.
+    (:func:`acausal.library.blocks.types.regularized_sign`); ``tau =
+    -flange.tau``, ``w = der(phi)``.
     """
 
     tau_nominal = Parameter(None, unit="N.m", description="Nominal torque (if negative, torque is acting as load)")
@@ -494,25 +412,10 @@ class SignTorque(PartialTorque):
     tau = Variable(unit="N.m", description="Accelerating torque acting at flange (= -flange.tau)")
 
     def build(self) -> None:
-        try:
-            Regularization(self.reg)
-        except ValueError:
-            raise ParameterError(f"{_where(self)}.reg = {self.reg!r} is not a regularization",
-                                 hint="use Regularization.Exp, Sine, Linear or Cosine",
-                                 components=(self.path,)) from None
+        regularization(self, self.reg)
 
     def equations(self):
-        w, w0 = self.w, self.w0
-        reg = Regularization(self.reg)
-        outside = sp.Abs(w) >= w0
-        if reg is Regularization.Exp:
-            shape = 2 / (1 + sp.exp(-w / (0.01 * w0))) - 1
-        elif reg is Regularization.Sine:
-            shape = smooth(1, If(outside, sp.sign(w), sp.sin(sp.pi / 2 * w / w0)))
-        elif reg is Regularization.Linear:
-            shape = If(outside, sp.sign(w), w / w0)
-        else:
-            shape = If(outside, sp.sign(w), sp.sign(w) * (1 - sp.cos(sp.pi / 2 * w / w0)))
+        shape = regularized_sign(self, self.w, self.w0, self.reg)
         return [Eq(self.w, der(self.phi)), Eq(self.tau, -self.flange.tau), Eq(self.tau, self.tau_nominal * shape)]
 
 

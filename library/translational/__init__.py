@@ -42,10 +42,11 @@ from .sources import (
     Move,
     Position,
     QuadraticSpeedDependentForce,
+    Regularization,
     SignForce,
     Speed,
 )
-from .vehicle import RollingResistance, Vehicle
+from .vehicle import G_N, RollingResistance, Vehicle
 
 __all__ = [
     "Flange", "Flange_a", "Flange_b", "Support",
@@ -57,8 +58,10 @@ __all__ = [
     # Sources
     "Position", "Speed", "Accelerate", "Move", "Force", "Force2", "InverseSpeedDependentForce",
     "LinearSpeedDependentForce", "QuadraticSpeedDependentForce", "ConstantForce", "SignForce",
-    "ConstantSpeed", "ForceStep", "EddyCurrentForce",
+    "ConstantSpeed", "ForceStep", "EddyCurrentForce", "Regularization",
     # Sensors
     "PositionSensor", "SpeedSensor", "AccSensor", "RelPositionSensor", "RelSpeedSensor", "RelAccSensor",
     "ForceSensor", "PowerSensor", "MultiSensor",
+    # Modelica.Constants.g_n, as the vehicle uses it
+    "G_N",
 ]

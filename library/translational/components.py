@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import sympy as sp
 
-from acausal.errors import ModelDefinitionError
 from acausal.hybrid import noEvent, smooth
 from acausal.language import (
     Boolean,
@@ -30,8 +29,9 @@ from acausal.language import (
     StateSelect,
     Variable,
     der,
-    time,
 )
+from acausal.components.adaptors import FlowToPotentialAdaptor, PotentialToFlowAdaptor
+from acausal.components.declarations import DerivedDefaults
 from acausal.components.thermal import PartialElementaryConditionalHeatPortWithoutT
 from acausal.library.rotational import components as rotational_components
 from acausal.components.translational import (
@@ -42,7 +42,6 @@ from acausal.components.translational import (
     PartialRigid,
     PartialTwoFlanges,
 )
-from acausal.library.blocks.discrete import DerivedDefaults
 
 __all__ = [
     "Fixed",
@@ -318,49 +317,7 @@ class InitializeFlange(Component):
 # Signal adaptors (Modelica.Blocks.Interfaces.Adaptors in translational units)
 
 
-class _PrescribedState(sp.Function):
-    """Modelica.Blocks.Interfaces.Adaptors.Functions.state1/state2 and their derivatives.
-
-    ``_PrescribedState_k(p, pder, pder2, time)`` is the ``k``-th time
-    derivative of a signal whose value ``p`` and derivatives ``pder`` and
-    ``pder2`` are all given as inputs: its value is ``(p, pder, pder2)[k]``
-    and its time derivative is ``_PrescribedState_{k+1}``, not the
-    derivative of its arguments.  Index reduction thus uses the given
-    derivative signals instead of differentiating ``p`` (which may be an
-    input that cannot be differentiated).  ``time`` is an argument only so
-    that the engine's differentiation reaches the function (the MSL's
-    ``dummy`` input); the partial derivatives by the signals are zero (the
-    MSL's ``noDerivative``).  ``max_order`` is the highest derivative given
-    (1 for state1, 2 for state2).
-    """
-
-    nargs = 4
-    order = 0
-    max_order = 2
-
-    def fdiff(self, argindex: int = 1):
-        if argindex != 4:
-            return sp.Integer(0)
-        if self.order >= self.max_order:
-            raise ModelDefinitionError(
-                f"GeneralPositionToForceAdaptor: its inputs give derivatives of the position up to "
-                f"order {self.max_order}, but the connected model needs order {self.order + 1}",
-                hint="enable use_pder (and use_pder2) and connect the derivatives of p to pder (and pder2)")
-        return _STATE_FUNCTIONS[(self.order + 1, self.max_order)](*self.args)
-
-
-def _state_function(order: int, max_order: int) -> type:
-    def value(p, pder, pder2, t):  # noqa: ARG001 - t only carries the time dependence
-        return (p, pder, pder2)[order]
-    return type(f"_state{max_order}der{order}", (_PrescribedState,),
-                {"order": order, "max_order": max_order, "_imp_": staticmethod(value)})
-
-
-#: (order, max_order) -> function class
-_STATE_FUNCTIONS = {(k, m): _state_function(k, m) for m in (1, 2) for k in range(m + 1)}
-
-
-class GeneralForceToPositionAdaptor(Component):
+class GeneralForceToPositionAdaptor(FlowToPotentialAdaptor):
     """Signal adaptor with force input and position, speed, acceleration outputs (Modelica.Mechanics.Translational.Components.GeneralForceToPositionAdaptor).
 
     For wrapping a translational model as an input/output block (e.g. an
@@ -369,46 +326,28 @@ class GeneralForceToPositionAdaptor(Component):
     der(p)`` (if ``use_pder``) and acceleration ``pder2 = der(pder)`` (if
     ``use_pder`` and ``use_pder2``) are outputs.
 
-    This is Modelica.Blocks.Interfaces.Adaptors.FlowToPotentialAdaptor with
-    the MSL's final settings ``use_fder = use_fder2 = false`` (no force
+    This is Modelica.Blocks.Interfaces.Adaptors.FlowToPotentialAdaptor
+    (:class:`acausal.components.adaptors.FlowToPotentialAdaptor`) with the
+    MSL's final settings ``use_fder = use_fder2 = false`` (no force
     derivative inputs), so its protected ``u = f``; the icon-only name
     strings are left out.
     """
 
-    use_pder = Parameter(True, structural=True, description="Use output for 1st derivative of potential")
-    use_pder2 = Parameter(True, structural=True,
-                          description="Use output for 2nd derivative of potential (only if 1st derivative "
-                                      "is used, too)")
     p = RealOutput(unit="m", description="Output for potential")
     pder = RealOutput(unit="m/s", condition="use_pder", description="Optional output for der(potential)")
     pder2 = RealOutput(unit="m/s2", condition=lambda c: c.use_pder and c.use_pder2,
                        description="Optional output for der2(potential)")
     f = RealInput(unit="N", description="Input for flow")
     flange = Flange_a(description="Flange whose position is output and whose force is input")
-    y = Variable(description="Output signal (protected)")
-    y1 = Variable(description="Optional 1st derivative of output (protected)")
-    y2 = Variable(description="Optional 2nd derivative of output (protected)")
-    u = Variable(description="Input signal (protected)")
 
     def equations(self):
-        first = self.use_pder
-        second = self.use_pder and self.use_pder2
-        equations = [
-            Eq(self.y, self.p),
-            Eq(self.y1, der(self.y) if first else 0),
-            Eq(self.y2, der(self.y1) if second else 0),
-            Eq(self.u, self.f),
+        return [
             Eq(self.y, self.flange.s),  # output = potential = position
             Eq(self.u, self.flange.f),  # input = flow = force
         ]
-        if first:
-            equations.append(Eq(self.pder, self.y1))
-        if second:
-            equations.append(Eq(self.pder2, self.y2))
-        return equations
 
 
-class GeneralPositionToForceAdaptor(Component):
+class GeneralPositionToForceAdaptor(PotentialToFlowAdaptor):
     """Signal adaptor with position, speed, acceleration inputs and force output (Modelica.Mechanics.Translational.Components.GeneralPositionToForceAdaptor).
 
     For wrapping a translational model as an input/output block (e.g. an
@@ -418,43 +357,26 @@ class GeneralPositionToForceAdaptor(Component):
     ``use_pder`` and ``use_pder2``) must be the first and second time
     derivatives of ``p``; they replace the derivatives of ``p`` when the
     model needs them (a mass on the flange needs both), so ``p`` itself is
-    never differentiated.  Disabled derivative inputs are zero; without
-    ``use_pder`` the position ``p`` is used directly.
+    never differentiated (:func:`acausal.prescribed`, the MSL functions
+    state1 and state2); a model that needs a derivative the inputs do not
+    give is refused with a StructuralError.  Disabled derivative inputs are
+    zero; without ``use_pder`` the position ``p`` is used directly.
 
-    This is Modelica.Blocks.Interfaces.Adaptors.PotentialToFlowAdaptor with
-    the MSL's final settings ``use_fder = use_fder2 = false`` (no force
+    This is Modelica.Blocks.Interfaces.Adaptors.PotentialToFlowAdaptor
+    (:class:`acausal.components.adaptors.PotentialToFlowAdaptor`) with the
+    MSL's final settings ``use_fder = use_fder2 = false`` (no force
     derivative outputs); the icon-only name strings are left out.
     """
 
-    use_pder = Parameter(True, structural=True, description="Use input for 1st derivative of potential")
-    use_pder2 = Parameter(True, structural=True,
-                          description="Use input for 2nd derivative of potential (only if 1st derivative "
-                                      "is used, too)")
     p = RealInput(unit="m", description="Input for potential")
     pder = RealInput(unit="m/s", condition="use_pder", description="Optional input for der(potential)")
     pder2 = RealInput(unit="m/s2", condition=lambda c: c.use_pder and c.use_pder2,
                       description="Optional input for der2(potential)")
     f = RealOutput(unit="N", description="Output for flow")
     flange = Flange_b(description="Flange that follows the position input")
-    y = Variable(description="Output signal (protected)")
-    u = Variable(description="Input signal (protected)")
-    u1 = Variable(description="Optional 1st derivative of input (protected)")
-    u2 = Variable(description="Optional 2nd derivative of input (protected)")
 
     def equations(self):
-        first = self.use_pder
-        second = self.use_pder and self.use_pder2
-        if second:
-            position = _STATE_FUNCTIONS[(0, 2)](self.p, self.u1, self.u2, time)
-        elif first:
-            position = _STATE_FUNCTIONS[(0, 1)](self.p, self.u1, 0, time)
-        else:
-            position = self.p
         return [
-            Eq(self.y, -self.f),
-            Eq(self.u1, self.pder if first else 0),
-            Eq(self.u2, self.pder2 if second else 0),
-            Eq(self.u, position),
             Eq(self.y, self.flange.f),  # output = flow = force
             Eq(self.u, self.flange.s),  # input = potential = position
         ]

@@ -5,11 +5,12 @@ MassWithStopAndFriction (with its base PartialFrictionWithStop).
 
 SupportFriction and Brake use the friction state machine shared with the
 rotational elements (:class:`acausal.components.translational.PartialFriction`,
-spec section 2.9, F1-F5) and the table helpers of
-:mod:`acausal.library.rotational.components` (``_table``, ``_signs``,
-``_check_table``, ``_check_min``).  MassWithStopAndFriction carries its own
-variant of the state machine, in which sliding towards a stop the mass is
-resting against is not allowed, plus the impacts at the stops (a ``when`` with
+spec section 2.9, F1-F5) and the friction-table helpers of
+:mod:`acausal.components.friction` (:func:`check_friction_table`,
+:func:`friction_table`, :func:`table_signs`).  MassWithStopAndFriction
+uses the same state machine with conditions that keep the mass from
+sliding towards a stop it is resting against (the MSL's
+PartialFrictionWithStop), plus the impacts at the stops (a ``when`` with
 ``reinit`` of position and velocity).
 
 As in the rotational friction elements, the MSL 4.1.0 parameter
@@ -19,8 +20,6 @@ use) and extrapolated through the last two points.
 """
 
 from __future__ import annotations
-
-import numbers
 
 import sympy as sp
 
@@ -39,15 +38,24 @@ from acausal.language import (
     initial,
     pre,
 )
-from acausal.components.friction import Backward, Forward, Free, Stuck, Unknown
-from acausal.components.logic import is_initial, pre_boolean
+from acausal.components.checks import check_min, parameter_number, where
+from acausal.components.friction import (
+    Backward,
+    Forward,
+    Free,
+    Stuck,
+    Unknown,
+    check_friction_table,
+    friction_state_machine,
+    friction_table,
+    table_signs,
+)
 from acausal.components.thermal import PartialElementaryConditionalHeatPortWithoutT
 from acausal.components.translational import (
     PartialElementaryTwoFlangesAndSupport2,
     PartialFriction,
     PartialRigid,
 )
-from acausal.library.rotational.components import _check_min, _check_table, _signs, _table, _where
 
 __all__ = [
     "SupportFriction",
@@ -57,14 +65,6 @@ __all__ = [
 ]
 
 _PEAK_HINT = "peak = f0_max/f0 (static over sliding friction force at v = 0) must be >= 1"
-
-
-def _number(component, name: str) -> float | None:
-    """The numeric value of a parameter binding, or None if it is an expression of other parameters."""
-    value = component.parameter_binding(name)
-    if isinstance(value, sp.Basic):
-        return float(value) if value.is_number else None
-    return float(value) if isinstance(value, numbers.Real) else None
 
 
 class _HousingFriction:
@@ -121,12 +121,12 @@ class SupportFriction(_HousingFriction, PartialElementaryTwoFlangesAndSupport2,
     peak = Parameter(1.0, min=1, description="Peak for maximum friction force at v==0 (f0_max = peak*f_pos[1,2])")
 
     def build(self) -> None:
-        _check_table(self, "f_pos")
-        _check_min(self, "peak", 1.0, _PEAK_HINT)
+        check_friction_table(self, "f_pos", speed="v", unit="m/s")
+        check_min(self, "peak", 1.0, _PEAK_HINT)
 
     def equations(self):
-        F = _table(self, "f_pos")
-        s1, s2 = _signs(self)
+        F = friction_table(self, "f_pos")
+        s1, s2 = table_signs(self)
         return [
             Eq(self.f0, F(0)),
             Eq(self.f0_max, self.peak * self.f0),
@@ -170,14 +170,14 @@ class Brake(_HousingFriction, PartialElementaryTwoFlangesAndSupport2, PartialEle
     fn = Variable(unit="N", description="Normal force (=fn_max*f_normalized)")
 
     def build(self) -> None:
-        _check_table(self, "mu_pos")
-        _check_min(self, "peak", 1.0, _PEAK_HINT)
-        _check_min(self, "fn_max", 0.0, "fn_max is the maximum normal force; it must be >= 0")
-        _check_min(self, "cgeo", 0.0, "cgeo scales the normal force into a friction force; it must be >= 0")
+        check_friction_table(self, "mu_pos", speed="v", unit="m/s")
+        check_min(self, "peak", 1.0, _PEAK_HINT)
+        check_min(self, "fn_max", 0.0, "fn_max is the maximum normal force; it must be >= 0")
+        check_min(self, "cgeo", 0.0, "cgeo scales the normal force into a friction force; it must be >= 0")
 
     def equations(self):
-        MU = _table(self, "mu_pos")
-        s1, s2 = _signs(self)
+        MU = friction_table(self, "mu_pos")
+        s1, s2 = table_signs(self)
         return [
             Eq(self.fn, self.fn_max * self.f_normalized),
             Eq(self.free, self.fn <= 0),
@@ -196,9 +196,12 @@ class PartialFrictionWithStop(PartialRigid):
     The friction state machine of
     :class:`acausal.components.translational.PartialFriction` (Otter,
     Elmqvist and Mattsson 1999) with one change: the body cannot start or go
-    on sliding into a stop it touches.  With ``s_right = smax - L/2`` and
-    ``s_left = smin + L/2`` (the centre positions at which the right or left
-    end of the body is at its stop)::
+    on sliding into a stop it touches
+    (:func:`acausal.components.friction.friction_state_machine` with
+    ``forward_allowed = s < s_right``, ``backward_allowed = s > s_left`` and
+    no ``sign()`` fallback in ``a_relfric``).  With ``s_right = smax - L/2``
+    and ``s_left = smin + L/2`` (the centre positions at which the right or
+    left end of the body is at its stop)::
 
         startForward  = pre(mode) == Stuck and s < s_right
                             and (sa > f0_max or pre(startForward) and sa > f0)
@@ -265,46 +268,10 @@ class PartialFrictionWithStop(PartialRigid):
                                "2: inactive, 3: unknown)")
 
     def equations(self):
-        sa, v = self.sa, self.v_relfric
-        f0, f0_max = self.f0, self.f0_max
-        below_right = self.s < self.smax - self.L / 2
-        above_left = self.s > self.smin + self.L / 2
-        pre_mode = pre(self.mode)
-        was = {value: sp.Eq(pre_mode, value) for value in (Stuck, Forward, Backward, Free)}
-
-        start_forward = sp.Or(
-            sp.And(was[Stuck], below_right,
-                   sp.Or(sa > f0_max, sp.And(pre_boolean(self.startForward), sa > f0))),
-            sp.And(was[Backward], v > self.v_small),
-            sp.And(is_initial(), v > 0))
-        start_backward = sp.Or(
-            sp.And(was[Stuck], above_left,
-                   sp.Or(sa < -f0_max, sp.And(pre_boolean(self.startBackward), sa < -f0))),
-            sp.And(was[Forward], v < -self.v_small),
-            sp.And(is_initial(), v < 0))
-        locked = sp.And(sp.Not(self.free),
-                        sp.Not(sp.Or(was[Forward], self.startForward, was[Backward], self.startBackward)))
-        # unlike PartialFriction there is no final sign(v) branch: not locked and
-        # not free implies one of the four cases before it (MSL 4.0 form)
-        acceleration = sp.Piecewise(
-            (0, self.locked),
-            (sa, self.free),
-            (sa - f0_max, self.startForward),
-            (sa + f0_max, self.startBackward),
-            (sa - f0_max, was[Forward]),
-            (sa + f0_max, True))
-        mode = sp.Piecewise(
-            (Free, self.free),
-            (Forward, sp.And(sp.Or(was[Forward], was[Free], self.startForward), v > 0, below_right)),
-            (Backward, sp.And(sp.Or(was[Backward], was[Free], self.startBackward), v < 0, above_left)),
-            (Stuck, True))
-        return [
-            Eq(self.startForward, start_forward),
-            Eq(self.startBackward, start_backward),
-            Eq(self.locked, locked),
-            Eq(self.a_relfric, acceleration),
-            Eq(self.mode, mode),
-        ]
+        return friction_state_machine(self, self.v_relfric, self.a_relfric, self.f0, self.f0_max, self.v_small,
+                                      forward_allowed=self.s < self.smax - self.L / 2,
+                                      backward_allowed=self.s > self.smin + self.L / 2,
+                                      sign_fallback=False)
 
 
 class MassWithStopAndFriction(PartialFrictionWithStop, PartialElementaryConditionalHeatPortWithoutT):
@@ -361,10 +328,10 @@ class MassWithStopAndFriction(PartialFrictionWithStop, PartialElementaryConditio
     stopped = Integer(description="Mode of stop (-1: hard stop at flange_a, 0: no stop, +1: hard stop at flange_b)")
 
     def build(self) -> None:
-        smin, smax, length = (_number(self, name) for name in ("smin", "smax", "L"))
+        smin, smax, length = (parameter_number(self, name) for name in ("smin", "smax", "L"))
         if None not in (smin, smax, length) and smax - smin < length:
             raise ParameterError(
-                f"{_where(self)}: the stops smin = {smin:g} m and smax = {smax:g} m are closer than the "
+                f"{where(self)}: the stops smin = {smin:g} m and smax = {smax:g} m are closer than the "
                 f"length L = {length:g} m of the sliding mass",
                 hint="the ends of the mass (s -/+ L/2) must fit between the stops: smax - smin >= L")
 
@@ -390,9 +357,9 @@ class MassWithStopAndFriction(PartialFrictionWithStop, PartialElementaryConditio
             Eq(self.lossPower, self.f * self.v_relfric),
             When(initial(),
                  Assert(sp.Or(s > s_left, sp.And(s >= s_left, v >= 0)),
-                        f"Error in initialization of hard stop {_where(self)}: (s - L/2) must be >= smin"),
+                        f"Error in initialization of hard stop {where(self)}: (s - L/2) must be >= smin"),
                  Assert(sp.Or(s < s_right, sp.And(s <= s_right, v <= 0)),
-                        f"Error in initialization of hard stop {_where(self)}: (s + L/2) must be <= smax")),
+                        f"Error in initialization of hard stop {where(self)}: (s + L/2) must be <= smax")),
             Eq(self.stopped, sp.Piecewise((-1, s <= s_left), (1, s >= s_right), (0, True))),
             When(sp.Ne(self.stopped, 0),
                  reinit(s, If(self.stopped < 0, s_left, s_right)),

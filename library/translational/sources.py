@@ -14,12 +14,9 @@ positive ``f_nominal`` brakes a flange moving forwards.
 
 from __future__ import annotations
 
-from typing import Any
-
 import sympy as sp
-from sympy.core.function import ArgumentIndexError
 
-from acausal.errors import ParameterError
+from acausal.functions import prescribed
 from acausal.hybrid import smooth
 from acausal.language import (
     Component,
@@ -32,10 +29,11 @@ from acausal.language import (
     der,
     time,
 )
+from acausal.components.checks import where
+from acausal.components.declarations import VectorBlock
 from acausal.components.thermal import PartialElementaryConditionalHeatPort
 from acausal.components.translational import EPS, PartialElementaryOneFlangeAndSupport2, PartialForce, PartialTwoFlanges
-from acausal.library.blocks.discrete import VectorBlock
-from acausal.library.blocks.types import Regularization
+from acausal.library.blocks.types import Regularization, regularized_sign
 
 __all__ = [
     "Regularization",
@@ -53,43 +51,7 @@ __all__ = [
     "InverseSpeedDependentForce",
     "SignForce",
     "EddyCurrentForce",
-    "regularized_sign",
 ]
-
-
-
-def _where(component: Component) -> str:
-    return component.path or type(component).__name__
-
-
-def regularized_sign(component: Component, v: Any, v0: Any, reg: Any) -> sp.Basic:
-    """sign(v) smoothed for ``|v| < v0`` by the regularization ``reg``.
-
-    The expression SignForce and RollingResistance multiply their nominal
-    force with (both write it out the same way in the MSL):
-
-    * Exp: ``2/(1 + exp(-v/(0.01*v0))) - 1`` (no events);
-    * Sine: ``sign(v)`` if ``|v| >= v0`` else ``sin(pi/2*v/v0)``, inside
-      ``smooth(1, ...)`` (no events);
-    * Linear: ``sign(v)`` if ``|v| >= v0`` else ``v/v0`` (events at ``|v| = v0``);
-    * Cosine: ``sign(v)`` if ``|v| >= v0`` else ``sign(v)*(1 - cos(pi/2*v/v0))``
-      (events at ``|v| = v0``).
-
-    ``component`` is used only to name it in the error for an unknown ``reg``.
-    """
-    try:
-        kind = Regularization(reg)
-    except ValueError:
-        raise ParameterError(f"{_where(component)}.reg = {reg!r} is not a Regularization",
-                             hint="use Regularization.Exp, .Sine, .Linear or .Cosine") from None
-    outside = sp.Abs(v) >= v0
-    if kind is Regularization.Exp:
-        return 2 / (1 + sp.exp(-v / (0.01 * v0))) - 1
-    if kind is Regularization.Sine:
-        return smooth(1, If(outside, sp.sign(v), sp.sin(sp.pi / 2 * v / v0)))
-    if kind is Regularization.Linear:
-        return If(outside, sp.sign(v), v / v0)
-    return If(outside, sp.sign(v), sp.sign(v) * (1 - sp.cos(sp.pi / 2 * v / v0)))
 
 
 # --------------------------------------------------------------------------
@@ -232,7 +194,8 @@ class SignForce(PartialForce):
     """Constant force changing its sign with the speed (Modelica.Mechanics.Translational.Sources.SignForce).
 
     ``f = -f_nominal*sign_reg(v)`` with ``v = der(s)`` and ``sign_reg`` the
-    sign function smoothed below ``v0`` as :func:`regularized_sign` says
+    sign function smoothed below ``v0`` as
+    :func:`acausal.library.blocks.types.regularized_sign` says
     (``reg``: Exp, the default, Sine, Linear or Cosine).  A positive
     ``f_nominal`` drives the flange in the direction it moves; a negative
     one is a (regularized) Coulomb friction.
@@ -405,46 +368,9 @@ class Accelerate(PartialElementaryOneFlangeAndSupport2):
         return [Eq(self.v, der(self.s)), Eq(self.a, der(self.v)), Eq(self.a, self.a_ref)]
 
 
-def _selector(name: str, index: int, derivative: type | None) -> type[sp.Function]:
-    """A sympy function of ``(u1, u2, u3, t)`` whose value is ``u<index>``.
-
-    Its partial derivatives with respect to ``u1..u3`` are zero and the one
-    with respect to ``t`` is ``derivative`` (Modelica's
-    ``derivative(noDerivative=u)`` annotation): the inputs are taken as
-    already holding the derivatives, they are not differentiated themselves.
-    """
-
-    def eval_(cls, *args):
-        if len(args) == 4 and all(isinstance(a, sp.Number) for a in args):
-            return args[index - 1]
-        return None
-
-    def fdiff(self, argindex=1):
-        if argindex in (1, 2, 3):
-            return sp.Integer(0)
-        if argindex == 4 and derivative is not None:
-            return derivative(*self.args)
-        raise ArgumentIndexError(self, argindex)
-
-    def imp(u1, u2, u3, t):
-        return (u1, u2, u3)[index - 1]
-
-    return type(name, (sp.Function,), {
-        "__module__": __name__,
-        "__doc__": f"{name}(u1, u2, u3, t) = u{index}; d/dt is "
-                   f"{derivative.__name__ if derivative else 'not defined'} (the inputs are not differentiated).",
-        "nargs": 4,
-        "eval": classmethod(eval_),
-        "fdiff": fdiff,
-        "_eval_is_real": lambda self: True,
-        "_imp_": staticmethod(imp),
-        "numeric": staticmethod(imp),
-    })
-
-
-_move_acceleration = _selector("move_acceleration", 3, None)
-_move_speed = _selector("move_speed", 2, _move_acceleration)
-_move_position = _selector("move_position", 1, _move_speed)
+#: What to do when a model needs the third derivative of a Move source's position.
+_MOVE_HINT = ("Move's inputs give the position and its first two derivatives only (u[1], u[2], u[3]); "
+              "no equation may need der() of the flange's acceleration")
 
 
 class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
@@ -453,8 +379,10 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
     ``s = u[1]`` where the input ``u[2]`` is taken as ``der(u[1])`` and
     ``u[3]`` as ``der(u[2])``: when index reduction differentiates the
     position, it uses ``u[2]`` and ``u[3]`` instead of differentiating the
-    inputs (the MSL function ``position`` with its derivative annotations).
-    The three signals must be consistent; nothing checks that.
+    inputs (:func:`acausal.prescribed`, the MSL function ``position`` with
+    its derivative annotations); a model that needs a third derivative is
+    refused with a StructuralError.  The three signals must be consistent;
+    nothing checks that.
     """
 
     @classmethod
@@ -464,7 +392,7 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
 
     def equations(self):
         u1, u2, u3 = self.vector("u")
-        return [Eq(self.s, _move_position(u1, u2, u3, time))]
+        return [Eq(self.s, prescribed(u1, u2, u3, name=f"{where(self)}.s", hint=_MOVE_HINT))]
 
 
 class ConstantSpeed(PartialForce):

@@ -4,9 +4,9 @@
 wheel (with the drive-train inertia on its rotational side), braked by air
 drag (relative to an optional wind speed), rolling resistance and the
 grade force of an inclination.  :class:`RollingResistance` is the element
-for the rolling resistance.  :class:`Atan` and :class:`Sin` are the two
-Modelica.Blocks.Math blocks the vehicle uses to turn the inclination
-(tan of the angle) into the grade force.
+for the rolling resistance.  The vehicle turns the inclination (tan of the
+angle) into the grade force with the Modelica.Blocks.Math blocks Atan and
+Sin.  :data:`G_N` is Modelica.Constants.g_n.
 """
 
 from __future__ import annotations
@@ -18,12 +18,13 @@ from acausal.components.translational import Flange_b, PartialForce
 from acausal.language import Component, Eq, Parameter, RealInput, Variable, der
 from acausal.library.blocks.math import Atan, Gain, Sin
 from acausal.library.blocks.sources import Constant
+from acausal.library.blocks.types import regularized_sign
 from acausal.library.rotational.components import IdealRollingWheel, Inertia
 
 from .components import Mass
-from .sources import EPS, Force, QuadraticSpeedDependentForce, Regularization, Speed, regularized_sign
+from .sources import EPS, Force, QuadraticSpeedDependentForce, Regularization, Speed
 
-__all__ = ["RollingResistance", "Vehicle"]
+__all__ = ["RollingResistance", "Vehicle", "G_N"]
 
 #: Modelica.Constants.g_n, standard acceleration of gravity on earth (m/s2).
 G_N = 9.80665
@@ -39,7 +40,7 @@ class RollingResistance(PartialForce):
         f = -f_nominal*sign_reg(v),  v = der(s)
 
     where ``sign_reg`` is sign(v) smoothed below ``v0`` by ``reg`` (see
-    :func:`acausal.library.translational.sources.regularized_sign`).  ``f =
+    :func:`acausal.library.blocks.types.regularized_sign`).  ``f =
     flange.f``, so the flange is pushed by ``-f``, against its motion.
     ``Cr`` is the input ``cr`` (``useCrInput``) or ``CrConstant``;
     the inclination is the input ``inclination`` (``useInclinationInput``)

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import sympy as sp
 
 from acausal import Eq, Experiment, If, Model, Parameter, Variable, der, simulate, translate
 from acausal.errors import InitializationError, ParameterError, SettingError

@@ -1,10 +1,9 @@
 """Mistakes in hybrid models give errors that name the place, and the engine bugs A and D."""
 
 import pytest
-import sympy as sp
 
 from acausal import (Boolean, EquationError, Eq, EventIterationError, If, Integer, Model, ModelDefinitionError,
-                     Parameter, Variable, When, der, pre, reinit, sample, simulate, time, translate)
+                     Variable, When, der, pre, reinit, sample, simulate, time, translate)
 
 
 class Falling(Model):

@@ -5,9 +5,8 @@ import math
 
 import numpy as np
 import pytest
-import sympy as sp
 
-from acausal import (Assert, Boolean, Eq, Experiment, If, Integer, Model, Parameter, Variable, When, ZenoError,
+from acausal import (Assert, Boolean, Eq, Integer, Model, Parameter, Variable, When, ZenoError,
                      change, der, edge, floor, initial, mod, noEvent, pre, reinit, sample, simulate, terminal,
                      terminate, time)
 

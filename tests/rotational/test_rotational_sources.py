@@ -19,8 +19,9 @@ import math
 import numpy as np
 import pytest
 
-from acausal import Experiment, Model, simulate
-from acausal.errors import ParameterError
+import acausal.compiler.translate as translate_module
+from acausal import Eq, Experiment, Model, der, simulate, translate
+from acausal.errors import ParameterError, StructuralError
 from acausal.language import Connector, Parameter, Variable
 from acausal.library.blocks import Constant, Cosine, Ramp, Sine, Step
 from acausal.library.rotational import Fixed, Inertia
@@ -360,6 +361,53 @@ def test_move_takes_the_derivatives_from_its_inputs():
     assert result.success, result.message
     np.testing.assert_allclose(result["inertia.phi"], np.sin(2 * math.pi * result.time), atol=1e-12)
     assert np.all(result["inertia.w"] == 0) and np.all(result["move.flange.tau"] == 0)
+
+
+def test_move_refuses_a_third_derivative():
+    """u[3] is the last derivative Move gives: an equation with der() of the acceleration is refused."""
+    class Jerky(Model):
+        jerk = Variable()
+
+        def build(self):
+            _sine_motion(self, 1.0, 1.0)
+            self.move = Move()
+            self.inertia = Inertia(J=1)
+            for k, source in enumerate((self.angle, self.speed, self.acceleration), start=1):
+                self.connect(source.y, getattr(self.move, f"u[{k}]"))
+            self.connect(self.move.flange, self.inertia.flange_a)
+
+        def equations(self):
+            return [Eq(self.jerk, der(self.inertia.a))]
+
+    with pytest.raises(StructuralError, match="order 3") as caught:
+        simulate(Jerky(), stop_time=0.1)
+    assert "move.phi" in caught.value.message and "u[3]" in caught.value.hint
+
+
+def test_move_compiles_from_the_disk_cache(tmp_path, monkeypatch):
+    """The derivatives index reduction makes of u[1] are the same function: compiled code that
+    calls them is stored and loaded again (a fresh translation), with the same result."""
+    monkeypatch.setenv("ACAUSAL_DISK_CACHE", "on")
+    monkeypatch.setenv("ACAUSAL_CACHE_DIR", str(tmp_path / "cache"))
+
+    class Moved(Model):
+        def build(self):
+            _sine_motion(self, 1.0, 1.0)
+            self.move = Move()
+            self.inertia = Inertia(J=2)
+            for k, source in enumerate((self.angle, self.speed, self.acceleration), start=1):
+                self.connect(source.y, getattr(self.move, f"u[{k}]"))
+            self.connect(self.move.flange, self.inertia.flange_a)
+
+    results = []
+    for _ in range(2):
+        translate_module._CACHE.clear()
+        translate_module._STRUCTURES.clear()
+        translation = translate(Moved())
+        results.append(simulate(translation, stop_time=0.5))
+    passes = [s.passes[0][0] for s in translation.systems.values()]
+    assert passes and set(passes) == {"load"}, passes
+    np.testing.assert_array_equal(results[0]["move.flange.tau"], results[1]["move.flange.tau"])
 
 
 def test_constant_speed():

@@ -43,7 +43,7 @@ def _examples_classes() -> tuple[str, ...]:
     import re
 
     examples = Path(__file__).resolve().parents[2] / "examples"
-    return tuple(sorted({m.group(1) for path in examples.glob("*.py")
+    return tuple(sorted({m.group(1) for path in examples.rglob("*.py")
                          for m in re.finditer(r'modelica_class = "([^"]+)"', path.read_text())}))
 
 

@@ -88,6 +88,16 @@ def test_bad_parameters(make, match):
     assert "element" in str(info.value)
 
 
+def test_table_messages_speak_of_forces_and_velocities():
+    """The friction-table checks shared with Rotational use the translational names."""
+    with pytest.raises(ParameterError) as info:
+        attach(SupportFriction(f_pos=[[0, 1], [1, -2]]), "element")
+    assert "element.f_pos" in info.value.message and "friction force must not be negative" in info.value.hint
+    with pytest.raises(ParameterError) as info:
+        attach(Brake(mu_pos=[[-1, 0.5], [1, 0.5]]), "element")
+    assert "relative speed v >= 0, in m/s" in info.value.message and "v = 0" in info.value.hint
+
+
 # --------------------------------------------------------------------------
 # SupportFriction: stuck below the static limit, sliding above it
 

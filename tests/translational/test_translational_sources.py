@@ -16,8 +16,8 @@ import pytest
 import sympy as sp
 from library_checks import attach, check_declarations, rhs_of
 
-from acausal import Experiment, Model, simulate
-from acausal.errors import ParameterError
+from acausal import Eq, Experiment, Model, Variable, der, simulate
+from acausal.errors import ParameterError, StructuralError
 from acausal.hybrid import without_no_event
 from acausal.library.blocks import Constant, Ramp, Sine, Step
 from acausal.library.rotational.sources import ConstantTorque
@@ -263,6 +263,19 @@ def test_move_takes_speed_and_acceleration_from_its_inputs():
     np.testing.assert_allclose(r["mass.v"], 2 * w * np.cos(w * t), atol=1e-12)
     np.testing.assert_allclose(r["mass.a"], -w * w * np.sin(w * t), atol=1e-12)
     np.testing.assert_allclose(r["move.flange.f"], -2 * (-w * w * np.sin(w * t)), atol=1e-9)
+
+
+def test_move_refuses_a_third_derivative():
+    """u[3] is the last derivative Move gives: an equation with der() of the acceleration is refused."""
+    class Jerky(_Moved):
+        jerk = Variable()
+
+        def equations(self):
+            return [Eq(self.jerk, der(self.mass.a))]
+
+    with pytest.raises(StructuralError, match="order 3") as caught:
+        simulate(Jerky(), stop_time=0.1)
+    assert "move.s" in caught.value.message and "u[3]" in caught.value.hint
 
 
 # --------------------------------------------------------------------------

@@ -3,9 +3,13 @@
 LossyGearDemo1 with a bearing friction (0.5 N.m at rest, rising to 1 N.m
 at 1 rad/s) between the sine drive and Inertia1.  Both friction elements
 pass through all their modes within 0.5 s.  When both are stuck at once
-the torque split between them is not unique in principle; here the
-bearing is stuck while the gear is locked only through an inertia, so the
-system stays solvable, and a reliable simulator must handle it.
+the torque split between them is not unique: both constrain the
+acceleration of Inertia1.
+
+Not reproduced yet (hence ``examples/pending/``): acausal stops at t = 0
+with a StructurallySingularError where Modelica tools pick a split of the
+holding torque.  The issue 13 note records what reproduces the reference
+(6 of 6 signals) and what is still missing for a general rule.
 
 ``PowerLoss``, the power flowing into the gear through its flanges, must
 equal ``gear.lossPower``.
@@ -13,8 +17,7 @@ equal ``gear.lossPower``.
 
 from acausal import Eq, Experiment, Model, Variable, der
 from acausal.library.blocks import Ramp, Sine
-from acausal.library.rotational import BearingFriction, Fixed, Inertia, Torque
-from acausal.library.rotational.lossy_gear import LossyGear
+from acausal.library.rotational import BearingFriction, Fixed, Inertia, LossyGear, Torque
 
 
 class LossyGearDemo2(Model):

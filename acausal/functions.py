@@ -1,0 +1,202 @@
+"""Functions for equations: a signal whose time derivatives are given.
+
+:func:`prescribed` is Modelica's ``derivative`` annotation with
+``noDerivative`` for the one case models need it: a value that comes with its
+time derivatives as separate signals (an input and the inputs carrying its
+first and second derivatives).  Where index reduction differentiates the
+value, it takes the given derivative instead of differentiating the signal.
+"""
+
+from __future__ import annotations
+
+import re
+
+import sympy as sp
+
+from .errors import ModelDefinitionError, StructuralError
+from .language import time as _time
+
+__all__ = ["prescribed"]
+
+#: (name, number of derivatives given, differentiate_last, hint) -> class; the same call
+#: always gives the same class, so equations built twice compare equal.
+_CLASSES: dict[tuple[str, int, bool, str | None], type] = {}
+
+_DEFAULT_HINT = ("give the next derivative as well, or change the model so that it needs fewer "
+                 "derivatives of this value")
+
+
+def prescribed(value, *derivatives, time=_time, name: str, hint: str | None = None,
+               differentiate_last: bool = False) -> sp.Expr:
+    """``value``, whose time derivatives are the given ``derivatives``.
+
+    The result is a sympy expression equal to ``value`` whose time derivative
+    is ``derivatives[0]``, whose second time derivative is
+    ``derivatives[1]``, and so on; its partial derivatives with respect to
+    ``value`` and ``derivatives`` are 0 (Modelica's ``noDerivative``).  Index
+    reduction therefore uses the given signals where it needs derivatives of
+    ``value`` instead of differentiating it (it may be an input that cannot
+    be differentiated).  The signals are meant to be consistent
+    (``derivatives[0]`` the derivative of ``value``, ...), but nothing checks
+    that.
+
+    Parameters
+    ----------
+    value : sympy expression or number
+        The value (order 0).
+    *derivatives : sympy expressions or numbers
+        Its first, second, ... time derivatives.  None given: the value may
+        not be differentiated at all (unless ``differentiate_last``).
+    time : sympy expression, keyword-only
+        The independent variable, :data:`acausal.language.time` by default;
+        it carries the time dependence (the derivative annotation's dummy
+        input), and differentiating with respect to it moves to the next
+        derivative.
+    name : str, keyword-only
+        Whose value this is, e.g. the dotted path of the component and its
+        signal (``"drive.phi"``).  Error messages name it, and it names the
+        function: dots and other characters that are not valid in a Python
+        identifier become ``_`` and ``_prescribed`` is appended
+        (``drive_phi_prescribed``; ``_prescribed_open`` with
+        ``differentiate_last``).
+    hint : str, optional
+        What to do when the model needs a derivative beyond the last one
+        given (the hint of the :class:`~acausal.errors.StructuralError`).
+    differentiate_last : bool, default False
+        What a derivative beyond the last one given is.  False: the model is
+        refused (the last derivative function has no ``derivative``
+        annotation of its own).  True: the last given derivative is the plain
+        expression ``derivatives[-1]``, differentiated like any other (as a
+        Modelica tool differentiates the body of the last derivative function
+        when it needs more, e.g. for ``Move_w`` in the MSL's
+        ``AngleToTorqueAdaptor``).
+
+    Returns
+    -------
+    sympy expression
+        An application of a :class:`sympy.Function` class to ``(0, value,
+        *derivatives, time)``, the first argument being the order of the
+        derivative: evaluated (in generated code, by ``_imp_``) it is
+        ``value``, and its ``k``-th time derivative is the same function
+        applied to ``(k, value, *derivatives, time)``, which evaluates to
+        ``derivatives[k - 1]``.  The same ``name``, number of derivatives,
+        ``hint`` and ``differentiate_last`` always give the same class.  With
+        ``differentiate_last`` and no derivatives, ``value`` itself.
+
+    Raises
+    ------
+    StructuralError
+        When the model needs a time derivative of higher order than the
+        derivatives given (raised while index reduction differentiates).
+    ModelDefinitionError
+        For an empty ``name``.
+
+    Notes
+    -----
+    The partial derivatives with respect to the signals are 0, so a signal
+    must not be an unknown of an algebraic loop through this function: its
+    Jacobian is not defined there (as for the Modelica functions with
+    ``noDerivative``).
+
+    References
+    ----------
+    .. [1] Modelica Association, "Modelica Language Specification, Version
+       3.6", 2023, section 12.7.1 "Using the Derivative Annotation",
+       https://specification.modelica.org/maint/3.6/functions.html#using-the-derivative-annotation
+
+    Examples
+    --------
+    >>> from acausal.language import real_symbol, time
+    >>> p, v, a = (real_symbol(n) for n in ("p", "v", "a"))
+    >>> x = prescribed(p, v, a, name="drive.p")
+    >>> x
+    drive_p_prescribed(0, p, v, a, time)
+    >>> x.diff(time), x.diff(time, 2)
+    (drive_p_prescribed(1, p, v, a, time), drive_p_prescribed(2, p, v, a, time))
+    >>> x.diff(p)
+    0
+    >>> prescribed(p, v, name="drive.p", differentiate_last=True).diff(time)
+    v
+    """
+    if not isinstance(name, str) or not name:
+        raise ModelDefinitionError(f"prescribed(): the name must be a non-empty string, not {name!r}",
+                                   hint="name the value's owner, e.g. the component path and the signal")
+    if differentiate_last and not derivatives:
+        return sp.sympify(value)
+    return _function_class(name, len(derivatives), bool(differentiate_last), hint)(0, value, *derivatives, time)
+
+
+class _Prescribed(sp.Function):
+    """A value given with ``given`` time derivatives (made by :func:`prescribed`).
+
+    Arguments ``(order, value, derivative_1, ..., derivative_given, time)``:
+    the application is the time derivative of order ``order`` (an integer),
+    so its value is the argument of that order; its time derivative is the
+    same function at ``order + 1``.  One class serves every order, so that
+    the functions the generated code calls (the derivatives index reduction
+    makes) are all in the flat model's equations, which is where the engine
+    finds them when it loads compiled code from its disk cache.
+    """
+
+    owner: str = ""
+    given: int = 0
+    differentiate_last: bool = False
+    advice: str | None = None
+
+    @classmethod
+    def eval(cls, order, *args):
+        if isinstance(order, sp.Integer) and all(isinstance(a, sp.Number) for a in args):
+            return args[int(order)]
+        return None
+
+    def fdiff(self, argindex: int = 1):
+        if argindex != len(self.args):  # the order or a signal: never differentiated (noDerivative)
+            return sp.Integer(0)
+        order, signals = int(self.args[0]), self.args[1:-1]
+        following = order + 1
+        if self.differentiate_last and following == self.given:
+            return signals[following]
+        if following > self.given:
+            given = (f"only derivatives up to order {self.given} are given" if self.given
+                     else "no derivative of it is given")
+            raise StructuralError(f"{self.owner}: the model needs the time derivative of order "
+                                  f"{following} of this value, but {given}",
+                                  hint=self.advice or _DEFAULT_HINT)
+        return self.func(following, *self.args[1:])
+
+    def _eval_evalf(self, prec):
+        return self.args[1 + int(self.args[0])].evalf(prec)
+
+    def _eval_is_real(self):
+        return self.args[1 + int(self.args[0])].is_real
+
+    def __reduce_ex__(self, protocol):
+        return _apply, (self.owner, self.given, self.differentiate_last, self.advice, self.args)
+
+
+def _apply(owner: str, given: int, differentiate_last: bool, advice: str | None, args: tuple) -> sp.Expr:
+    """The function applied to ``args`` (how an application is unpickled)."""
+    return _function_class(owner, given, differentiate_last, advice)(*args)
+
+
+def _function_class(owner: str, given: int, differentiate_last: bool, advice: str | None) -> type:
+    key = (owner, given, differentiate_last, advice)
+    cls = _CLASSES.get(key)
+    if cls is None:
+        ident = re.sub(r"[^0-9A-Za-z_]", "_", owner)
+        suffix = "_open" if differentiate_last else ""
+
+        def value_of(order, *signals):  # evaluated in generated code: the signal of this order
+            return signals[order]
+
+        cls = _CLASSES[key] = type(f"{ident}_prescribed{suffix}", (_Prescribed,), {
+            "__module__": __name__,
+            "__doc__": f"{owner} and its time derivatives (made by prescribed()).",
+            "nargs": given + 3,
+            "owner": owner,
+            "given": given,
+            "differentiate_last": differentiate_last,
+            "advice": advice,
+            "_imp_": staticmethod(value_of),
+        })
+    return cls
