@@ -692,7 +692,10 @@ class InitializeFlange(Component):
 
     * ``use_phi_start``: ``flange.phi = phi_start``
     * ``use_w_start``: ``w_flange = w_start``
-    * ``use_a_start``: ``der(w_flange) = a_start``
+    * ``use_a_start``: ``a_flange = a_start``, with the protected
+      ``a_flange = der(w_flange)`` (the MSL writes ``der(w) = a_start``
+      inside a helper model; an initial equation on a variable keeps the
+      initialization problem free of second derivatives)
 
     The MSL sets the flange angle to StateSelect.avoid inside its protected
     acceleration-setting part; that hint on a connector alias is not
@@ -717,13 +720,17 @@ class InitializeFlange(Component):
     flange = Flange_b(description="Flange that is initialized")
     phi_flange = Variable(unit="rad", state_select=lambda c: c.stateSelect, description="Flange angle")
     w_flange = Variable(unit="rad/s", state_select=lambda c: c.stateSelect, description="= der(phi_flange)")
+    a_flange = Variable(unit="rad/s2", condition="use_a_start", description="= der(w_flange) (protected)")
 
     def equations(self):
-        return [
+        equations = [
             Eq(self.phi_flange, self.flange.phi),
             Eq(self.w_flange, der(self.phi_flange)),
             Eq(self.flange.tau, 0),
         ]
+        if self.use_a_start:
+            equations.append(Eq(self.a_flange, der(self.w_flange)))
+        return equations
 
     def initial_equations(self):
         equations = []
@@ -732,7 +739,7 @@ class InitializeFlange(Component):
         if self.use_w_start:
             equations.append(Eq(self.w_flange, self.w_start))
         if self.use_a_start:
-            equations.append(Eq(der(self.w_flange), self.a_start))
+            equations.append(Eq(self.a_flange, self.a_start))
         return equations
 
 

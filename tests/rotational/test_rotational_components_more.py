@@ -27,7 +27,7 @@ from scipy.optimize import brentq
 from library_checks import check_declarations
 
 from acausal import Model, simulate, translate
-from acausal.errors import InitializationError, ParameterError
+from acausal.errors import ParameterError
 from acausal.library.blocks import Constant, Sine
 from acausal.library.rotational.components import (
     AngleToTorqueAdaptor,
@@ -433,9 +433,6 @@ class Initialized(Model):
                 self.connect(source.y, getattr(self.initializer, name))
 
 
-@pytest.mark.xfail(strict=True, raises=InitializationError,
-                   reason="engine: der() of an alias of a state in an initial equation is not resolved "
-                          "(der(initializer.w_flange) with w_flange = inertia1.w)")
 def test_initialize_flange_sets_angle_speed_and_acceleration():
     result = simulate(Initialized(), stop_time=0.1, interval=0.01, rtol=1e-10, atol=1e-12)
     assert result["inertia1.phi"][0] == pytest.approx(0.5)
