@@ -14,8 +14,9 @@ A class's state is found from the code, not written by hand:
   ``modelica_class`` (and so is compared with the Modelica Association's
   reference result) contains an instance of it;
 - **checked analytically**: a test function or a test model in ``tests/``
-  instantiates it, other than the declaration checks (``check_declarations``
-  and ``tests/test_library_declarations.py``, which run on every class);
+  names it (instantiates it, or passes it on through ``parametrize``), other
+  than the declaration checks (``check_declarations`` and
+  ``tests/test_library_declarations.py``, which run on every class);
 - for an MSL example: **reproduced** when an example declares it as its
   ``modelica_class``.
 """
@@ -151,10 +152,12 @@ def analytic_uses() -> dict[type, set[str]]:
             calls = [n for n in ast.walk(function) if isinstance(n, ast.Call)]
             if any(isinstance(c.func, ast.Name) and c.func.id == "check_declarations" for c in calls):
                 continue
-            for call in calls:
-                klass = _called_class(call.func, names, modules)
-                if klass is not None:
-                    uses.setdefault(klass, set()).add(str(path.relative_to(ROOT)))
+            # a class the function (or its parametrize decorator) names: called, or passed on
+            for node in ast.walk(function):
+                if isinstance(node, (ast.Name, ast.Attribute)):
+                    klass = _called_class(node, names, modules)
+                    if klass is not None:
+                        uses.setdefault(klass, set()).add(str(path.relative_to(ROOT)))
     return uses
 
 
