@@ -284,5 +284,10 @@ class PartialFriction(Component):
                    description="Mode of friction (-1: backward sliding, 0: stuck, 1: forward sliding, "
                                "2: inactive, 3: unknown)")
 
+    def state_machine_options(self) -> dict:
+        """Keyword options of :func:`friction_state_machine` (a subclass with stops restricts sliding)."""
+        return {}
+
     def equations(self):
-        return friction_state_machine(self, self.v_relfric, self.a_relfric, self.f0, self.f0_max, self.v_small)
+        return friction_state_machine(self, self.v_relfric, self.a_relfric, self.f0, self.f0_max, self.v_small,
+                                      **self.state_machine_options())

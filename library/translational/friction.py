@@ -26,7 +26,6 @@ import sympy as sp
 from acausal.errors import ParameterError
 from acausal.hybrid import Assert, When, reinit
 from acausal.language import (
-    Boolean,
     Eq,
     If,
     Integer,
@@ -40,13 +39,8 @@ from acausal.language import (
 )
 from acausal.components.checks import check_min, parameter_number, where
 from acausal.components.friction import (
-    Backward,
     Forward,
-    Free,
-    Stuck,
-    Unknown,
     check_friction_table,
-    friction_state_machine,
     friction_table,
     table_signs,
 )
@@ -189,7 +183,7 @@ class Brake(_HousingFriction, PartialElementaryTwoFlangesAndSupport2, PartialEle
         ]
 
 
-class PartialFrictionWithStop(PartialRigid):
+class PartialFrictionWithStop(PartialRigid, PartialFriction):
     """Coulomb friction of a rigid body between two hard stops (protected
     Modelica.Mechanics.Translational.Components.MassWithStopAndFriction.PartialFrictionWithStop).
 
@@ -235,43 +229,18 @@ class PartialFrictionWithStop(PartialRigid):
        Hawaii, August 1999.
     """
 
-    Unknown = Unknown
-    Free = Free
-    Forward = Forward
-    Stuck = Stuck
-    Backward = Backward
-
     smax = Parameter(25.0, unit="m", description="Right stop for (right end of) sliding mass")
     smin = Parameter(-25.0, unit="m", description="Left stop for (left end of) sliding mass")
-    v_small = Parameter(1e-3, unit="m/s", description="Relative velocity near to zero (see model info text)")
 
     s = Variable(start=0.0, unit="m", state_select=StateSelect.always,
                  description="Absolute position of center of component (s = flange_a.s + L/2 = flange_b.s - L/2)")
-
-    # defined by the subclass
-    v_relfric = Variable(unit="m/s", description="Relative velocity between frictional surfaces")
-    a_relfric = Variable(unit="m/s2", description="Relative acceleration between frictional surfaces")
+    # defined by the subclass, besides those of PartialFriction
     f = Variable(unit="N", description="Friction force (positive, if directed in opposite direction of v_rel)")
-    f0 = Variable(unit="N", description="Friction force for v=0 and forward sliding")
-    f0_max = Variable(unit="N", description="Maximum friction force for v=0 and locked")
-    free = Boolean(description="= true, if frictional element is not active")
 
-    # defined here
-    sa = Variable(unit="1", description="Path parameter of friction characteristic f = f(a_relfric)")
-    startForward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
-                           description="= true, if v_rel=0 and start of forward sliding or v_rel > v_small")
-    startBackward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
-                            description="= true, if v_rel=0 and start of backward sliding or v_rel < -v_small")
-    locked = Boolean(start=False, description="= true, if v_rel=0 and not sliding")
-    mode = Integer(start=Unknown, fixed=True, min=Backward, max=Unknown,
-                   description="Mode of friction (-1: backward sliding, 0: stuck, 1: forward sliding, "
-                               "2: inactive, 3: unknown)")
-
-    def equations(self):
-        return friction_state_machine(self, self.v_relfric, self.a_relfric, self.f0, self.f0_max, self.v_small,
-                                      forward_allowed=self.s < self.smax - self.L / 2,
-                                      backward_allowed=self.s > self.smin + self.L / 2,
-                                      sign_fallback=False)
+    def state_machine_options(self) -> dict:
+        return dict(forward_allowed=self.s < self.smax - self.L / 2,
+                    backward_allowed=self.s > self.smin + self.L / 2,
+                    sign_fallback=False)
 
 
 class MassWithStopAndFriction(PartialFrictionWithStop, PartialElementaryConditionalHeatPortWithoutT):
