@@ -72,6 +72,9 @@ def _import_file(path: Path, filename: str):
     if folder not in sys.path:
         sys.path.insert(0, folder)
     name = _module_name(path)
+    loaded = sys.modules.get(name)
+    if loaded is not None and getattr(loaded, "__file__", None) == str(path):
+        return loaded  # already imported by this command (a folder, then its models)
     module_spec = importlib.util.spec_from_file_location(name, path)
     if module_spec is None or module_spec.loader is None:
         raise CommandError(f"cannot import {filename}: not a Python file")

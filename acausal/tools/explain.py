@@ -618,15 +618,15 @@ def _write_when_clauses(w: _Writer, translation: Translation) -> None:
         symbol = str(eq.variable)
         w.line(f"  {symbol} = {_readable(translation, eq.rhs)}")
         assigned = [str(other.variable) for other in partitioned.discrete_equations
-                    if other is not eq and symbol in sp_free_symbols(other.rhs)]
+                    if other is not eq and symbol in _names_in(other.rhs)]
         if assigned:
             w.items("      assigns: ", assigned, indent=8)
         for reinit in hybrid.reinits:
-            if symbol in sp_free_symbols(reinit.fires):
+            if symbol in _names_in(reinit.fires):
                 w.lines += textwrap.wrap(f"reinit({reinit.variable}, {_readable(translation, reinit.value)})",
                                          _WIDTH, initial_indent="      ", subsequent_indent="        ")
         for termination in hybrid.terminations:
-            if symbol in sp_free_symbols(termination.fires):
+            if symbol in _names_in(termination.fires):
                 w.line(f"      terminate({termination.message!r})")
         w.lines += textwrap.wrap(f"from {eq.origin.component or '(model)'} "
                                  f"({eq.origin.declared_in} eq. {eq.origin.index + 1})",
@@ -651,7 +651,7 @@ def _number_or_text(expr) -> str:
     return f"{float(expr):g}" if getattr(expr, "is_number", False) else str(expr)
 
 
-def sp_free_symbols(expr) -> set[str]:
+def _names_in(expr) -> set[str]:
     """The names of the free symbols of a sympy expression (empty for numbers and None)."""
     return {str(sym) for sym in getattr(expr, "free_symbols", ())}
 
