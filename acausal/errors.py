@@ -36,6 +36,7 @@ __all__ = [
     "SettingError",
     "SimulationInterrupted",
     "ReferenceDataError",
+    "RedundantConstraintWarning",
 ]
 
 
@@ -210,3 +211,14 @@ class SimulationInterrupted(KeyboardInterrupt):
 
 class ReferenceDataError(AcausalError, ValueError):
     """Reference result files are missing or malformed."""
+
+
+class RedundantConstraintWarning(UserWarning):
+    """A discrete state whose equations constrain one motion twice was made solvable.
+
+    Two stuck elements that lock the same motion leave the split of the
+    holding force between them open; acausal then leaves one of the two
+    constraints out and sets one element's share to zero, as Modelica tools
+    pick a split (see :func:`acausal.compiler.structure.relax_redundant`).
+    The warning names the equation left out and the variable set to zero.
+    """

@@ -38,6 +38,7 @@ EXAMPLES = [
     ("blocks_reset_integrator", "ResetHoldIntegrator", None),
     ("rotational_backlash", "Backlash", None),
     ("rotational_lossy_gear_demo1", "LossyGearDemo1", None),
+    ("rotational_lossy_gear_demo2", "LossyGearDemo2", None),
     ("rotational_simple_gear_shift", "SimpleGearShift", None),
     ("rotational_rolling_wheel", "RollingWheel", None),
     ("rotational_eddy_current_brake", "EddyCurrentBrake", None),
@@ -56,11 +57,7 @@ EXAMPLES = [
 ]
 
 #: Examples that do not reproduce their reference yet, with the reason (strict xfail).
-NOT_YET = {
-    "LossyGearDemo2": "a LossyGear and a BearingFriction stuck on one shaft leave the split of the "
-                      "holding torque undetermined: StructurallySingularError at t = 0 (issue 13 note)",
-}
-EXAMPLES += [("pending.rotational_lossy_gear_demo2", "LossyGearDemo2", None)]
+NOT_YET: dict[str, str] = {}
 
 
 def _reference_or_skip(modelica_class):

@@ -113,7 +113,7 @@ def _plain(value: Any) -> str:
     return repr(value)
 
 
-def model_key(flat, demand, clustered: bool) -> str | None:
+def model_key(flat, demand, clustered: bool, redundant_constraints: str = "relax") -> str | None:
     """The key of a flat model's compiled systems, or None when it is not cached.
 
     Returns None for models of more than :data:`MAX_EQUATIONS` equations.
@@ -128,7 +128,8 @@ def model_key(flat, demand, clustered: bool) -> str | None:
 
     add(engine_version())
     add(f"model {flat.name} {flat.modelica_class} {flat.experiment!r}")
-    add(f"demand {sorted(demand) if demand is not None else None} clustered {clustered}")
+    add(f"demand {sorted(demand) if demand is not None else None} clustered {clustered} "
+        f"redundant {redundant_constraints}")
     add(f"structural {sorted(flat.structural_parameters.items(), key=lambda kv: kv[0])!r}")
     for v in flat.variables:
         add(f"variable {v!r}")

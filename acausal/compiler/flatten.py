@@ -132,7 +132,7 @@ class Origin:
 
     def __str__(self) -> str:
         where = self.component or "(model)"
-        if self.declared_in in ("connect", "unconnected", "binding"):
+        if self.declared_in in ("connect", "unconnected", "binding", "relaxation"):
             return f"{where}: {self.declared_in}: {self.text}"
         return f"{where} ({self.declared_in} eq. {self.index + 1}): {self.text}"
 

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable, Iterable, Sequence
 
 import networkx as nx
 import sympy as sp
@@ -58,6 +58,8 @@ __all__ = [
     "priority_matching",
     "maximum_matching",
     "check_balance",
+    "Relaxation",
+    "relax_redundant",
     "differentiate",
 ]
 
@@ -331,6 +333,109 @@ def check_balance(equations: Sequence[FlatEquation], incidence: Sequence[set[str
         hint="some equations constrain the same variables while others are left free; check the "
              "connections of the components named",
         components=components, undetermined=tuple(under))
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """How a structurally singular discrete state was made solvable.
+
+    Attributes
+    ----------
+    dropped : tuple of FlatEquation
+        Equations left out: each constrains what the others already do
+        (two stuck friction elements on one rigid shaft both say that its
+        acceleration is zero).
+    zeroed : tuple of str
+        Flow variables set to zero in their place: the share of the
+        holding force or torque that the equations leave open.
+    """
+
+    dropped: tuple[FlatEquation, ...]
+    zeroed: tuple[str, ...]
+
+    def __str__(self) -> str:
+        left_out = "; ".join(f"{e.origin.component or '(model)'} ({e.origin.declared_in} eq. "
+                             f"{e.origin.index + 1})" for e in self.dropped)
+        return f"left out {left_out} and set {', '.join(self.zeroed)} = 0"
+
+
+def relax_redundant(equations: Sequence[FlatEquation], incidence: Sequence[set[str]],
+                    families: Sequence[str], droppable: Sequence[int], flows: Sequence[str]
+                    ) -> tuple[tuple[FlatEquation, ...], Relaxation] | None:
+    """Make a square but structurally singular system solvable, as Modelica tools do.
+
+    When two elements lock the same motion (two stuck brakes on one rigid
+    shaft), their two constraints say the same thing and the split of the
+    holding torque is left open: the system is square but cannot be
+    matched.  Each deficient pairing is repaired by leaving out one equation
+    of the over-determined part that the discrete state selected
+    (``droppable``, indices into ``equations``) and setting one flow
+    variable of the under-determined part to zero.  (The MSL Rotational
+    Users Guide, RequirementsForSimulationTool, leaves the choice to the
+    tool; a least-norm split gives the same mode decisions in the cases
+    tried, see docs/hard-cases.md, case 5.)
+
+    Returns the new equations and what was changed, or None when the system
+    is not of this kind (not square, already matchable, or the deficiency
+    lies elsewhere than in selected equations and flows).
+    """
+    if len(equations) != len(families):
+        return None
+    equations = list(equations)
+    column = {f: j for j, f in enumerate(families)}
+    # plain index lists (integers match deterministically, whatever the hash seed)
+    G = [sorted({column[base_name(n)] for n in names if base_name(n) in column}) for names in incidence]
+    flow_columns = [column[f] for f in flows if f in column]
+    droppable = set(droppable)
+    dropped: list[FlatEquation] = []
+    zeroed: list[str] = []
+    for _ in range(len(equations)):
+        assign = maximum_matching(G, len(families))  # assign[j]: the equation of column j
+        mate = [-1] * len(G)
+        for j, i in enumerate(assign):
+            if i != -1:
+                mate[i] = j
+        unmatched_eqs = [i for i in range(len(G)) if mate[i] == -1]
+        if not unmatched_eqs:
+            return (tuple(equations), Relaxation(tuple(dropped), tuple(zeroed))) if dropped else None
+        unmatched_cols = [j for j in range(len(families)) if assign[j] == -1]
+        # Dulmage-Mendelsohn: what alternating paths reach from the unmatched ones
+        over = _reach(unmatched_eqs, lambda i: (assign[j] for j in G[i] if assign[j] != -1))
+        readers: list[list[int]] = [[] for _ in families]
+        for i, row in enumerate(G):
+            for j in row:
+                readers[j].append(i)
+        under = _reach(unmatched_cols, lambda j: (mate[i] for i in readers[j] if mate[i] != -1))
+        # an equation the matching left over is the natural one to drop; else the
+        # last selected equation of the over-determined part (both deterministic)
+        choices = [i for i in unmatched_eqs if i in droppable] or sorted(over & droppable)[-1:]
+        zero = next((j for j in flow_columns if j in under), None)
+        if not choices or zero is None:
+            return None
+        drop = choices[0]
+        name = families[zero]
+        dropped.append(equations[drop])
+        zeroed.append(name)
+        origin = equations[drop].origin
+        equations[drop] = FlatEquation(real_symbol(name), Origin(
+            origin.component, origin.component_class, "relaxation", origin.index,
+            f"{name} = 0 (in place of a redundant constraint)"))
+        G[drop] = [zero]
+        droppable.discard(drop)
+        flow_columns.remove(zero)
+    return None
+
+
+def _reach(start: Sequence[int], step: Callable[[int], Iterable[int]]) -> set[int]:
+    """Nodes reached from ``start`` by repeating ``step`` (iteratively)."""
+    seen = set(start)
+    frontier = list(start)
+    while frontier:
+        for node in step(frontier.pop()):
+            if node not in seen:
+                seen.add(node)
+                frontier.append(node)
+    return seen
 
 
 def _components_of(origins, variables=()) -> tuple[str, ...]:

@@ -19,13 +19,15 @@ import functools
 import difflib
 import re
 import time as _time
+import warnings
 from collections import OrderedDict
 from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
 
-from ..errors import ModelDefinitionError, StructuralError
+from ..errors import (ModelDefinitionError, RedundantConstraintWarning, SettingError, StructuralError,
+                      StructurallySingularError)
 from ..language import Component, structural_names, with_structural
 from ..names import is_derivative, parse
 from .cache import ModelCache
@@ -36,6 +38,7 @@ from .flatten import FlatEquation, FlatModel, flatten
 from .initial import InitialSystem, check_fixed_constants, compile_initial_system
 from .modes import ModeSystem, PassLog, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
+from .structure import _incidence, relax_redundant
 
 __all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "translate", "flat_signature",
            "describe_key"]
@@ -86,8 +89,11 @@ class Translation:
 
     def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float,
                  demand: frozenset[str] | None = None, clusters: bool = True,
-                 clustering: Clustering | None = None, disk: bool = True) -> None:
+                 clustering: Clustering | None = None, disk: bool = True,
+                 redundant_constraints: str = "relax") -> None:
         self.flat = flat
+        #: what a discrete state that constrains one motion twice gets (see :func:`translate`)
+        self.redundant_constraints = redundant_constraints
         self.demand = demand
         self.partitioned = partitioned
         self.cache = ModelCache.of(flat)
@@ -213,7 +219,8 @@ class Translation:
             return None
         partitioned = dataclasses.replace(self.partitioned, flat=flat)
         translation = Translation(flat, partitioned, flatten_seconds, self.demand,
-                                  clusters=self.clustering is not None, clustering=self.clustering)
+                                  clusters=self.clustering is not None, clustering=self.clustering,
+                                  redundant_constraints=self.redundant_constraints)
         translation.rebound_from = self
         return translation
 
@@ -277,8 +284,13 @@ class Translation:
         if twin is not None:
             return _shared(twin, key, description, context, passes)
         try:
-            system = compile_mode(key, description, context, equations, passes, self.partitioned,
-                                  self.continuous, self.cache, self.demand)
+            try:
+                system = compile_mode(key, description, context, equations, passes, self.partitioned,
+                                      self.continuous, self.cache, self.demand)
+            except StructurallySingularError:
+                system = self._relaxed(key, description, context, equations, passes)
+                if system is None:
+                    raise
         except StructuralError as exc:
             hint = exc.hint
             if self.partitioned.is_hybrid and (self.systems or self.parts):
@@ -295,6 +307,34 @@ class Translation:
             # the same error, with what the components and parameters add (and its traceback)
             raise exc.with_hint(hint) from None
         self._by_equations[signature] = system
+        return system
+
+    def _relaxed(self, key: tuple, description: str, context: str, equations: tuple[FlatEquation, ...],
+                 passes: PassLog) -> ModeSystem | None:
+        """The system of a discrete state that constrains one motion twice, made
+        solvable by :func:`relax_redundant` (None: not of that kind)."""
+        if not self.partitioned.is_hybrid or self.redundant_constraints != "relax":
+            return None
+        symbols = self.cache.parameters.symbols
+        # the equations whose form the discrete state selects (not those that changed
+        # only because a zero parameter was put in)
+        selectors = set(self.selectors)
+        selected = [i for i, source in enumerate(self.partitioned.equations)
+                    if not selectors.isdisjoint(source.residual.free_symbols)]
+        flows = [n for n, v in self.continuous.items() if v.role == "flow"]
+        found = relax_redundant(equations, [_incidence(e.residual, symbols) for e in equations],
+                                list(self.continuous), selected, flows)
+        if found is None:
+            return None
+        relaxed, relaxation = found
+        try:
+            system = compile_mode(key, description, context, relaxed, passes, self.partitioned,
+                                  self.continuous, self.cache, self.demand)
+        except StructuralError:
+            return None
+        warnings.warn(f"{context}: two equations constrain the same unknowns; {relaxation}; the model "
+                      f"leaves that share undetermined (translate(..., redundant_constraints='error') "
+                      f"refuses such a state instead)", RedundantConstraintWarning, stacklevel=2)
         return system
 
     # -- clusters ---------------------------------------------------------------
@@ -468,7 +508,8 @@ class Translation:
             self._disk = False
             if disk_cache_enabled():
                 tables = self._table_functions()
-                key = model_key(self.flat, self.demand, self.clustering is not None) if tables is not None else None
+                key = model_key(self.flat, self.demand, self.clustering is not None,
+                                self.redundant_constraints) if tables is not None else None
                 if key is not None:
                     self._disk = DiskCache(cache_folder(), key)
                     self._tables = tables
@@ -699,7 +740,8 @@ def _freeze(value):
 
 
 def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True,
-              parameters: Mapping[str, float] | None = None) -> Translation:
+              parameters: Mapping[str, float] | None = None,
+              redundant_constraints: str = "relax") -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
     Parameters
@@ -725,7 +767,18 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         decides which equations or connectors exist) makes a new instance of
         the model's class with that value (:func:`~acausal.language.with_structural`),
         translated anew.
+    redundant_constraints : {'relax', 'error'}
+        A discrete state in which two elements constrain the same motion
+        (two stuck brakes on one rigid shaft) leaves the split of the holding
+        force between them open.  'relax' (the default, what Modelica tools
+        do) leaves one constraint out and sets one element's share to zero,
+        with a :class:`~acausal.errors.RedundantConstraintWarning`
+        (:func:`~acausal.compiler.structure.relax_redundant`); 'error' raises
+        the :class:`~acausal.errors.StructurallySingularError` instead.
     """
+    if redundant_constraints not in ("relax", "error"):
+        raise SettingError(f"redundant_constraints must be 'relax' or 'error', not {redundant_constraints!r}",
+                           hint="'relax' picks a split of the holding force as Modelica tools do")
     t0 = _time.perf_counter()
     if parameters:
         # a structural parameter changes the equations: the model is rebuilt with it
@@ -737,18 +790,20 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
     flat = flatten(model, dict(parameters) if parameters else None)
     demand = _demand(flat, outputs)
     if not cache:
-        return Translation(flat, partition(flat), _time.perf_counter() - t0, demand, disk=False)
+        return Translation(flat, partition(flat), _time.perf_counter() - t0, demand, disk=False,
+                           redundant_constraints=redundant_constraints)
     equations = _Equations(flat)
-    key = (_parameter_part(flat, False), equations, demand)
+    key = (_parameter_part(flat, False), equations, demand, redundant_constraints)
     found = _CACHE.get(key)
     if found is not None:
         _CACHE.move_to_end(key)
         return found
-    structure = (_parameter_part(flat, True), equations, demand)
+    structure = (_parameter_part(flat, True), equations, demand, redundant_constraints)
     base = _STRUCTURES.get(structure)
     translation = base.rebound(flat, _time.perf_counter() - t0) if base is not None else None
     if translation is None:
-        translation = Translation(flat, partition(flat), _time.perf_counter() - t0, demand)
+        translation = Translation(flat, partition(flat), _time.perf_counter() - t0, demand,
+                                  redundant_constraints=redundant_constraints)
         _remember(_STRUCTURES, structure, translation)
     _remember(_CACHE, key, translation)
     return translation

@@ -133,6 +133,10 @@ class DiscreteEvaluator:
         self._downstream = self._downstream_equations()
         self._selector_names = tuple(parse(s.name) for s in translation.selectors)
         self._vector_plan = None
+        #: which relations the last pass of event iteration decided beyond their
+        #: margin, and the relation values it produced (see :meth:`_pass`)
+        self._clear: tuple[bool, ...] | None = None
+        self._clear_for = None
         self._scalar_plan = None
         self._kinds = [(1.0 if r.op in (">", ">=") else -1.0, r.op in (">", "<"), r.is_time_event)
                        for r in self.relations]
@@ -155,6 +159,8 @@ class DiscreteEvaluator:
             for a, late in sources:
                 if not late and a in self.kinds:
                     self._early_readers.setdefault(a, []).append(i)
+        #: relations that cross together at the last event (see :meth:`_twins_at`)
+        self._twins: dict[int, tuple[int, ...]] = {}
         #: the relations whose relevance check (:meth:`_flip_changes`) reads each name
         self._checks_reading: dict[str, set[int]] = {}
         for k in range(len(self.relations)):
@@ -311,7 +317,7 @@ class DiscreteEvaluator:
     # -- relations --------------------------------------------------------------
 
     def relation_values(self, system: ModeSystem, t: float, x, previous, exact: bool = False,
-                        fired: frozenset = frozenset()):
+                        fired: frozenset = frozenset(), clear=None):
         """Relation values at ``(t, x)``; with hysteresis against ``previous``.
 
         Relations in ``fired`` (those whose crossing caused the event) are
@@ -319,12 +325,25 @@ class DiscreteEvaluator:
         discrete state their arguments may have other units (``sa`` is a
         torque while locked and an acceleration while sliding), so a margin
         in the units of one would wrongly undo the crossing in the other.
+
+        ``clear`` (in event iteration: from the pass before) says which of
+        ``previous`` were decided with ``lhs - rhs`` beyond the margin.  Such
+        a relation that was true and whose sides are now exactly equal stays
+        true: the guess the pass made because it was true put it at its
+        limit (a friction element tried sliding sees exactly its sliding
+        torque), which confirms the guess rather than deciding against it.
+        (A false relation at its limit takes its own value: ``u <= 0`` for
+        ``u`` stepped to exactly 0 becomes true.)
         """
         if not self.relations:
             return ()
         raw = system.crossings(t, x)
         if len(self._kinds) >= _VECTORISE_FROM:
-            return self._relation_values_vectorised(raw, previous, exact, fired)
+            values = self._relation_values_vectorised(raw, previous, exact, fired)
+            if clear is not None:
+                values = tuple(True if clear[k] and previous[k] and raw[2 * k] == raw[2 * k + 1] and not exact
+                               else v for k, v in enumerate(values))
+            return values
         out = []
         epsilon = self.epsilon
         # Relation.holds and holds_with_hysteresis, inlined (see flipped_relations)
@@ -334,6 +353,9 @@ class DiscreteEvaluator:
             # u = 0 is true): the margin only keeps round-off from flipping a relation
             if timed and k in fired and abs(lhs - rhs) <= _ROUND_OFF * max(1.0, abs(lhs), abs(rhs)):
                 v = 0.0  # at its time event: the crossing instant was computed exactly
+            elif lhs == rhs and clear is not None and clear[k] and previous[k] and not exact:
+                out.append(True)
+                continue
             elif exact or timed or k in fired or lhs == rhs:
                 v = d * (lhs - rhs)
             else:
@@ -371,6 +393,22 @@ class DiscreteEvaluator:
                 v = np.where(at_root, 0.0, v)
             holds = np.where(strict, v > 0, v >= 0)
         return tuple(holds.tolist())
+
+    def clearly_decided(self, system: ModeSystem, t: float, x, inherited=None) -> tuple[bool, ...]:
+        """Whether each relation's ``lhs - rhs`` at ``(t, x)`` lies beyond its margin,
+        or is exactly at its limit and kept a value decided clearly before
+        (``inherited``: the answer for the pass before)."""
+        raw = system.crossings(t, x)
+        self._twins = self._twins_at(raw)
+        epsilon = self.epsilon
+        out = []
+        for k in range(len(self.relations)):
+            lhs, rhs = raw[2 * k], raw[2 * k + 1]
+            if lhs == rhs:
+                out.append(bool(inherited is not None and inherited[k]))
+            else:
+                out.append(abs(lhs - rhs) > epsilon * max(1.0, abs(lhs), abs(rhs)))
+        return tuple(out)
 
     def flipped_relations(self, system: ModeSystem, t: float, x, relations,
                           watched: tuple[int, ...]) -> tuple[int, ...]:
@@ -690,7 +728,7 @@ class DiscreteEvaluator:
             env.update(discrete)
             for k in again:
                 checked[k] = self._flip_changes(k, env, discrete, relations)
-        self._last_relevance = (dict(discrete), tuple(relations), dict(checked))
+        self._last_relevance = (dict(discrete), tuple(relations), dict(checked), self._twins)
         out = []
         for k, rel in enumerate(self.relations):
             if rel.is_time_event:
@@ -719,9 +757,9 @@ class DiscreteEvaluator:
         changed since (None: check all)."""
         last = self._last_relevance
         if last is None or not INCREMENTAL or self._hybrid or len(last[1]) != len(relations) \
-                or len(last[0]) != len(discrete):
+                or len(last[0]) != len(discrete) or last[3] != self._twins:
             return None
-        old_discrete, old_relations, answers = last
+        old_discrete, old_relations, answers, _twins = last
         names = [self._relation_names[k] for k, (a, b) in enumerate(zip(relations, old_relations)) if a != b]
         for name, value in discrete.items():
             if old_discrete.get(name, not value) != value:
@@ -735,17 +773,40 @@ class DiscreteEvaluator:
         out[None] = sorted(k for k in again if k in answers)
         return out
 
+    def _twins_at(self, raw) -> dict[int, tuple[int, ...]]:
+        """For each state relation, the others of the same component and direction whose
+        sides have the same values in ``raw`` (``sa > tau0_max`` and ``sa > tau0``
+        when the peak is 1): they cross together, so whether a crossing matters
+        is asked of them together (see :meth:`relevant_relations`)."""
+        groups: dict[tuple, list[int]] = {}
+        for k, rel in enumerate(self.relations):
+            if rel.is_time_event:
+                continue
+            groups.setdefault((rel.components, self._kinds[k][0], raw[2 * k], raw[2 * k + 1]), []).append(k)
+        return {k: tuple(j for j in group if j != k)
+                for group in groups.values() if len(group) > 1 for k in group}
+
     def _flip_changes(self, k: int, env: Mapping, discrete: Mapping, relations) -> bool:
+        """Whether flipping relation k, alone or together with its twins, changes a
+        discrete variable (pre = current)."""
+        if self._flip_changes_of((k,), env, discrete, relations):
+            return True
+        twins = self._twins.get(k)
+        return bool(twins) and self._flip_changes_of((k, *twins), env, discrete, relations)
+
+    def _flip_changes_of(self, ks: tuple[int, ...], env: Mapping, discrete: Mapping, relations) -> bool:
         """Whether flipping relation k alone changes a discrete variable (pre = current).
 
         Only the equations downstream of the relation are evaluated; they see
         ``env`` with the relation flipped.  (A variable they recompute keeps
         its value, or the answer is already yes.)
         """
-        flipped = relation_name(k)
-        for i in self._downstream[k]:
+        flipped = {relation_name(k): not relations[k] for k in ks}
+        downstream = self._downstream[ks[0]] if len(ks) == 1 else \
+            sorted(set().union(*(self._downstream[k] for k in ks)))
+        for i in downstream:
             variable, args, fn, _origin = self.equations[i]
-            value = _cast(self.kinds[variable], fn(*[(not relations[k]) if a == flipped else env[a] for a in args]))
+            value = _cast(self.kinds[variable], fn(*[flipped[a] if a in flipped else env[a] for a in args]))
             if value != discrete[variable]:
                 return True
         return False
@@ -909,7 +970,13 @@ class DiscreteEvaluator:
         """Solve the continuous part for a guess, then re-evaluate the discrete part."""
         system = self.translation.system(self.key(discrete, pre, relations, initial))
         x = self._states(system, values, discrete) if self.held else [values[s] for s in system.states]
-        new_relations = self.relation_values(system, t, x, relations_before, fired=fired)
+        # hysteresis against the pass before (the first pass: against the values
+        # before the event), and a relation that pass decided clearly keeps its
+        # value when this guess puts it exactly at its limit
+        clear = self._clear if self._clear_for is not None and relations == self._clear_for else None
+        new_relations = self.relation_values(system, t, x, relations, fired=fired, clear=clear)
+        if self.relations:
+            self._clear, self._clear_for = self.clearly_decided(system, t, x, clear), new_relations
         if self._continuous_args:
             self._extra.update(self._continuous_env(system, t, x, values if left is None else left))
         self._relations_now = new_relations
@@ -931,11 +998,14 @@ class DiscreteEvaluator:
         if not booleans:  # nothing continuous to choose: a purely discrete loop
             return None
         base = {**current, **{n: pre[n] for n in booleans}}
+        # every candidate is judged against the same pass: the last of the cycle
+        judged_against = (self._clear, self._clear_for)
         for flips in range(len(booleans) + 1):
             for chosen in itertools.combinations(booleans, flips):
                 candidate = dict(base)
                 for n in chosen:
                     candidate[n] = not candidate[n]
+                self._clear, self._clear_for = judged_against
                 try:
                     result, rels = self._pass(t, values, candidate, pre, relations,
                                               relations_before, initial, fired)

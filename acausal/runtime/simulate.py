@@ -67,7 +67,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              relation_epsilon: float = 1e-10, max_event_iterations: int = 20,
              chattering_events: int = 100, outputs: Sequence[str] | None = None,
              max_steps: int | None = None, timeout: float | None = None,
-             cache: bool = True, parameters: Mapping[str, float] | None = None) -> SimulationResult:
+             cache: bool = True, parameters: Mapping[str, float] | None = None,
+             redundant_constraints: str = "relax") -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -116,6 +117,12 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         a constant) makes a new translation, and the result's notes say so.
         Structural parameters (``structural=True``) are set when the model is
         built.
+    redundant_constraints : {'relax', 'error'}
+        What a discrete state gets in which two elements constrain the same
+        motion (both stuck on one rigid shaft): a split of the holding force
+        picked as Modelica tools do, with a warning, or the error (see
+        :func:`~acausal.compiler.translate.translate`).  A translation
+        given as ``model`` keeps its own choice.
 
     Returns
     -------
@@ -144,7 +151,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
                                hint="simulate(model, parameters={...}) reuses the compiled systems")
         translation = model
     else:
-        translation = translate(model, outputs, cache=cache, parameters=parameters)
+        translation = translate(model, outputs, cache=cache, parameters=parameters,
+                                redundant_constraints=redundant_constraints)
     flatten_seconds = _time.perf_counter() - t_setup
     experiment = translation.flat.experiment
     t0 = experiment.start_time if start_time is None else start_time

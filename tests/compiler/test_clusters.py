@@ -177,8 +177,9 @@ def test_an_initial_equation_joins_the_parts_it_relates(monkeypatch):
 
 
 class _LockedPairAndUnit(Model):
-    """Two bearings on one shaft (both stuck: a state the engine cannot solve) beside an
-    independent stick-slip unit: a part that fails mid-run."""
+    """Two bearings on one shaft (both stuck: a state the engine refuses with
+    ``redundant_constraints='error'``) beside an independent stick-slip unit: a part
+    that fails mid-run."""
 
     def build(self):
         from acausal.library.rotational import ConstantTorque
@@ -205,11 +206,11 @@ def test_a_part_that_fails_mid_run_leaves_a_usable_translation(tmp_path, monkeyp
     before goes, so that explain and a new parameter value still work."""
     from acausal.tools.explain import explain
 
-    translation = translate(_LockedPairAndUnit(), cache=False)
+    translation = translate(_LockedPairAndUnit(), cache=False, redundant_constraints="error")
     assert translation.clustering is not None
     result = simulate(translation, stop_time=2.0)
     monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
-    whole = simulate(_LockedPairAndUnit(), stop_time=2.0, cache=False)
+    whole = simulate(_LockedPairAndUnit(), stop_time=2.0, cache=False, redundant_constraints="error")
     assert result.status == whole.status == -1
     assert result.message == whole.message
     assert translation.clustering is None

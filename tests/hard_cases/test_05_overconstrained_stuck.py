@@ -14,14 +14,30 @@ ZeroDivisionError or a LinAlgError from deep inside.
 
 What acausal does
 -----------------
-* Both stuck at the start: ``simulate`` raises StructurallySingularError
+By default, as Modelica tools do, it picks a split: in the stuck-stuck
+state one of the two constraints is left out and one element's share of the
+holding torque is set to zero (``relax_redundant``), with a
+RedundantConstraintWarning that names both.  The physics that the split does
+not decide is then checked:
+
+* the shaft stays at rest while the drive is below the combined static limit
+  ``tau1 + tau2`` (whatever the split, the element that gets too much starts
+  sliding at its limit and the other holds the rest), and breaks away with
+  ``a = (T - tau1 - tau2)/J`` above it;
+* sliding first, both stop at the analytic ``t* = J|w0|/(tau1 + tau2 -+ T)``
+  and stay stopped;
+* the holding torques add up to the drive (the torque balance of the shaft).
+
+With ``redundant_constraints="error"`` the state is refused instead:
+
+* both stuck at the start: ``simulate`` raises StructurallySingularError
   (a StructuralError, a ValueError) naming the discrete state
   (``bf1.locked=True, bf2.locked=True``), the equations of both elements and a
   friction-specific hint: put a compliance (SpringDamper) between the
   elements or merge them into one.  (It used to recommend "an inertia or a
   compliance", but an inertia is rigid: bf1 -> inertia -> bf2 is still
   singular — bug E of docs/hard-cases.md, fixed.)
-* Sliding first: the run returns ``status == -1`` with a SolverError whose
+* sliding first: the run returns ``status == -1`` with a SolverError whose
   message gives the time (the analytic stop t* = J w0 / (tau1 + tau2)) and the
   same diagnosis, and the result keeps everything up to t*.  The hint is
   stated once (it used to appear twice in this message — bug F, fixed).
@@ -30,17 +46,26 @@ What acausal does
 from __future__ import annotations
 
 import re
+import warnings
 
 import numpy as np
 import pytest
 
 from acausal import Model, simulate
-from acausal.errors import AcausalError, SolverError, StructuralError, StructurallySingularError
+from acausal.errors import (
+    AcausalError,
+    RedundantConstraintWarning,
+    SolverError,
+    StructuralError,
+    StructurallySingularError,
+)
 from acausal.library.blocks import Constant
 from acausal.library.rotational import BearingFriction, Brake, ConstantTorque, Inertia
 
 REST = dict(start=0, fixed=True)
 TAU1, TAU2, J = 1.0, 2.0, 1.0
+#: refuse the stuck-stuck state instead of picking a split of the holding torque
+STRICT = dict(redundant_constraints="error")
 
 
 def two_bearings(w0, T=0.0, inertia_between=False):
@@ -90,7 +115,7 @@ def assert_clear_diagnosis(text, first="bf1", second="bf2"):
 @pytest.mark.parametrize("T", [0.0, 0.5, 5.0], ids=["no-drive", "small-drive", "large-drive"])
 def test_both_stuck_at_start_raises_structurally_singular(T):
     with pytest.raises(StructurallySingularError) as info:
-        simulate(two_bearings(0.0, T), stop_time=1.0)
+        simulate(two_bearings(0.0, T), stop_time=1.0, **STRICT)
     error = info.value
     assert isinstance(error, StructuralError) and isinstance(error, ValueError)
     assert_clear_diagnosis(str(error))
@@ -107,7 +132,7 @@ def test_sticking_mid_run_stops_with_reason_and_partial_result(w0, T, method):
     decel = TAU1 + TAU2 - s * T
     t_star = J * abs(w0) / decel
     result = simulate(two_bearings(w0, T), stop_time=2 * t_star, interval=t_star / 50, method=method,
-                      rtol=1e-10)
+                      rtol=1e-10, **STRICT)
     assert result.status == -1
     assert isinstance(result.error, SolverError) and isinstance(result.error, AcausalError)
     assert result.error.result is result
@@ -126,7 +151,7 @@ def test_sticking_mid_run_stops_with_reason_and_partial_result(w0, T, method):
 
 
 def test_bearing_and_brake_on_one_shaft():
-    result = simulate(BearingAndBrake(), stop_time=2.0, interval=0.02, rtol=1e-10)
+    result = simulate(BearingAndBrake(), stop_time=2.0, interval=0.02, rtol=1e-10, **STRICT)
     assert result.status == -1 and isinstance(result.error, SolverError)
     assert_clear_diagnosis(result.message, "bf", "brake")
     assert result.time[-1] == pytest.approx(1.0, abs=1e-9)  # 2 rad/s at (1 + 1) N.m / 1 kg.m2
@@ -135,16 +160,92 @@ def test_bearing_and_brake_on_one_shaft():
 def test_an_inertia_between_the_bearings_is_still_one_rigid_shaft():
     """Physics: an inertia is rigid, so bf1 -> inertia -> bf2 locked together is still singular."""
     with pytest.raises(StructurallySingularError) as info:
-        simulate(two_bearings(0.0, 0.0, inertia_between=True), stop_time=1.0)
+        simulate(two_bearings(0.0, 0.0, inertia_between=True), stop_time=1.0, **STRICT)
     assert_clear_diagnosis(str(info.value))
 
 
 def test_hint_does_not_recommend_an_inertia():
     with pytest.raises(StructurallySingularError) as info:
-        simulate(two_bearings(0.0, 0.0), stop_time=1.0)
+        simulate(two_bearings(0.0, 0.0), stop_time=1.0, **STRICT)
     assert "inertia" not in info.value.hint
 
 
 def test_mid_run_message_states_the_hint_once():
-    result = simulate(two_bearings(3.0), stop_time=2.0)
+    result = simulate(two_bearings(3.0), stop_time=2.0, **STRICT)
     assert result.message.count("hint:") == 1
+
+
+# ---------------------------------------------------------------------------
+# The default: a split is picked, and the physics it does not decide holds
+# ---------------------------------------------------------------------------
+
+def simulate_relaxed(model, **options):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = simulate(model, **options)
+    return result, [w for w in caught if issubclass(w.category, RedundantConstraintWarning)]
+
+
+@pytest.mark.parametrize("T", [0.0, 0.5, -0.5, 2.5, -2.9])
+def test_both_stuck_below_the_combined_limit_stay_at_rest(T):
+    """|T| < tau1 + tau2: the shaft does not move, and the elements hold the drive between them."""
+    result, _ = simulate_relaxed(two_bearings(0.0, T), stop_time=2.0, interval=0.01, rtol=1e-10)
+    assert result.status == 0, result.message
+    assert np.max(np.abs(result["inertia.w"])) <= 1e-9
+    assert np.max(np.abs(result["inertia.phi"])) <= 1e-9
+    # torque balance of the shaft at rest: the friction torques hold the drive
+    held = result["bf1.tau"] + result["bf2.tau"]
+    np.testing.assert_allclose(held, T, atol=1e-9)
+    # and neither exceeds its static limit
+    assert np.max(np.abs(result["bf1.tau"])) <= TAU1 + 1e-9
+    assert np.max(np.abs(result["bf2.tau"])) <= TAU2 + 1e-9
+
+
+def test_the_split_is_named_in_a_warning():
+    result, caught = simulate_relaxed(two_bearings(0.0, 0.5), stop_time=1.0, cache=False)
+    assert result.status == 0
+    assert len(caught) == 1
+    text = str(caught[0].message)
+    assert "bf1.locked=True" in text and "bf2.locked=True" in text   # the discrete state
+    assert re.search(r"left out bf[12] \(PartialFriction eq\. \d+\)", text)
+    assert re.search(r"set bf[12]\.\S+ = 0", text)
+    assert "redundant_constraints='error'" in text                    # how to refuse instead
+
+
+def test_both_stuck_above_the_combined_limit_break_away():
+    """T = 5 > tau1 + tau2 = 3: both slide at once, a = (T - tau1 - tau2)/J = 2."""
+    T = 5.0
+    result, _ = simulate_relaxed(two_bearings(0.0, T), stop_time=2.0, interval=0.01, rtol=1e-10)
+    assert result.status == 0, result.message
+    t, w = result.time, result["inertia.w"]
+    np.testing.assert_allclose(w, (T - TAU1 - TAU2) / J * t, atol=1e-7)
+
+
+@pytest.mark.parametrize("w0, T", [(3.0, 0.0), (3.0, 1.0), (-3.0, 0.0)])
+@pytest.mark.parametrize("method", ["RK45", "Radau"])
+def test_sticking_mid_run_stays_stuck(w0, T, method):
+    """Sliding at w0: both stick at t* = J|w0|/(tau1 + tau2 -+ T) and stay at rest."""
+    s = np.sign(w0)
+    decel = TAU1 + TAU2 - s * T
+    t_star = J * abs(w0) / decel
+    result, caught = simulate_relaxed(two_bearings(w0, T), stop_time=2 * t_star, interval=t_star / 50,
+                                      method=method, rtol=1e-10)
+    assert result.status == 0, result.message
+    stops = [e for e in result.events if ("bf1.mode", s, 0) in e.changes]
+    assert len(stops) == 1 and stops[0].time == pytest.approx(t_star, abs=1e-9)
+    assert ("bf2.mode", s, 0) in stops[0].changes
+    t, w = result.time, result["inertia.w"]
+    before, after = t < t_star, t > t_star + 1e-6
+    np.testing.assert_allclose(w[before], s * (abs(w0) - decel * t[before] / J), rtol=0, atol=1e-8)
+    assert np.max(np.abs(w[after])) <= 1e-9
+    np.testing.assert_allclose((result["bf1.tau"] + result["bf2.tau"])[after], T, atol=1e-9)
+    assert len(caught) <= 1  # compiled once (none when an earlier test compiled it)
+
+
+def test_bearing_and_brake_stop_together_and_stay():
+    """2 rad/s against (1 + 1) N.m on 1 kg.m2: stop at t = 1 s, then rest."""
+    result, _ = simulate_relaxed(BearingAndBrake(), stop_time=2.0, interval=0.02, rtol=1e-10)
+    assert result.status == 0, result.message
+    t, w = result.time, result["inertia.w"]
+    np.testing.assert_allclose(w[t < 1.0], 2.0 - 2.0 * t[t < 1.0], atol=1e-8)
+    assert np.max(np.abs(w[t > 1.0])) <= 1e-9

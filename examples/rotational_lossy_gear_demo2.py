@@ -2,14 +2,15 @@
 
 LossyGearDemo1 with a bearing friction (0.5 N.m at rest, rising to 1 N.m
 at 1 rad/s) between the sine drive and Inertia1.  Both friction elements
-pass through all their modes within 0.5 s.  When both are stuck at once
-the torque split between them is not unique: both constrain the
-acceleration of Inertia1.
+pass through all their modes within 0.5 s.
 
-Not reproduced yet (hence ``examples/pending/``): acausal stops at t = 0
-with a StructurallySingularError where Modelica tools pick a split of the
-holding torque.  The issue 13 note records what reproduces the reference
-(6 of 6 signals) and what is still missing for a general rule.
+When both are stuck at once the split of the holding torque between
+them is not determined by the model: both constrain the acceleration of
+Inertia1.  As Modelica tools do, acausal then picks a split (one element's
+share is zero, with a RedundantConstraintWarning; see hard case 5 in
+docs/hard-cases.md), and the event iteration settles where the gear holds
+the shaft while the bearing rests at its sliding torque, as in the
+reference.
 
 ``PowerLoss``, the power flowing into the gear through its flanges, must
 equal ``gear.lossPower``.
