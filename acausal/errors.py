@@ -37,6 +37,9 @@ __all__ = [
     "SimulationInterrupted",
     "ReferenceDataError",
     "RedundantConstraintWarning",
+    "UnitError",
+    "UnitWarning",
+    "StartValueWarning",
 ]
 
 
@@ -211,6 +214,23 @@ class SimulationInterrupted(KeyboardInterrupt):
 
 class ReferenceDataError(AcausalError, ValueError):
     """Reference result files are missing or malformed."""
+
+
+class UnitError(ModelDefinitionError):
+    """An equation whose terms have inconsistent units (raised by the strict unit check)."""
+
+
+class UnitWarning(UserWarning):
+    """An equation whose terms have inconsistent units (the unit check's default)."""
+
+
+class StartValueWarning(UserWarning):
+    """States without ``fixed=True`` were initialised from their start values.
+
+    When the initial problem is under-determined, acausal does what Modelica
+    tools do: the remaining states take their start values, and this warning
+    lists them.
+    """
 
 
 class RedundantConstraintWarning(UserWarning):
