@@ -29,6 +29,7 @@ from .language import (
     StateSelect,
     Variable,
     der,
+    describe,
     initial,
     pre,
     time,
@@ -46,7 +47,7 @@ __all__ = [
     # the language
     "Boolean", "Component", "Connector", "Eq", "Experiment", "Flow", "If", "Integer", "Model",
     "Parameter", "Potential", "RealInput", "RealOutput", "StateSelect", "Variable", "der", "initial",
-    "pre", "time",
+    "pre", "time", "describe",
     # the hybrid language (Modelica chapter 8)
     "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "Assert", "terminate",
     "floor", "ceil", "integer", "div", "mod", "rem",

@@ -64,6 +64,8 @@ __all__ = [
     "real_symbol",
     "structural_names",
     "with_structural",
+    "describe",
+    "own_docstring",
 ]
 
 #: The independent variable.
@@ -241,6 +243,13 @@ def _value_text(value: Any) -> str:
 
 def _short(text: str, width: int = 60) -> str:
     return text if len(text) <= width else text[:width - 3] + "..."
+
+
+def _dict_text(modifiers: Mapping[str, Any]) -> str:
+    """Modifiers as the ``dict(...)`` call that gives them, nested ones too."""
+    parts = [f"{key}={_dict_text(value) if isinstance(value, dict) else _short(_value_text(value), 40)}"
+             for key, value in modifiers.items()]
+    return f"dict({', '.join(parts)})"
 
 
 def _attribute_text(value: Any) -> str:
@@ -599,8 +608,13 @@ def _declarations_doc(component_class: type["Component"], own: str | None) -> st
         if declaration.description:
             lines += textwrap.wrap(declaration.description, width=76, initial_indent="    ",
                                    subsequent_indent="    ", break_on_hyphens=False)
+    # a docstring with a section of the same title (its own "Parameters" on
+    # how to choose them) keeps it; the generated one is titled apart
+    cleaned = inspect.cleandoc(own) if own else ""
+    titled = {(f"Declared {title.lower()}" if f"\n{title}\n{'-' * len(title)}" in f"\n{cleaned}" else title): lines
+              for title, lines in sections.items()}
     text = "\n\n".join("\n".join([title, "-" * len(title), *lines])
-                       for title, lines in sections.items() if lines)
+                       for title, lines in titled.items() if lines)
     if not text:
         return own
     return f"{inspect.cleandoc(own)}\n\n{text}" if own else text
@@ -628,6 +642,157 @@ class _ComponentDoc:
             except Exception:  # noqa: BLE001 - reading a docstring must never fail
                 return self._own
         return self._text or self._own
+
+
+def own_docstring(klass: type) -> str:
+    """The docstring a class wrote itself, without the generated declaration sections ('' if none)."""
+    own = vars(klass).get("__doc__")
+    if isinstance(own, _ComponentDoc):
+        own = own._own
+    return inspect.cleandoc(own) if isinstance(own, str) else ""
+
+
+def describe(subject: Any, width: int = 100) -> str:
+    """A table of what a component (class or instance) or connector class declares.
+
+    One table per kind: parameters (default or, for an instance, the value a
+    modifier gave), connectors, variables (start, fixed), each with unit,
+    min, max and description; for a model, the sub-components its build()
+    makes, with their modifiers.  ``acausal show`` prints it.
+
+    Parameters
+    ----------
+    subject : Component subclass, Component instance or Connector subclass
+        What to describe.
+    width : int
+        Line width the descriptions are wrapped to.
+
+    Returns
+    -------
+    str
+        The text, a title line, the first paragraph of the docstring, the tables.
+    """
+    instance = subject if isinstance(subject, Component) else None
+    klass = type(subject) if instance is not None else subject
+    if not (isinstance(klass, type) and issubclass(klass, (Component, Connector))):
+        raise TypeError(f"describe() takes a component class, a component or a connector class, "
+                        f"not {subject!r}")
+    title = repr(instance) if instance is not None else f"{klass.__name__} ({klass.__module__}.{klass.__qualname__})"
+    summary = own_docstring(klass).split("\n\n", 1)[0]
+    blocks = [title] + ([summary] if summary else [])
+    if issubclass(klass, Connector):
+        rows = [[name, getattr(variable, "connector_role", ""), variable.unit, variable.description]
+                for name, variable in klass.variables().items()]
+        blocks.append(_table("Variables", ["name", "role", "unit", "description"], rows, width))
+        return "\n\n".join(blocks) + "\n"
+    sections = _declaration_rows(klass, instance)
+    for title, (header, rows) in sections.items():
+        if rows:
+            blocks.append(_table(title, header, rows, width))
+    blocks.append(_subcomponents_text(klass, instance, width))
+    return "\n\n".join(block for block in blocks if block) + "\n"
+
+
+def _declaration_rows(klass: type["Component"], instance: "Component | None") -> dict[str, tuple[list, list]]:
+    """{section title: (column names, rows)} of a component's declarations, its own first."""
+    declarations = klass.declarations()
+    ordered = dict.fromkeys(name for base in klass.__mro__ for name in vars(base) if name in declarations)
+    parameters: list[list[str]] = []
+    connectors: list[list[str]] = []
+    variables: list[list[str]] = []
+
+    def bound(value: Any) -> str:
+        return "" if value is None else _attribute_text(value)
+
+    for name in ordered:
+        declaration = declarations[name]
+        notes = declaration._doc_condition()
+        if isinstance(declaration, Parameter):
+            value = declaration.default
+            if instance is not None and name in instance._modifiers:
+                value = instance._modifiers[name]
+                notes.insert(0, "modified")
+            if declaration.structural:
+                notes.append("structural")
+            if declaration.fixed is not True:
+                notes.append(f"fixed={_value_text(declaration.fixed)}")
+            parameters.append([name, "" if value is None else _attribute_text(value), declaration.unit,
+                               bound(declaration.min), bound(declaration.max), ", ".join(notes),
+                               declaration.description])
+        elif isinstance(declaration, Connector):
+            connectors.append([name, type(declaration).__name__, "", ", ".join(notes), declaration.description])
+        elif isinstance(declaration, Variable):
+            modified = instance._attribute_modifiers.get(name, {}) if instance is not None else {}
+
+            def attribute(key: str) -> Any:
+                return modified.get(key, getattr(declaration, key))
+
+            if modified:
+                notes.insert(0, "modified")
+            kind = type(declaration).__name__
+            if type(declaration) is Variable:
+                kind = "discrete Real" if declaration.discrete else "Real"
+            if declaration.causality:  # signal connectors are listed with the connectors
+                connectors.append([name, kind, declaration.unit, ", ".join(notes), declaration.description])
+                continue
+            fixed = attribute("fixed")
+            if fixed is True:
+                notes.append("fixed")
+            elif fixed is not False:
+                notes.append(f"fixed {_attribute_text(fixed)}")
+            variables.append([name, kind, declaration.unit, bound(attribute("start")), bound(attribute("min")),
+                              bound(attribute("max")), ", ".join(notes), declaration.description])
+    return {
+        "Parameters": (["name", "value" if instance is not None else "default", "unit", "min", "max", "notes",
+                        "description"], parameters),
+        "Connectors": (["name", "type", "unit", "notes", "description"], connectors),
+        "Variables": (["name", "type", "unit", "start", "min", "max", "notes", "description"], variables),
+    }
+
+
+def _subcomponents_text(klass: type["Component"], instance: "Component | None", width: int) -> str:
+    """The table of the sub-components build() makes, on a fresh copy ('' for a class without build)."""
+    if not _may_have_subcomponents(klass):
+        return ""
+    try:
+        # a fresh instance: describing must not build the user's (structural
+        # parameters may still be set on it before it is built)
+        model = with_structural(instance, {}) if instance is not None else klass()
+        model.ensure_built()
+    except Exception as exc:  # noqa: BLE001 - describing must not fail on a model that cannot be built
+        return f"Components\n  (unknown: build() raised {type(exc).__name__}: {_short(str(exc), 80)})"
+    rows = [[name, type(child).__name__, repr(child)] for name, child in model._children.items()]
+    if not rows:
+        return ""
+    return _table("Components", ["name", "class", "as built"], rows, width)
+
+
+def _table(title: str, header: list[str], rows: list[list[str]], width: int) -> str:
+    """A titled text table; the last column (a description) wraps under itself."""
+    import textwrap
+
+    columns = [[str(cell) for cell in column] for column in zip(header, *rows)]
+    # columns left empty in every row are dropped (a table without units has no unit column)
+    keep = [index for index, column in enumerate(columns) if index == 0 or any(column[1:])]
+    header = [header[index] for index in keep]
+    rows = [[str(row[index]) for index in keep] for row in rows]
+    widths = [max(len(cell) for cell in column) for column in zip(header, *rows)]
+    indent = 2
+    last_start = indent + sum(widths[:-1]) + 2 * (len(widths) - 1)
+    last_width = max(30, width - last_start)
+
+    def line(cells: list[str]) -> list[str]:
+        head = "".join(cell.ljust(w + 2) for cell, w in zip(cells[:-1], widths[:-1]))
+        wrapped = textwrap.wrap(cells[-1], width=last_width, break_on_hyphens=False) or [""]
+        out = [(" " * indent + head + wrapped[0]).rstrip()]
+        out += [" " * last_start + more for more in wrapped[1:]]
+        return out
+
+    rule = ["-" * w for w in widths[:-1]] + ["-" * min(widths[-1], last_width)]
+    lines = [title] + line(header) + line(rule)
+    for row in rows:
+        lines += line(row)
+    return "\n".join(lines)
 
 
 class Component:
@@ -665,6 +830,10 @@ class Component:
         object.__setattr__(self, "_built", False)
         object.__setattr__(self, "_modifiers", {})
         object.__setattr__(self, "_attribute_modifiers", {})
+        #: Modifiers of sub-components by their name, ``{"clutch": {"fn_max": 100}}``
+        #: (Modelica's ``m(clutch(fn_max=100))``).  Sub-components exist only once
+        #: build() has run: each gets its entry when build() assigns it.
+        object.__setattr__(self, "_nested_modifiers", {})
         declarations = self.declarations()
         for key, value in modifiers.items():
             self._apply_modifier(key, value, declarations)
@@ -682,30 +851,89 @@ class Component:
         return found
 
     def _apply_modifier(self, key: str, value: Any, declarations: dict[str, Declaration]) -> None:
+        """Apply the modifier ``key=value``: a parameter's value, a variable's attributes
+        (a dict) or a sub-component's modifiers (a dict).
+
+        A dict for a name the class does not declare is kept for the
+        sub-component of that name, which build() creates later; build()
+        checks that it did (:meth:`_check_nested_modifiers`).
+        """
+        owner = self._modifier_owner()
         where = type(self).__name__
         if key not in declarations:
-            candidates = difflib.get_close_matches(key, list(declarations), n=3)
-            hint = (f"did you mean {', '.join(candidates)}?" if candidates
-                    else f"{where} declares: {', '.join(sorted(declarations))}")
-            raise ModifierError(f"{where} has no parameter or variable named {key!r}", hint=hint)
+            if isinstance(value, dict) and key in self._children:
+                self._nested_modifiers[key] = _merged(self._nested_modifiers.get(key, {}), value)
+                self._children[key]._apply_modifiers(value)
+                return
+            if isinstance(value, dict) and _may_have_subcomponents(type(self)) and not self._built:
+                self._nested_modifiers[key] = _merged(self._nested_modifiers.get(key, {}), value)
+                return
+            raise self._unknown_modifier(key, value)
         declaration = declarations[key]
         if isinstance(declaration, Parameter):
             if isinstance(value, dict):
-                raise ModifierError(f"{where}.{key} is a parameter: give it a value, not {value!r}",
+                raise ModifierError(f"{owner}.{key} is a parameter: give it a value, not {value!r}",
                                     hint=f"{where}({key}=1.0)")
             self._modifiers[key] = value
         elif isinstance(declaration, Variable):
             if not isinstance(value, dict):
                 raise ModifierError(
-                    f"{where}.{key} is a variable: modify its attributes with a dict",
+                    f"{owner}.{key} is a variable: modify its attributes with a dict",
                     hint=f"{where}({key}=dict(start={value!r}, fixed=True))")
             unknown = set(value) - set(_VARIABLE_ATTRIBUTES)
             if unknown:
-                raise ModifierError(f"{where}.{key} has no attribute {sorted(unknown)[0]!r}",
+                raise ModifierError(f"{owner}.{key} has no attribute {sorted(unknown)[0]!r}",
                                     hint=f"variable attributes are {', '.join(_VARIABLE_ATTRIBUTES)}")
             self._attribute_modifiers.setdefault(key, {}).update(value)
         else:
-            raise ModifierError(f"{where}.{key} is a connector and takes no modifier")
+            raise ModifierError(f"{owner}.{key} is a connector and takes no modifier")
+
+    def _apply_modifiers(self, modifiers: Mapping[str, Any]) -> None:
+        """Apply several modifiers; later ones (the outer ones) win over those applied before."""
+        declarations = self.declarations()
+        for key, value in modifiers.items():
+            self._apply_modifier(key, value, declarations)
+
+    def _modifier_owner(self) -> str:
+        """How a modifier error names this component: its class, or, once it is part of
+        a model, the model's class and the dotted path (``Drive.clutch``)."""
+        if self._parent is None:
+            return type(self).__name__
+        root = self
+        while root._parent is not None:
+            root = root._parent
+        return f"{type(root).__name__}.{self.path}"
+
+    def _unknown_modifier(self, key: str, value: Any) -> ModifierError:
+        """The error for a modifier naming nothing this component has, with the close names."""
+        owner = self._modifier_owner()
+        kind = type(self).__name__
+        names = list(self.declarations())
+        if self._built:
+            names += list(self._children)
+        candidates = difflib.get_close_matches(key, names, n=3)
+        if candidates:
+            hint = f"did you mean {', '.join(candidates)}?"
+        else:
+            hint = f"{kind} declares: {', '.join(sorted(names))}"
+            if _may_have_subcomponents(type(self)) and not isinstance(value, dict):
+                hint += "; a sub-component made in build() takes a dict of modifiers, name=dict(p=1)"
+        what = "parameter, variable or sub-component" if self._built else "parameter or variable"
+        # placed in a model: the modifier came from outside, so name its full dotted path
+        where = kind if owner == kind else f"{owner}.{key}: {kind}"
+        return ModifierError(f"{where} has no {what} named {key!r}", hint=hint)
+
+    def _check_nested_modifiers(self) -> None:
+        """After build(): every sub-component named by a modifier exists.
+
+        Raises
+        ------
+        ModifierError
+            For a modifier naming no declaration and no sub-component.
+        """
+        for key in self._nested_modifiers:
+            if key not in self._children:
+                raise self._unknown_modifier(key, self._nested_modifiers[key])
 
     def _modifier_value(self, name: str, default: Any) -> Any:
         return self._modifiers.get(name, default)
@@ -748,6 +976,10 @@ class Component:
             object.__setattr__(value, "_name", key)
             object.__setattr__(value, "_parent", self)
             self._children[key] = value
+            nested = self._nested_modifiers.get(key)
+            if nested:
+                # after the modifiers build() gave it: the outer modifier wins, as in Modelica
+                value._apply_modifiers(nested)
         object.__setattr__(self, key, value)
 
     @property
@@ -783,6 +1015,7 @@ class Component:
         if not self._built:
             object.__setattr__(self, "_built", True)
             self.build()
+            self._check_nested_modifiers()
 
     # -- what subclasses write ---------------------------------------------
 
@@ -802,7 +1035,21 @@ class Component:
         self._connections.append((a, b))
 
     def __repr__(self) -> str:
-        return f"<{type(self).__name__} {self.path or '(model)'}>"
+        """The constructor call with the modifiers, e.g. ``Clutch(fn_max=100)``.
+
+        Parameter values first, then variable attributes and sub-component
+        modifiers as dicts; a long value is cut short.  Attributes computed
+        by a function of the component are left out: a class sets those for
+        its own variables (an integrator's start from its parameter).
+        """
+        arguments = [f"{key}={_short(_value_text(value), 40)}" for key, value in self._modifiers.items()]
+        for key, attributes in self._attribute_modifiers.items():
+            given = {name: value for name, value in attributes.items()
+                     if not (callable(value) and not isinstance(value, sp.Basic))}
+            if given:
+                arguments.append(f"{key}={_dict_text(given)}")
+        arguments += [f"{key}={_dict_text(value)}" for key, value in self._nested_modifiers.items() if value]
+        return f"{type(self).__name__}({', '.join(arguments)})"
 
 
 class Model(Component):
@@ -860,7 +1107,8 @@ def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
     is not changed.
     """
     fresh = object.__new__(type(model))
-    tree = {"_name", "_parent", "_children", "_connections", "_built", "_modifiers", "_attribute_modifiers"}
+    tree = {"_name", "_parent", "_children", "_connections", "_built", "_modifiers", "_attribute_modifiers",
+            "_nested_modifiers"}
     for key, value in vars(model).items():
         if key in tree or key in model._children or _holds_components(value):
             continue  # what build() makes is made again
@@ -869,6 +1117,8 @@ def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
     fresh._modifiers.update(model._modifiers)
     for key, attributes in model._attribute_modifiers.items():
         fresh._attribute_modifiers[key] = dict(attributes)
+    for key, nested in model._nested_modifiers.items():
+        fresh._nested_modifiers[key] = _merged({}, nested)
     # the shallow ones first: a component's value is set before the components it builds
     for name in sorted(values, key=lambda n: (n.count("."), n)):
         node, member = _resolve(fresh, name)
@@ -880,6 +1130,22 @@ def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
                                 hint="set it where the component is created")
         node._apply_modifier(member, values[name], node.declarations())
     return fresh
+
+
+def _may_have_subcomponents(klass: type) -> bool:
+    """Whether instances of ``klass`` may make sub-components: its build() is its own or a base's."""
+    return klass.build is not Component.build
+
+
+def _merged(inner: Mapping[str, Any], outer: Mapping[str, Any]) -> dict[str, Any]:
+    """``inner`` modifiers updated by ``outer`` ones, dicts merged key by key (the outer wins)."""
+    merged = dict(inner)
+    for key, value in outer.items():
+        if isinstance(value, dict) and isinstance(merged.get(key), dict):
+            merged[key] = _merged(merged[key], value)
+        else:
+            merged[key] = dict(value) if isinstance(value, dict) else value
+    return merged
 
 
 def _holds_components(value: Any) -> bool:

@@ -1,0 +1,135 @@
+"""Loading a model class from a Python file, for the commands.
+
+A model is named ``FILE.py`` (the one :class:`~acausal.Model` subclass the
+file defines) or ``FILE.py:ClassName``.  The file is imported as a module
+with its own folder on ``sys.path``, so that it can import its neighbours.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+import sys
+import traceback
+from pathlib import Path
+
+from ..errors import AcausalError
+from ..language import Model
+
+__all__ = ["CommandError", "load_model_class", "reproducing_models"]
+
+
+class CommandError(Exception):
+    """A usage error found after argument parsing (exit status 2)."""
+
+
+def _split_spec(spec: str) -> tuple[str, str | None]:
+    """``'dir/file.py:Model'`` -> ``('dir/file.py', 'Model')``; no ``:Model`` -> None."""
+    path, sep, name = spec.rpartition(":")
+    if sep and path and name.isidentifier():
+        return path, name
+    return spec, None
+
+
+def _module_name(path: Path) -> str:
+    stem = re.sub(r"\W", "_", path.stem)
+    return f"_acausal_model_{stem}"
+
+
+def _import_file(path: Path, filename: str):
+    """Import a Python file as a module, with its own folder on ``sys.path``."""
+    path = path.resolve()
+    folder = str(path.parent)
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
+    name = _module_name(path)
+    loaded = sys.modules.get(name)
+    if loaded is not None and getattr(loaded, "__file__", None) == str(path):
+        return loaded  # already imported by this command (a folder, then its models)
+    module_spec = importlib.util.spec_from_file_location(name, path)
+    if module_spec is None or module_spec.loader is None:
+        raise CommandError(f"cannot import {filename}: not a Python file")
+    module = importlib.util.module_from_spec(module_spec)
+    sys.modules[name] = module
+    try:
+        module_spec.loader.exec_module(module)
+    except AcausalError:
+        raise
+    except BaseException as exc:  # noqa: BLE001 - any failure of the user's file
+        sys.modules.pop(name, None)
+        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+            raise
+        raise CommandError(f"cannot import {filename}: {_describe_exception(exc, path)}") from exc
+    return module
+
+
+def _models_defined(module) -> list[type]:
+    """The Model subclasses a module defines (not those it imports), by name."""
+    return sorted((obj for obj in vars(module).values()
+                   if isinstance(obj, type) and issubclass(obj, Model) and obj is not Model
+                   and obj.__module__ == module.__name__),
+                  key=lambda c: c.__name__)
+
+
+def reproducing_models(folder: str) -> list[str]:
+    """``FILE.py:Model`` of every model in a folder's Python files that declares ``modelica_class``."""
+    specs = []
+    for path in sorted(Path(folder).glob("*.py")):
+        module = _import_file(path, str(path))
+        specs += [f"{path}:{cls.__name__}" for cls in _models_defined(module)
+                  if getattr(cls, "modelica_class", None)]
+    if not specs:
+        raise CommandError(f"no model in {folder}/*.py declares modelica_class: nothing to compare")
+    return specs
+
+
+def load_model_class(spec: str) -> type:
+    """The model class named by ``FILE.py[:Model]``.
+
+    The file is imported as a module with its own folder on ``sys.path``
+    (so that it can import its neighbours).
+
+    Raises
+    ------
+    CommandError
+        If the file is missing or cannot be imported, or the class is not
+        there or not a Model; the message lists the models the file defines.
+    """
+    filename, wanted = _split_spec(spec)
+    path = Path(filename)
+    if not path.is_file():
+        if path.exists():
+            raise CommandError(f"{filename} is not a file")
+        raise CommandError(f"file not found: {filename}")
+    module = _import_file(path, filename)
+    defined = _models_defined(module)
+    listing = ", ".join(c.__name__ for c in defined) or "none"
+    if wanted is not None:
+        obj = getattr(module, wanted, None)
+        if obj is None:
+            raise CommandError(f"{filename} has no model {wanted!r}; models defined there: {listing}")
+        if not (isinstance(obj, type) and issubclass(obj, Model)):
+            raise CommandError(f"{wanted} in {filename} is not a Model subclass; models defined "
+                               f"there: {listing}")
+        return obj
+    if len(defined) == 1:
+        return defined[0]
+    if not defined:
+        classes = sorted(n for n, obj in vars(module).items()
+                         if isinstance(obj, type) and obj.__module__ == module.__name__)
+        there = f"classes defined there: {', '.join(classes)}" if classes else "it defines no classes"
+        raise CommandError(f"{filename} defines no subclass of acausal.Model ({there})")
+    raise CommandError(f"{filename} defines several models ({listing}); name one as "
+                       f"{filename}:{defined[0].__name__}")
+
+
+def _describe_exception(exc: BaseException, path: Path) -> str:
+    """``SyntaxError: ... (file.py, line 3)`` — where in the user's file it failed."""
+    text = f"{type(exc).__name__}: {exc}"
+    if isinstance(exc, SyntaxError):
+        return text
+    frames = [f for f in traceback.extract_tb(exc.__traceback__)
+              if Path(f.filename).resolve() == path]
+    if frames:
+        text += f" (line {frames[-1].lineno})"
+    return text

@@ -1,0 +1,119 @@
+"""Every component of the libraries and every example passes the unit check.
+
+Each exported component class is flattened inside a small model that feeds
+its signal inputs from constants (whose output has no unit, so they check
+nothing) and gives parameters without a default the value 1; each model in
+``examples/*.py`` is flattened as it is.  No equation may have terms in
+different units.
+
+Known exception, kept visible as an xfail: the friction elements (and the
+lossy gear) use their path parameter ``sa`` as a torque or force in one branch
+and as an acceleration in another.  The MSL declares ``sa`` with unit "1" and
+multiplies it by the constants ``unitTorque`` / ``unitAngularAcceleration``
+(``unitForce`` / ``unitAcceleration``); the equations here leave those
+constants out, so they do not check.  The fix is in the equations (put the
+unit constants back), not in a ``unit=`` string.
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+import warnings
+from pathlib import Path
+
+import pytest
+
+from acausal.compiler.flatten import flatten
+from acausal.compiler.units import check_units
+from acausal.errors import UnitWarning
+from acausal.language import Component, Connector, Model, Parameter, Variable
+from acausal.library import blocks, rotational, thermal, translational
+from acausal.library.blocks import BooleanConstant, Constant
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+#: Findings in an equation that names a path parameter ``sa`` are the known exception above.
+_PATH_PARAMETER = re.compile(r"(^|[.\s(])sa\b")
+
+_KNOWN = ("the path parameter sa is used as a torque/force and as an acceleration without the MSL's "
+          "unit constants (unitTorque, unitAngularAcceleration): see the module docstring")
+
+
+def _library_classes() -> dict[str, type]:
+    found = {}
+    for package in (rotational, translational, thermal, blocks):
+        for name in package.__all__:
+            value = getattr(package, name)
+            if isinstance(value, type) and issubclass(value, Component) and not issubclass(value, Connector):
+                found[f"{package.__name__.rsplit('.', 1)[-1]}.{name}"] = value
+    return found
+
+
+def _stand_in(declaration: Parameter) -> float:
+    """A value for a parameter without default that respects its upper limit."""
+    if declaration.max is not None and declaration.max < 1:
+        return declaration.max - 1.0
+    return 1.0
+
+
+def _harness(klass: type) -> Model:
+    """A model holding one ``klass`` instance with every signal input fed by a constant."""
+
+    class Harness(Model):
+        def build(self):
+            probe = klass()
+            missing = {key: _stand_in(d) for key, d in probe.declarations().items()
+                       if isinstance(d, Parameter) and d.default is None and not d.structural}
+            self.x = klass(**missing)
+            self.x.ensure_built()
+            for key, declaration in self.x.declarations().items():
+                if (isinstance(declaration, Variable) and declaration.causality == "input"
+                        and declaration.enabled(self.x)):
+                    source = BooleanConstant() if declaration.kind == "boolean" else Constant()
+                    setattr(self, f"source_{key}", source)
+                    self.connect(source.y, getattr(self.x, key))
+
+    Harness.__name__ = f"Harness{klass.__name__}"
+    return Harness()
+
+
+def _example_models() -> dict[str, type]:
+    found = {}
+    for path in sorted(EXAMPLES.glob("*.py")):
+        if path.name == "__init__.py":
+            continue
+        module = importlib.import_module(f"examples.{path.stem}")
+        for name, value in vars(module).items():
+            if isinstance(value, type) and issubclass(value, Model) and value.__module__ == module.__name__:
+                found[f"{path.stem}:{name}"] = value
+    return found
+
+
+def _assert_clean(model: Model) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UnitWarning)
+        report = check_units(flatten(model))
+    assert not report.unparsed, f"unit strings not understood: {report.unparsed}"
+    unexpected = [f for f in report.findings if not _PATH_PARAMETER.search(f.origin.text)]
+    assert not unexpected, "\n".join(str(f) for f in unexpected)
+    if report.findings:
+        pytest.xfail(f"{len(report.findings)} equation(s): {_KNOWN}")
+
+
+LIBRARY = _library_classes()
+MODELS = _example_models()
+
+
+@pytest.mark.parametrize("name", sorted(LIBRARY))
+def test_library_component_units(name):
+    _assert_clean(_harness(LIBRARY[name]))
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_example_units(name):
+    _assert_clean(MODELS[name]())
+
+
+def test_the_lists_are_not_empty():
+    assert len(LIBRARY) > 100 and len(MODELS) > 30
