@@ -365,13 +365,18 @@ class ComposedSystem:
 
 @dataclass(frozen=True)
 class ComposedInitialSystem:
-    """The initialization problems of a model's clusters for one discrete state, as one."""
+    """The initialization problems of a model's clusters for one discrete state, as one.
+
+    ``relaxed`` and ``from_start`` are the parts' (see
+    :class:`~acausal.compiler.initial.InitialSystem`), in cluster order.
+    """
 
     key: tuple
     parts: tuple
     unknowns: tuple[str, ...]
     relaxed: tuple[tuple[str, float], ...]
     outputs: Any = field(default=None, repr=False, compare=False)
+    from_start: tuple[tuple[str, float], ...] = ()
 
     @property
     def seconds(self) -> float:
@@ -441,4 +446,5 @@ def compose_initial(key: tuple, parts: Sequence) -> ComposedInitialSystem:
         return out
 
     return ComposedInitialSystem(key, parts, tuple(u for p in parts for u in p.unknowns),
-                                 tuple(r for p in parts for r in p.relaxed), outputs)
+                                 tuple(r for p in parts for r in p.relaxed), outputs,
+                                 tuple(s for p in parts for s in p.from_start))

@@ -600,13 +600,15 @@ class Translation:
 
     def _save_initial(self, entry: str, system: InitialSystem, cache: ModelCache) -> None:
         self._save(entry, system, cache, {"unknowns": list(system.unknowns),
-                                          "relaxed": [list(r) for r in system.relaxed]})
+                                          "relaxed": [list(r) for r in system.relaxed],
+                                          "from_start": [list(r) for r in system.from_start]})
 
     def _load_initial(self, entry: str, cache: ModelCache) -> InitialSystem | None:
         def build(payload, code, functions, passes):
             return InitialSystem(tuple(payload["key"]), (), tuple(payload["unknowns"]),
                                  tuple((n, v) for n, v in payload["relaxed"]), None, None, code,
-                                 passes, functions[2])
+                                 passes, functions[2],
+                                 tuple((n, v) for n, v in payload.get("from_start", ())))
         return self._load(entry, cache, build)
 
     # -- summary --------------------------------------------------------------

@@ -12,20 +12,28 @@ speed follows from a gear and another inertia) is *relaxed*: dropped from the
 problem, then checked — equal, it is reported in the result's notes;
 different, it is a conflict and an error.
 
+An under-determined problem is completed as Dymola and OpenModelica complete
+it: the states that nothing else determines take their start values (0 when
+none is given; the choice of states is structural, see
+:mod:`acausal.compiler.initial`).  A :class:`~acausal.errors.StartValueWarning`
+lists them with their values, and the result's notes say the same.
+
 As Dymola and OpenModelica do, one event iteration with ``initial()`` false
 follows (the MSL reference rows at the start time depend on it).
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
+from typing import Mapping, Sequence
 
-from ..errors import InitializationError
+from ..errors import InitializationError, StartValueWarning
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values
 
-__all__ = ["InitialState", "initialize", "start_system"]
+__all__ = ["InitialState", "initialize", "start_system", "start_value_message"]
 
 
 @dataclass(frozen=True)
@@ -114,11 +122,59 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
                 f"start {start:g}, but the other fixed values make it {actual:.9g}",
                 hint=f"remove fixed=True from {name} (it is determined by the rest of the model)")
         notes.append(f"fixed start of {name} = {start:g} is implied by the others; not imposed again")
+    if problem.from_start:
+        message = start_value_message(flat.name, problem.from_start,
+                                      declared_aliases(system, variables, [n for n, _ in problem.from_start]))
+        notes.append(message)
+        warnings.warn(message, StartValueWarning, stacklevel=2)
     # a sample clock whose first tick is the start time ticks in this event iteration
     ticks = ticking_at(start_time, clock_ticks(translation.partitioned.clocks,
                                                translation.cache.parameters.symbols))
     outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False, ticks=ticks)
     return InitialState(start_time, values, discrete, relations, outcome, tuple(notes), ticks)
+
+
+def declared_aliases(system, variables: Mapping, names: Sequence[str]) -> dict[str, list[str]]:
+    """The variables equal to each of ``names`` that components declare (connector variables left out).
+
+    Alias elimination keeps one name per set of equal variables, often a
+    component the user did not think of (a source's angle rather than the
+    angle of the body it drives); the others make a message recognisable.
+    """
+    wanted = set(names)
+    found: dict[str, list[str]] = {n: [] for n in names}
+    for alias, coefficient, source in getattr(system, "alias_plan", ()) or ():
+        variable = variables.get(alias)
+        if source in wanted and coefficient == 1 and variable is not None and not variable.role:
+            found[source].append(alias)
+    return found
+
+
+def start_value_message(model: str, from_start: Sequence[tuple[str, float]],
+                        aliases: Mapping[str, Sequence[str]] | None = None) -> str:
+    """The warning (and note) naming the states initialised from their start values.
+
+    Parameters
+    ----------
+    model : str
+        The model's name.
+    from_start : sequence of (str, float)
+        The states and the start values they took.
+    aliases : mapping of str to sequence of str, optional
+        Other names of each state, shown after it.
+    """
+    aliases = aliases or {}
+
+    def named(name: str) -> str:
+        others = aliases.get(name) or ()
+        return f"{name} (= {', '.join(others)})" if others else name
+
+    listed = ", ".join(f"{named(name)} = {value:g}" for name, value in from_start)
+    count = len(from_start)
+    return (f"initialization of {model}: {count} state{'s' if count > 1 else ''} without fixed=True "
+            f"initialised from {'their' if count > 1 else 'its'} start value{'s' if count > 1 else ''} "
+            f"(nothing else determines {'them' if count > 1 else 'it'}): {listed}; give fixed=True "
+            f"or initial equations to choose")
 
 
 def start_value_relations(translation: Translation, start_time: float) -> tuple[bool, ...]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from acausal import Model, translate
-from acausal.errors import InitializationError
+from acausal.errors import InitializationError, StartValueWarning
 from acausal.library.rotational import ConstantTorque, Inertia, TorqueStep
 from acausal.runtime.events import DiscreteEvaluator
 from acausal.runtime.initialization import InitialState, initialize
@@ -78,8 +78,8 @@ def test_conflicting_fixed_starts_raise_naming_the_variable():
     assert info.value.hint and "i2.w" in info.value.hint
 
 
-def test_missing_initial_values_name_the_state():
-    """A driven inertia with only phi fixed: its speed is a state nothing fixes."""
+def test_an_unfixed_state_takes_its_start_value_with_a_warning_naming_it():
+    """A driven inertia with only phi fixed: its speed takes its start value (0), as in Modelica tools."""
 
     class OnlyAngle(Model):
         def build(self):
@@ -87,24 +87,26 @@ def test_missing_initial_values_name_the_state():
             self.body = Inertia(J=J1, phi=dict(start=0.0, fixed=True))
             self.connect(self.src.flange, self.body.flange_a)
 
-    with pytest.raises(InitializationError) as info:
-        initial_state(OnlyAngle())
-    message = str(info.value)
-    assert "missing initial values" in message and "body.w" in message
-    assert "body.phi" not in message.split("hint:")[0]  # phi is fixed: not named
-    assert info.value.hint and "fixed=True" in info.value.hint
+    with pytest.warns(StartValueWarning) as record:
+        state = initial_state(OnlyAngle())
+    message = str(record[0].message)
+    assert "body.w = 0" in message
+    assert "body.phi" not in message  # phi is fixed: not named
+    assert "fixed=True" in message
+    assert state.initial_values["body.w"] == 0.0
+    assert any("body.w" in note for note in state.notes)
 
 
 def test_nothing_fixed_names_both_states():
-    """A lone inertia with no fixed start: its two states, angle and speed, are named."""
+    """A lone inertia with no fixed start: its two states, angle and speed, start from 0 and are named."""
 
     class Free(Model):
         def build(self):
             self.body = Inertia(J=J1)
 
-    with pytest.raises(InitializationError) as info:
+    with pytest.warns(StartValueWarning) as record:
         initial_state(Free())
-    message = str(info.value)
+    message = str(record[0].message)
     assert "body.phi" in message and "body.w" in message
 
 
