@@ -43,6 +43,19 @@ from .compiler.translate import Translation, translate
 
 __version__ = "0.1.0"
 
+
+def _plot(result, names=None, **options):
+    """``SimulationResult.plot``: the plotter lives with the tools (matplotlib is loaded
+    only when a result is plotted)."""
+    from .tools.plotting import plot
+
+    return plot(result, names, **options)
+
+
+from .runtime.result import register_plotter as _register_plotter  # noqa: E402
+
+_register_plotter(_plot)
+
 __all__ = [
     # the language
     "Boolean", "Component", "Connector", "Eq", "Experiment", "Flow", "If", "Integer", "Model",

@@ -42,7 +42,7 @@ from .events import evaluator_for, mode_values
 from .initialization import initialize
 from .integrators import RK4, Euler
 from .recorder import Recorder, generated_line
-from .result import Event, SimulationResult
+from .result import Event, SimulationResult, describe_columns
 
 __all__ = ["simulate", "METHODS", "MAX_OUTPUT_POINTS"]
 
@@ -175,6 +175,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
                chattering_events)
     run.notes.extend(_structural_notes(translation, parameters))
     run.max_steps, run.timeout = max_steps, timeout
+    run.model = model if isinstance(model, Component) else None  # descriptions for the result
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
@@ -794,7 +795,8 @@ class _Run:
         }
         return SimulationResult(times, columns, status if error is not None or status == 1 else 0, message, tuple(self.events),
                                 tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
-                                error, translation.flat.name)
+                                error, translation.flat.name,
+                                describe_columns(translation.flat, list(columns), getattr(self, "model", None)))
 
 
 def _check_finite(t: float, names, values, what: str) -> None:

@@ -294,7 +294,10 @@ def _parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--reference-dir", metavar="DIR",
                       help="folder of reference results (default: ACAUSAL_REFERENCE_DIR, else "
                            "the references bundled with acausal for its examples)")
-    cmp_.add_argument("--plot", metavar="DIR", help="write one PNG per compared signal into DIR")
+    cmp_.add_argument("--plot", metavar="DIR",
+                      help="write one PNG per model into DIR: a panel per compared signal, with the tube")
+    cmp_.add_argument("--plot-per-signal", action="store_true",
+                      help="with --plot, also write one PNG per compared signal")
     cmp_.add_argument("--method", type=_method, default=None, metavar="M",
                       help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
                            f"method, else RK45)")
@@ -455,7 +458,7 @@ def _cmd_compare(args) -> int:
 
 
 def _compare_one(args, model_spec: str, several: bool) -> int:
-    from .compare import compare_signals, load_reference, plot_signal
+    from .compare import compare_signals, load_reference, plot_comparison, signal_info
 
     cls = load_model_class(model_spec)
     modelica_class = getattr(cls, "modelica_class", None)
@@ -480,19 +483,17 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
         print(f"error: the simulation of {cls.__name__} was interrupted at {_end_time(result)}; "
               f"not compared", file=sys.stderr)
         return 130
-    comparison = compare_signals(reference, result.time, result.columns)
+    info = signal_info(model, reference.compared)  # units, kinds and value names of the signals
+    comparison = compare_signals(reference, result.time, result.columns, info=info)
     print(comparison.table())
     plotted = True
     if args.plot:
         folder = Path(args.plot) / cls.__name__ if several else Path(args.plot)
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            for name in reference.compared:
-                if name not in result:
-                    print(f"not plotted (missing from the result): {name}")
-                    continue
-                path = folder / f"{_file_safe(name)}.png"
-                plot_signal(reference, name, result.time, result.columns, path)
+            for path in plot_comparison(reference, result.time, result.columns,
+                                        folder / f"{_file_safe(cls.__name__)}.png", info=info,
+                                        per_signal=args.plot_per_signal):
                 print(f"wrote {path}")
         except OSError as exc:
             print(f"error: cannot write the plots into {folder}: {exc.strerror or exc}",

@@ -40,6 +40,17 @@ How far outside a point lies is measured in units of ``dy``::
 so a worst violation of 0 means "inside everywhere" and 1 means "one tube
 half-height outside".
 
+Discrete signals
+----------------
+A Boolean or an Integer (a mode, say) is judged by *when it changes*, not
+by the tube: each change of the reference must be matched by a change of
+the result to the same value within ``dx``, and farther than ``dx`` from the
+reference's changes the values must be equal.  The table lists the times
+the reference changes at instead of a meaningless ``max |error|``.  Which
+signals are discrete comes from the model (:func:`signal_info`, the flat
+variables' kinds) or from a Boolean or integer result column; the
+reference must hold integers only.
+
 Deliberate differences from csv-compare, which make the test stricter only:
 
 * a result that does not cover the reference's time range (to within
@@ -72,6 +83,8 @@ Examples
 >>> ref = load_reference("Modelica.Mechanics.Rotational.Examples.First")  # doctest: +SKIP
 >>> result = compare_signals(ref, t, {"inertia3.w": w3, ...})             # doctest: +SKIP
 >>> print(result.table())                                                 # doctest: +SKIP
+>>> plot_comparison(ref, t, {"inertia3.w": w3, ...}, "First.png",
+...                 info=signal_info(model))                              # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -86,7 +99,7 @@ import stat
 import textwrap
 import zlib
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import Literal
@@ -99,6 +112,7 @@ __all__ = [
     "DEFAULT_REL_TOL",
     "DEFAULT_NOMINAL",
     "Reference",
+    "SignalInfo",
     "SignalComparison",
     "Comparison",
     "reference_dir",
@@ -107,6 +121,9 @@ __all__ = [
     "tube_size",
     "tube",
     "compare_signals",
+    "signal_info",
+    "comparison_figure",
+    "plot_comparison",
     "plot_signal",
 ]
 
@@ -826,30 +843,75 @@ class _RangeExtreme:
 
 
 @dataclass(frozen=True)
+class SignalInfo:
+    """What the model says about one compared signal (its unit, kind, value names).
+
+    Attributes
+    ----------
+    unit : str
+        The variable's unit, e.g. ``"rad/s"``; empty if it has none or it is not known.
+    kind : str
+        The flat variable's kind (``FlatVariable.kind``): ``"continuous"``,
+        ``"discrete"`` (a Real changed at events only), ``"boolean"`` or
+        ``"integer"``; empty if not known (then the kind is read from the values).
+    labels : Mapping[int, str]
+        Names of the values of an Integer or Boolean, e.g. ``{0: "Stuck", 1: "Forward"}``;
+        empty if none are known.
+    """
+
+    unit: str = ""
+    kind: str = ""
+    labels: Mapping[int, str] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
 class SignalComparison:
-    """Outcome of the tube test for one signal.
+    """Outcome of the comparison of one signal.
+
+    A continuous signal is tube-tested.  A discrete signal (a Boolean or an
+    Integer) is judged by its changes: each change of the reference must be
+    matched, within ``dx``, by a change of the result to the same value, and
+    away from the reference's changes (farther than ``dx``) the values must
+    be equal.
 
     Attributes
     ----------
     name : str
         Signal name, e.g. ``"inertia3.w"``.
     passed : bool
-        True if every checked point lies inside the tube.
+        True if every checked point lies inside the tube (continuous), or
+        every change is matched and the values agree (discrete).
     worst_violation : float
         Largest distance outside the tube, in units of ``dy``; 0 if inside
-        everywhere, ``inf`` if the signal is missing or NaN.
+        everywhere, ``inf`` if the signal is missing or NaN.  (For a discrete
+        signal the tube test's figure too, for information only.)
     first_failure_time : float or None
-        Time of the first point outside the tube (None if there is none).
+        Time of the first point outside the tube, or (discrete) of the first
+        unmatched change or differing value; None if there is none.
     dy : float
         Tube half-height (absolute), the unit of ``worst_violation``.
     max_abs_error : float
         ``max |y - y_ref|`` at the reference's time points, for information
         (NaN where it cannot be computed).
     failed_points : int
-        Number of checked points outside the tube.
+        Number of checked points outside the tube (discrete: points whose
+        value differs plus changes not matched).
     note : str
         Why the signal failed when it is not only a tube violation
-        (missing signal, NaN values, result too short); else empty.
+        (missing signal, NaN values, result too short); for a discrete signal
+        also the times at which it changes.
+    discrete : bool
+        Whether the signal was judged as a discrete signal.
+    dx : float
+        Tube half-width (seconds): how far a change may lie from the reference's.
+    unit : str
+        The signal's unit, if known (see :class:`SignalInfo`).
+    reference_changes : tuple of float
+        Times at which the reference changes (discrete signals).
+    result_changes : tuple of float
+        Times at which the result changes (discrete signals).
+    unmatched_changes : tuple of float
+        Reference changes the result does not make within ``dx`` (discrete signals).
     """
 
     name: str
@@ -860,6 +922,29 @@ class SignalComparison:
     max_abs_error: float
     failed_points: int = 0
     note: str = ""
+    discrete: bool = False
+    # Facts about the signal and the tube rather than the verdict: left out of ==.
+    dx: float = field(default=math.nan, compare=False)
+    unit: str = field(default="", compare=False)
+    reference_changes: tuple[float, ...] = field(default=(), compare=False)
+    result_changes: tuple[float, ...] = field(default=(), compare=False)
+    unmatched_changes: tuple[float, ...] = field(default=(), compare=False)
+
+
+#: Column headers of :meth:`Comparison.table`, and what each means (the legend).
+_COLUMNS = (
+    ("signal", "the compared variable"),
+    ("result", "a continuous signal passes when every point lies inside the tube, a discrete one "
+               "(Boolean, Integer) when it makes each change of the reference within dx and has its "
+               "values elsewhere"),
+    ("outside tube [dy]", "how far the worst point lies outside the tube, in tube half-heights dy "
+                          "(0: inside everywhere; - for discrete signals)"),
+    ("first failure [s]", "time of the first point outside the tube, or of the first change not matched"),
+    ("max |error|", "largest |result - reference| at the reference's time points, in the signal's "
+                    "unit, for information only (- for discrete signals)"),
+    ("note", "why a signal failed beyond the tube; for a discrete signal the times it changes at "
+             "(0.5x2: two changes within dx of 0.5)"),
+)
 
 
 @dataclass(frozen=True)
@@ -897,16 +982,22 @@ class Comparison:
                 return signal
         raise KeyError(f"{name!r} was not compared; compared: {', '.join(s.name for s in self.signals)}")
 
-    def table(self) -> str:
-        """A plain-text table: one line per signal, then a summary line."""
-        header = ("signal", "result", "worst [dy]", "first failure", "max |error|", "note")
+    def table(self, legend: bool = True) -> str:
+        """A plain-text table: a header, one line per signal, the legend, then a summary line.
+
+        Parameters
+        ----------
+        legend : bool
+            Explain the columns and the tube's size below the table.
+        """
+        header = tuple(name for name, _ in _COLUMNS)
         rows = [
             (
                 s.name,
                 "pass" if s.passed else "FAIL",
-                _format_number(s.worst_violation),
+                "-" if s.discrete else _format_number(s.worst_violation),
                 "-" if s.first_failure_time is None else f"{s.first_failure_time:.6g}",
-                _format_number(s.max_abs_error),
+                "-" if s.discrete else _with_unit(_format_number(s.max_abs_error), s.unit),
                 s.note,
             )
             for s in self.signals
@@ -917,11 +1008,38 @@ class Comparison:
         def line(cells) -> str:
             return "  ".join(f"{cell:{a}{w}}" for cell, a, w in zip(cells, aligned, widths)).rstrip()
 
+        discrete = sum(s.discrete for s in self.signals)
+        kinds = (f"; {_plural(discrete, 'discrete signal')} judged by the times "
+                 f"{'it changes' if discrete == 1 else 'they change'}" if discrete else "")
         summary = (
             f"{self.modelica_class}: {len(self.signals) - len(self.failures)} of "
-            f"{len(self.signals)} signals passed (tube test, relative tolerance {self.rel_tol:g})"
+            f"{len(self.signals)} signals passed (tube test, relative tolerance {self.rel_tol:g}{kinds})"
         )
-        return "\n".join([line(header), line(["-" * w for w in widths]), *map(line, rows), summary])
+        lines = [line(header), line(["-" * w for w in widths]), *map(line, rows)]
+        if legend:
+            lines += self.legend().splitlines()
+        return "\n".join([*lines, summary])
+
+    def legend(self) -> str:
+        """What the columns of :meth:`table` mean and how large the tube is, one line each."""
+        dx = next((s.dx for s in self.signals if math.isfinite(s.dx)), math.nan)
+        size = (f"tube: half-width dx = {dx:.4g} s (relative tolerance {self.rel_tol:g} of the time range), "
+                f"half-height dy = {self.rel_tol:g} * max(y_max - y_min, |y_min|, {DEFAULT_NOMINAL:g}) "
+                f"of the reference, per signal")
+        if not math.isfinite(dx):
+            size = size.replace(f"dx = {dx:.4g} s", "dx")
+        explained = [f"  {name}: {meaning}" for name, meaning in _COLUMNS[1:]]
+        return "\n".join(["legend:", *explained, f"  {size}"])
+
+
+def _plural(count: int, noun: str) -> str:
+    """``1 change``, ``2 changes``: the count with the noun in the right number."""
+    return f"{count} {noun}" if count == 1 else f"{count} {noun}s"
+
+
+def _with_unit(text: str, unit: str) -> str:
+    """``0.0012 rad/s``; the text alone when there is no unit or no number."""
+    return f"{text} {unit}" if unit and unit != "1" and text != "-" else text
 
 
 def _format_number(value: float) -> str:
@@ -933,6 +1051,73 @@ def _format_number(value: float) -> str:
     return f"{value:.3g}"
 
 
+def signal_info(model, names: Iterable[str] | None = None) -> dict[str, SignalInfo]:
+    """Unit, kind and value names of a model's variables, for the comparison's table and plots.
+
+    Parameters
+    ----------
+    model : Component, Translation or FlatModel
+        The model (it is flattened here), its translation or its flat model.
+        Only from a component are the names of an Integer's values found.
+    names : iterable of str, optional
+        The variables wanted; default: every variable of the flat model.
+
+    Returns
+    -------
+    dict of str to SignalInfo
+        By variable name; names that are not variables of the flat model
+        (aliases, say) are left out.
+
+    Notes
+    -----
+    The engine knows nothing of what an Integer's values mean, so their
+    names are found generically: the integer class attributes (not Booleans)
+    named with a capital letter of the class of the component that declares
+    the variable, e.g. ``Stuck = 0``, ``Forward = 1``.  A value that two such
+    names share is left unnamed.  A Boolean's values are named false and true.
+    """
+    if hasattr(model, "variables"):
+        flat, components = model, {}
+    elif hasattr(model, "flat"):
+        flat, components = model.flat, {}
+    else:
+        from ..compiler.flatten import flatten
+
+        flat = flatten(model)
+        # after flattening every component is built: walk() only lists them
+        components = {component.path: component for component in model.walk()}
+    wanted = None if names is None else set(names)
+    out = {}
+    for variable in flat.variables:
+        if wanted is not None and variable.name not in wanted:
+            continue
+        labels: dict[int, str] = {}
+        if variable.kind == "boolean":
+            labels = {0: "false", 1: "true"}
+        elif variable.kind == "integer" and variable.component in components:
+            labels = _named_constants(type(components[variable.component]))
+        out[variable.name] = SignalInfo(unit=variable.unit or "", kind=variable.kind, labels=labels)
+    return out
+
+
+def _named_constants(cls: type) -> dict[int, str]:
+    """``value -> name`` of the integer class attributes of ``cls`` named with a capital letter.
+
+    The nearest definition along the MRO wins (as attribute look-up); a
+    value given two names is ambiguous and left out.
+    """
+    seen: dict[str, int] = {}
+    for klass in cls.__mro__:
+        for key, value in vars(klass).items():
+            if (key not in seen and key[:1].isupper() and isinstance(value, int)
+                    and not isinstance(value, bool)):
+                seen[key] = value
+    by_value: dict[int, list[str]] = {}
+    for key, value in seen.items():
+        by_value.setdefault(value, []).append(key)
+    return {value: keys[0] for value, keys in sorted(by_value.items()) if len(keys) == 1}
+
+
 def compare_signals(
     reference: Reference,
     time,
@@ -941,8 +1126,9 @@ def compare_signals(
     *,
     rel_tol: float = DEFAULT_REL_TOL,
     check_at: CheckAt = "result",
+    info: Mapping[str, SignalInfo] | None = None,
 ) -> Comparison:
-    """Tube-test a simulation result against reference results.
+    """Compare a simulation result with reference results: the tube test, or change times for discrete signals.
 
     Parameters
     ----------
@@ -957,11 +1143,17 @@ def compare_signals(
     rel_tol : float
         Relative tolerance of the tube (the MSL uses 2e-3).
     check_at : {"result", "reference", "both"}
-        Which points are checked.  ``"result"`` (as csv-compare): the result's
-        own samples against the tube at the result's times.  ``"reference"``:
-        the result interpolated to the reference's times (at a reference
-        event, the result's left or right limit when it has an event at the
-        same time).  ``"both"``: the union, the strictest choice.
+        Which points of a continuous signal are checked.  ``"result"`` (as
+        csv-compare): the result's own samples against the tube at the
+        result's times.  ``"reference"``: the result interpolated to the
+        reference's times (at a reference event, the result's left or right
+        limit when it has an event at the same time).  ``"both"``: the union,
+        the strictest choice.
+    info : Mapping[str, SignalInfo], optional
+        Units and kinds of the signals (from :func:`signal_info`).  A signal
+        whose kind is ``"boolean"`` or ``"integer"`` is judged as a discrete
+        signal (when the reference holds integers only); without a known
+        kind, one whose result column has a Boolean or integer type is.
 
     Returns
     -------
@@ -984,20 +1176,23 @@ def compare_signals(
             hint=f"available: {', '.join(reference.signals)}",
         )
     result_time = _check_time(time, "result")
+    info = info or {}
 
     outcomes = []
     for name in names:
         if name not in values:
-            _, dy = tube_size(reference.time, reference.signals[name], rel_tol)
+            dx, dy = tube_size(reference.time, reference.signals[name], rel_tol)
             outcomes.append(
                 SignalComparison(
                     name=name, passed=False, worst_violation=math.inf, first_failure_time=None,
-                    dy=dy, max_abs_error=math.nan, note="missing from the result",
+                    dy=dy, max_abs_error=math.nan, note="missing from the result", dx=dx,
+                    unit=info.get(name, SignalInfo()).unit,
                 )
             )
             continue
         _, result_values = _as_curve(result_time, values[name], f"result signal {name}")
-        outcome, _ = _compare_one(reference, name, result_time, result_values, rel_tol, check_at)
+        outcome, _, _ = _judge(reference, name, result_time, result_values, rel_tol, check_at,
+                               info.get(name), values[name])
         outcomes.append(outcome)
     return Comparison(reference.modelica_class, tuple(outcomes), rel_tol)
 
@@ -1055,6 +1250,200 @@ def _outside(result_time: np.ndarray, t: np.ndarray) -> np.ndarray:
     return (t < result_time[0]) | (t > result_time[-1])
 
 
+def _judge(reference: Reference, name: str, time: np.ndarray, y: np.ndarray, rel_tol: float,
+           check_at: CheckAt, info: SignalInfo | None, raw=None
+           ) -> tuple[SignalComparison, _Check, "_DiscreteCheck | None"]:
+    """Compare one signal present in the result: as a discrete signal if it is one, else by the tube.
+
+    Also returns the tube test's checked points, and the discrete test's
+    findings (None for a continuous signal), for the plot.
+    """
+    outcome, check = _compare_one(reference, name, time, y, rel_tol, check_at)
+    unit = info.unit if info is not None else ""
+    if not _is_discrete(reference.signals[name], info, raw):
+        return replace(outcome, unit=unit, dx=check.dx), check, None
+    found = _compare_changes(reference.time, reference.signals[name], time, y, check.dx)
+    # the coverage and NaN notes of the tube test hold for a discrete signal too
+    notes = [text for text in outcome.note.split("; ") if text]
+    outcome = replace(
+        outcome,
+        passed=found.passed and not notes,
+        first_failure_time=found.first_failure_time,
+        failed_points=int(found.mismatch_time.size + len(found.unmatched)),
+        note="; ".join([found.describe(), *notes]),
+        discrete=True,
+        dx=check.dx,
+        unit=unit,
+        reference_changes=tuple(c.time for c in found.reference),
+        result_changes=tuple(c.time for c in found.result),
+        unmatched_changes=tuple(c.time for c in found.unmatched),
+    )
+    return outcome, check, found
+
+
+def _is_discrete(reference_values: np.ndarray, info: SignalInfo | None, raw=None) -> bool:
+    """Whether a signal is judged as a discrete signal.
+
+    When the reference holds integers only, and the model declares the
+    variable a Boolean or an Integer (``info.kind``), or, without a known
+    kind, the result's column has a Boolean or integer type.  A float column
+    of integer values alone does not make a signal discrete: a Real step
+    from 0 to 1 keeps the tube test.
+    """
+    if not np.all(reference_values == np.round(reference_values)):
+        return False
+    if info is not None and info.kind:
+        return info.kind in ("boolean", "integer")
+    return raw is not None and np.asarray(raw).dtype.kind in "biu"
+
+
+@dataclass(frozen=True)
+class _Change:
+    """A change of a discrete signal from ``before`` to ``after``, seen between ``start`` and ``stop``.
+
+    At an event (two samples at one time) ``start == stop``; a signal sampled
+    on a grid without event rows shows a change only between two sample times.
+    """
+
+    start: float
+    stop: float
+    before: float
+    after: float
+
+    @property
+    def time(self) -> float:
+        """The first time the new value is seen."""
+        return self.stop
+
+    def distance(self, other: "_Change") -> float:
+        """Time between the two changes' intervals (0 if they overlap)."""
+        return max(0.0, other.start - self.stop, self.start - other.stop)
+
+
+def _changes(t: np.ndarray, y: np.ndarray) -> list[_Change]:
+    """The changes of a discrete signal, those at one instant merged (first value to last)."""
+    differ = np.flatnonzero((y[1:] != y[:-1]) & np.isfinite(y[1:]) & np.isfinite(y[:-1]))
+    out: list[_Change] = []
+    for i in differ:
+        change = _Change(float(t[i]), float(t[i + 1]), float(y[i]), float(y[i + 1]))
+        last = out[-1] if out else None
+        # several passes of an event iteration at one instant are one change
+        if (last is not None and last.start == last.stop == change.start == change.stop):
+            out[-1] = _Change(last.start, last.stop, last.before, change.after)
+        else:
+            out.append(change)
+    # a value that is left and resumed at the same instant did not change
+    return [c for c in out if c.before != c.after]
+
+
+@dataclass(frozen=True, eq=False)
+class _DiscreteCheck:
+    """What the comparison of a discrete signal found."""
+
+    reference: list[_Change]
+    result: list[_Change]
+    unmatched: list[_Change]  # reference changes the result does not make within dx
+    extra: list[_Change]      # result changes farther than dx from every reference change
+    mismatch_time: np.ndarray   # checked points where the values differ
+    mismatch_value: np.ndarray  # the result's value there
+    dx: float
+
+    @property
+    def passed(self) -> bool:
+        return not self.unmatched and self.mismatch_time.size == 0
+
+    @property
+    def first_failure_time(self) -> float | None:
+        times = [c.time for c in self.unmatched] + self.mismatch_time[:1].tolist()
+        return float(min(times)) if times else None
+
+    def describe(self) -> str:
+        """``changes at 0.2304 0.3083 (all within dx)``, or what went wrong."""
+        if not self.reference:
+            text = "no changes" + (", as the reference" if not self.result else "")
+        else:
+            text = f"changes at {_times(self.reference, self.dx)}"
+            if not self.unmatched:
+                text += " (all within dx)"
+        if self.unmatched:
+            text += f"; not matched within dx: {_times(self.unmatched, self.dx)}"
+        if self.extra:
+            text += f"; result also changes at {_times(self.extra, self.dx)}"
+        elif self.mismatch_time.size:
+            text += f"; values differ at {_plural(int(self.mismatch_time.size), 'point')}"
+        return text
+
+
+def _times(changes: list[_Change], dx: float, shown: int = 8) -> str:
+    """``0.2304 0.3083x2 … (12 in all)``: the first change times, then how many there are.
+
+    Changes closer than ``dx`` to the first of their group (a pulse within
+    one event, say) would print as the same time; they are shown once, with
+    their count.
+    """
+    groups: list[list[_Change]] = []
+    for change in changes:
+        if groups and change.time - groups[-1][0].time <= dx:
+            groups[-1].append(change)
+        else:
+            groups.append([change])
+    text = " ".join(f"{group[0].time:.5g}" + (f"x{len(group)}" if len(group) > 1 else "")
+                    for group in groups[:shown])
+    return text + (f" … ({len(changes)} in all)" if len(groups) > shown else "")
+
+
+def _compare_changes(ref_t: np.ndarray, ref_y: np.ndarray, t: np.ndarray, y: np.ndarray,
+                     dx: float) -> _DiscreteCheck:
+    """Judge a discrete signal by its changes.
+
+    Each change of the reference must be matched by a change of the result
+    within ``dx`` to the same value (several changes of the result close
+    together count if one of them reaches it), and at every sample time of
+    either curve farther than ``dx`` from the reference's changes the two
+    values must be equal.  The value between samples is the last sample's
+    (a discrete signal holds its value).
+    """
+    reference, result = _changes(ref_t, ref_y), _changes(t, y)
+    unmatched = [change for change in reference
+                 if not any(c.after == change.after and c.distance(change) <= dx for c in result)]
+    extra = [c for c in result if all(c.distance(r) > dx for r in reference)]
+
+    # Every sample of both curves, away from the reference's changes.
+    points = np.concatenate([t, ref_t])
+    ours = np.concatenate([y, _hold(t, y, ref_t)])
+    theirs = np.concatenate([_hold(ref_t, ref_y, t), ref_y])
+    checked = (points >= ref_t[0]) & (points <= ref_t[-1]) & (points >= t[0]) & (points <= t[-1])
+    if reference:
+        starts = np.array([c.start for c in reference]) - dx
+        stops = np.array([c.stop for c in reference]) + dx
+        # the widened intervals are in order, their ends non-decreasing: the
+        # last one starting before a point is the one that may hold it
+        k = np.searchsorted(starts, points, side="right") - 1
+        near = (k >= 0) & (points <= stops[np.maximum(k, 0)])
+        checked &= ~near
+    with np.errstate(invalid="ignore"):
+        differ = checked & ~(ours == theirs)
+    # a time both curves sample is one point, not two: unique (time, ours, reference) rows, in time order
+    mismatches = np.unique(np.column_stack([points[differ], ours[differ], theirs[differ]]), axis=0)
+    return _DiscreteCheck(
+        reference=reference, result=result, unmatched=unmatched, extra=extra,
+        mismatch_time=mismatches[:, 0], mismatch_value=mismatches[:, 1], dx=dx,
+    )
+
+
+def _hold(t: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Values of a held (piecewise constant) curve at the times ``at``: the last sample at or before.
+
+    At an event (a repeated time) this is the value after it; NaN before the
+    curve starts and after it ends.
+    """
+    index = np.searchsorted(t, at, side="right") - 1
+    out = np.full(np.shape(at), np.nan)
+    inside = (index >= 0) & (np.asarray(at) <= t[-1])
+    out[inside] = y[index[inside]]
+    return out
+
+
 def _compare_one(reference: Reference, name: str, time: np.ndarray, y: np.ndarray,
                  rel_tol: float, check_at: CheckAt) -> tuple[SignalComparison, _Check]:
     """The tube test of one signal present in the result, and its checked points."""
@@ -1087,6 +1476,7 @@ def _compare_one(reference: Reference, name: str, time: np.ndarray, y: np.ndarra
         max_abs_error=max_abs_error,
         failed_points=int(np.count_nonzero(failed)),
         note="; ".join(notes),
+        dx=check.dx,
     )
     return outcome, check
 
@@ -1121,6 +1511,117 @@ def _sample(t: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
 # Plotting
 # ---------------------------------------------------------------------------
 
+#: Height of one signal's panel in a model's figure, in inches.
+_PANEL_HEIGHT = 2.1
+
+
+def comparison_figure(
+    reference: Reference,
+    time,
+    values: Mapping[str, np.ndarray],
+    signals: Iterable[str] | None = None,
+    *,
+    info: Mapping[str, SignalInfo] | None = None,
+    rel_tol: float = DEFAULT_REL_TOL,
+    check_at: CheckAt = "result",
+):
+    """One figure for a model's comparison: a panel per compared signal, sharing the time axis.
+
+    Parameters
+    ----------
+    reference : Reference
+        From :func:`load_reference`.
+    time : array_like
+        The result's time points.
+    values : Mapping[str, array_like]
+        The result's signals by name.
+    signals : iterable of str, optional
+        The signals to draw; default: ``reference.compared``.
+    info : Mapping[str, SignalInfo], optional
+        Units, kinds and value names (from :func:`signal_info`): the y labels
+        then carry units, and an Integer's ticks the names of its values.
+    rel_tol, check_at
+        As for :func:`compare_signals`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        With an Agg canvas (no pyplot state is touched).  Each panel shows
+        the reference, the tube shaded between its bounds (for a discrete
+        signal: the band of ``dx`` around each reference change), the result
+        dashed, and failures as red crosses; its title says PASS or FAIL.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    names = reference.compared if signals is None else tuple(signals)
+    if not names:
+        raise ValueError("no signals to plot")
+    result_time = _check_time(time, "result")
+    figure = Figure(figsize=(9, 0.9 + _PANEL_HEIGHT * len(names)), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+    outcomes = [
+        _draw_panel(panel, reference, name, result_time, values, (info or {}).get(name), rel_tol, check_at)
+        for panel, name in zip(axes, names)
+    ]
+    passed = sum(outcome.passed for outcome in outcomes)
+    figure.suptitle(f"{reference.modelica_class}: {passed} of {len(outcomes)} signals passed "
+                    f"(relative tolerance {rel_tol:g})", fontsize=11)
+    axes[-1].set_xlabel("time [s]")
+    return figure
+
+
+def plot_comparison(
+    reference: Reference,
+    time,
+    values: Mapping[str, np.ndarray],
+    path: str | Path,
+    signals: Iterable[str] | None = None,
+    *,
+    info: Mapping[str, SignalInfo] | None = None,
+    per_signal: bool = False,
+    rel_tol: float = DEFAULT_REL_TOL,
+    check_at: CheckAt = "result",
+) -> list[Path]:
+    """Write a model's comparison figure (:func:`comparison_figure`) as a PNG, and per-signal files if asked.
+
+    Parameters
+    ----------
+    reference, time, values, signals, info, rel_tol, check_at
+        As for :func:`comparison_figure`.
+    path : str or Path
+        The PNG file of the whole figure.
+    per_signal : bool
+        Also write one PNG per signal beside it, named by the signal
+        (``J1.w.png``; characters other than letters, digits, ``.``, ``_``
+        and ``-`` become ``_``).  Signals missing from the result are skipped.
+
+    Returns
+    -------
+    list of Path
+        The files written, the model's figure first.
+    """
+    path = Path(path)
+    names = reference.compared if signals is None else tuple(signals)
+    figure = comparison_figure(reference, time, values, names, info=info, rel_tol=rel_tol,
+                               check_at=check_at)
+    figure.savefig(path, dpi=90)
+    written = [path]
+    if per_signal:
+        for name in names:
+            if name not in values:
+                continue
+            written.append(plot_signal(reference, name, time, values, path.parent / f"{_file_safe(name)}.png",
+                                       rel_tol=rel_tol, check_at=check_at,
+                                       info=(info or {}).get(name)))
+    return written
+
+
+def _file_safe(name: str) -> str:
+    """A signal name as a file name: characters other than letters, digits, ``._-`` as ``_``."""
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", name)
+
 
 def plot_signal(
     reference: Reference,
@@ -1131,6 +1632,7 @@ def plot_signal(
     *,
     rel_tol: float = DEFAULT_REL_TOL,
     check_at: CheckAt = "result",
+    info: SignalInfo | None = None,
 ) -> Path:
     """Plot one signal's reference, tube and result into a PNG file.
 
@@ -1148,12 +1650,14 @@ def plot_signal(
         The PNG file to write.
     rel_tol, check_at
         As for :func:`compare_signals`.
+    info : SignalInfo, optional
+        The signal's unit, kind and value names (see :func:`signal_info`).
 
     Returns
     -------
     Path
-        ``path``.  Points outside the tube are marked with red crosses; the
-        title names the signal and says PASS or FAIL.
+        ``path``.  Drawn as one panel of :func:`comparison_figure`; the title
+        also names the Modelica class.
     """
     # Imported here so that comparing does not need matplotlib; the Agg
     # canvas draws to a file without touching pyplot's global state.
@@ -1165,38 +1669,88 @@ def plot_signal(
             f"{name} not in the reference results of {reference.modelica_class}",
             hint=f"available: {', '.join(reference.signals)}",
         )
-    y = values[name] if isinstance(values, Mapping) else values
-    result_time, result_values = _as_curve(time, y, f"result signal {name}")
-    outcome, check = _compare_one(reference, name, result_time, result_values, rel_tol, check_at)
-
-    ref_t, ref_y = reference.time, reference.signals[name]
-    lower, upper = tube(ref_t, ref_y, rel_tol)
-
-    figure = Figure(figsize=(9, 5))
+    curves = values if isinstance(values, Mapping) else {name: values}
+    figure = Figure(figsize=(9, 5), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
-    axes.fill_between(ref_t, lower, upper, color="tab:blue", alpha=0.2, linewidth=0, label="tube")
-    axes.plot(ref_t, ref_y, color="tab:blue", linewidth=1, label="reference")
-    axes.plot(result_time, result_values, color="tab:orange", linewidth=1, linestyle="--", label="result")
-    bad = check.failed & np.isfinite(check.value)
-    if np.any(bad):
-        axes.plot(check.time[bad], check.value[bad], "x", color="red", markersize=5,
-                  label=f"outside tube ({outcome.failed_points})")
-    if outcome.passed:
-        verdict = "PASS"
-    elif outcome.first_failure_time is not None:
-        verdict = (f"FAIL (worst {outcome.worst_violation:.3g} dy outside, "
-                   f"first at t = {outcome.first_failure_time:.6g})")
-    else:
-        verdict = "FAIL"
-    details = reference.modelica_class + (f"; {outcome.note}" if outcome.note else "")
-    axes.set_title(f"{name}: {verdict}\n{textwrap.shorten(details, 110)}", fontsize=10)
-    axes.set_xlabel("time")
-    axes.set_ylabel(name)
-    axes.grid(True, alpha=0.3)
-    axes.legend(loc="best", fontsize=8)
-    figure.tight_layout()
-
+    _draw_panel(axes, reference, name, _check_time(time, "result"), curves, info, rel_tol, check_at,
+                subtitle=reference.modelica_class)
+    axes.set_xlabel("time [s]")
     path = Path(path)
     figure.savefig(path, dpi=100)
     return path
+
+
+def _draw_panel(axes, reference: Reference, name: str, time: np.ndarray, values: Mapping,
+                info: SignalInfo | None, rel_tol: float, check_at: CheckAt,
+                subtitle: str = "") -> SignalComparison:
+    """Draw one signal's comparison into ``axes``; return its outcome."""
+    if name not in reference.signals:
+        raise ReferenceDataError(
+            f"{name} not in the reference results of {reference.modelica_class}",
+            hint=f"available: {', '.join(reference.signals)}",
+        )
+    ref_t, ref_y = reference.time, reference.signals[name]
+    unit = info.unit if info is not None else ""
+    if name in values:
+        _, y = _as_curve(time, values[name], f"result signal {name}")
+        outcome, check, found = _judge(reference, name, time, y, rel_tol, check_at, info, values[name])
+    else:
+        dx, dy = tube_size(ref_t, ref_y, rel_tol)
+        y, check, found = None, None, None
+        outcome = SignalComparison(name, False, math.inf, None, dy, math.nan,
+                                   note="missing from the result", dx=dx, unit=unit)
+
+    if found is not None:
+        _draw_discrete(axes, ref_t, ref_y, time, y, found, info)
+    else:
+        lower, upper = tube(ref_t, ref_y, rel_tol)
+        axes.fill_between(ref_t, lower, upper, color="tab:blue", alpha=0.2, linewidth=0, label="tube")
+        axes.plot(ref_t, ref_y, color="tab:blue", linewidth=1, label="reference")
+        if y is not None:
+            axes.plot(time, y, color="tab:orange", linewidth=1, linestyle="--", label="result")
+            bad = check.failed & np.isfinite(check.value)
+            if np.any(bad):
+                axes.plot(check.time[bad], check.value[bad], "x", color="red", markersize=5,
+                          label=f"outside tube ({outcome.failed_points})")
+
+    if outcome.passed:
+        verdict = "PASS"
+    elif outcome.first_failure_time is not None:
+        verdict = ("FAIL (first at t = " if outcome.discrete
+                   else f"FAIL (worst {outcome.worst_violation:.3g} dy outside, first at t = ")
+        verdict += f"{outcome.first_failure_time:.6g})"
+    else:
+        verdict = "FAIL"
+    details = "; ".join(text for text in (subtitle, outcome.note) if text)
+    title = f"{name}: {verdict}" + (f"\n{textwrap.shorten(details, 110)}" if details else "")
+    axes.set_title(title, fontsize=9)
+    axes.set_ylabel(f"{name} [{unit}]" if unit and unit != "1" else name, fontsize=8)
+    axes.grid(True, alpha=0.3)
+    axes.legend(loc="upper right", fontsize=7, framealpha=0.6)
+    return outcome
+
+
+def _draw_discrete(axes, ref_t: np.ndarray, ref_y: np.ndarray, time: np.ndarray, y: np.ndarray,
+                   found: _DiscreteCheck, info: SignalInfo | None) -> None:
+    """A discrete signal: steps, the band of ``dx`` around each reference change, value names as ticks."""
+    for index, change in enumerate(found.reference):
+        axes.axvspan(change.start - found.dx, change.stop + found.dx, color="tab:blue", alpha=0.2,
+                     linewidth=0, label="reference change ± dx" if index == 0 else None)
+    axes.plot(ref_t, ref_y, color="tab:blue", linewidth=1, drawstyle="steps-post", label="reference")
+    axes.plot(time, y, color="tab:orange", linewidth=1, linestyle="--", drawstyle="steps-post", label="result")
+    if found.unmatched:
+        axes.plot([c.time for c in found.unmatched], [c.after for c in found.unmatched], "x", color="red",
+                  markersize=7, label=f"change not matched ({len(found.unmatched)})")
+    if found.mismatch_time.size:
+        axes.plot(found.mismatch_time, found.mismatch_value, "x", color="red", markersize=5,
+                  label=f"value differs ({found.mismatch_time.size})")
+
+    levels = np.unique(np.concatenate([ref_y, y[np.isfinite(y)]]))
+    labels = dict(info.labels) if info is not None else {}
+    if levels.size and all(float(level).is_integer() and int(level) in labels for level in levels):
+        axes.set_yticks(levels, [labels[int(level)] for level in levels], fontsize=8)
+    elif levels.size <= 12:
+        axes.set_yticks(levels, [f"{level:g}" for level in levels], fontsize=8)
+    if levels.size:
+        axes.set_ylim(levels[0] - 0.5, levels[-1] + 0.5)

@@ -133,7 +133,10 @@ def test_compare_two_masses_with_plots(in_tmp, capsys):
     plots = in_tmp / "plots"
     assert main(["compare", str(TWO_MASSES), "--plot", str(plots)]) == 0
     written = sorted(p.name for p in plots.glob("*.png"))
-    assert written == ["mass1.T.png", "mass2.T.png"]
+    assert written == ["TwoMasses.png"]  # one figure per model, a panel per signal
+    assert main(["compare", str(TWO_MASSES), "--plot", str(plots), "--plot-per-signal"]) == 0
+    written = sorted(p.name for p in plots.glob("*.png"))
+    assert written == ["TwoMasses.png", "mass1.T.png", "mass2.T.png"]
     for name in written:
         assert (plots / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
