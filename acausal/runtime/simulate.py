@@ -23,9 +23,11 @@ The loop is here; locating events is in :mod:`acausal.runtime.crossings`
 from __future__ import annotations
 
 import math
+import os
+import sys
 import time as _time
 from collections import deque
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import scipy.integrate as integrate
@@ -61,6 +63,58 @@ METHODS = {
 }
 
 
+#: Seconds of wall time between two calls of a progress callback.
+PROGRESS_PERIOD = 0.1
+
+
+class TerminalProgress:
+    """A one-line progress display on standard error: ``name  [#####.....]  42%  t = 4.2 s``.
+
+    Rewritten in place with a carriage return; :meth:`close` ends the line.
+    """
+
+    def __init__(self, name: str, stream=None, width: int = 30) -> None:
+        self.name = name
+        self.stream = sys.stderr if stream is None else stream
+        self.width = width
+        self.drawn = False
+
+    def __call__(self, t: float, t0: float, t1: float) -> None:
+        share = min(max((t - t0) / (t1 - t0), 0.0), 1.0) if t1 > t0 else 1.0
+        done = int(round(share * self.width))
+        self.stream.write(f"\r{self.name}  [{'#' * done}{'.' * (self.width - done)}]  "
+                          f"{share * 100:3.0f}%  t = {t:.6g}")
+        self.stream.flush()
+        self.drawn = True
+
+    def close(self) -> None:
+        if self.drawn:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.drawn = False
+
+
+def _quiet_by_default() -> bool:
+    """No progress line unless standard error is a terminal, outside CI and pytest."""
+    stream = sys.stderr
+    return (not (hasattr(stream, "isatty") and stream.isatty()) or bool(os.environ.get("CI"))
+            or "PYTEST_CURRENT_TEST" in os.environ)
+
+
+def progress_reporter(progress, name: str) -> "Callable[[float, float, float], object] | None":
+    """The callable ``simulate`` reports progress to (None: none), from its ``progress`` argument."""
+    if progress is None:
+        return None if _quiet_by_default() else TerminalProgress(name)
+    if progress is True:
+        return TerminalProgress(name)
+    if progress is False:
+        return None
+    if callable(progress):
+        return progress
+    raise SettingError(f"progress must be True, False, None or a callable, not {progress!r}",
+                       hint="progress(t, start_time, stop_time) is called as the run advances")
+
+
 def simulate(model: Component | Translation, *, start_time: float | None = None,
              stop_time: float | None = None, interval: float | None = None, method: str | None = None,
              rtol: float | None = None, atol: float | None = None, max_step: float | None = None,
@@ -68,7 +122,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              chattering_events: int = 100, outputs: Sequence[str] | None = None,
              max_steps: int | None = None, timeout: float | None = None,
              cache: bool = True, parameters: Mapping[str, float] | None = None,
-             redundant_constraints: str = "relax") -> SimulationResult:
+             redundant_constraints: str = "relax",
+             progress: "bool | Callable[[float, float, float], object] | None" = None) -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -117,6 +172,12 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         a constant) makes a new translation, and the result's notes say so.
         Structural parameters (``structural=True``) are set when the model is
         built.
+    progress : bool or callable, optional
+        ``progress(t, start_time, stop_time)`` is called as the run advances
+        (at most every :data:`PROGRESS_PERIOD` seconds of wall time, and once
+        at the end).  True draws a progress line on standard error; the
+        default (None) draws it only when standard error is a terminal and
+        neither ``CI`` nor pytest is running, so pipes and tests stay quiet.
     redundant_constraints : {'relax', 'error'}
         What a discrete state gets in which two elements constrain the same
         motion (both stuck on one rigid shaft): a split of the holding force
@@ -175,6 +236,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
                chattering_events)
     run.notes.extend(_structural_notes(translation, parameters))
     run.max_steps, run.timeout = max_steps, timeout
+    run.progress = progress_reporter(progress, translation.flat.name)
     run.model = model if isinstance(model, Component) else None  # descriptions for the result
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
@@ -292,6 +354,9 @@ class _Run:
         self.steps = 0
         self.max_steps: int | None = None
         self.timeout: float | None = None
+        self.progress: Callable[[float, float, float], object] | None = None
+        self._next_progress = 0.0
+        self.t_start = self.t_stop = 0.0
         # where the wall time goes, for a budget's message
         self.seconds = {"output": 0.0, "events": 0.0}
         self._static_time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
@@ -327,6 +392,8 @@ class _Run:
         message = "The simulation reached the stop time."
         self.recorder = Recorder(t0, t1, interval)
         self.wall_start = _time.perf_counter()
+        self.t_start, self.t_stop = t0, t1
+        self._next_progress = self.wall_start + PROGRESS_PERIOD
         self.compiled_before_run = self.translation.translation_seconds
         self.t = t0
         try:
@@ -376,6 +443,10 @@ class _Run:
             t_end, reasons = self.terminated
             message = f"terminate() at t = {t_end:.12g}: {'; '.join(reasons)}"
             status = 1
+        if self.progress is not None:
+            self.progress(self.recorder.last_time if self.recorder.rows else t0, t0, t1)
+            if isinstance(self.progress, TerminalProgress):
+                self.progress.close()
         result = self._result(t_setup, message, error, status)
         if isinstance(error, SimulationInterrupted):
             raise result.error
@@ -732,6 +803,11 @@ class _Run:
     # -- budgets --------------------------------------------------------------------
 
     def _check_budgets(self) -> None:
+        if self.progress is not None:
+            now = _time.perf_counter()
+            if now >= self._next_progress:
+                self._next_progress = now + PROGRESS_PERIOD
+                self.progress(self.t, self.t_start, self.t_stop)
         over_steps = self.max_steps is not None and self.steps > self.max_steps
         over_time = self.timeout is not None and _time.perf_counter() - self.wall_start > self.timeout
         if not (over_steps or over_time):

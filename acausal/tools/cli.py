@@ -432,9 +432,9 @@ def _cmd_compare(args) -> int:
     args.models = [spec for model in args.models
                    for spec in (reproducing_models(model) if Path(model).is_dir() else [model])]
     statuses = []
-    for model in args.models:
+    for number, model in enumerate(args.models, 1):
         if len(args.models) > 1:
-            print(f"== {model}")
+            print(f"== [{number}/{len(args.models)}] {model}", flush=True)
         try:
             statuses.append(_compare_one(args, model, len(args.models) > 1))
         except (CommandError, AcausalError) as exc:
