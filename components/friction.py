@@ -47,6 +47,13 @@ class PartialFriction(Component):
     ``w_relfric``, ``a_relfric``, ``tau0``, ``tau0_max`` and ``free`` by
     equations, plus its friction torque (``sa`` when ``locked``).
 
+    ``sa`` is declared in N.m, the unit of the torques it is compared with
+    and stands for.  Where it stands for an acceleration (the sliding and
+    free branches of ``a_relfric``) it is multiplied by
+    ``unitAngularAcceleration/unitTorque``, the MSL's two unit constants
+    (both 1, so the numbers are those of the MSL, which declares ``sa``
+    with unit "1" and multiplies it by the constants instead).
+
     The equations are those of MSL v4.1.0 (spec section 2.9, F1-F5), including
     the final ``sa - sign(w_relfric)*tau0_max`` branch of ``a_relfric``.  The
     one extension is ``K_locked``: in the locked branch this project uses
@@ -61,6 +68,10 @@ class PartialFriction(Component):
         velocity can occur; the large default disables it.
     K_locked : float, default 0 1/s
         Velocity feedback gain in the locked mode (project extension, not MSL).
+    unitAngularAcceleration : float, default 1 rad/s2
+        Unit constant (MSL ``constant unitAngularAcceleration``); do not change.
+    unitTorque : float, default 1 N.m
+        Unit constant (MSL ``constant unitTorque``); do not change.
 
     Notes
     -----
@@ -102,6 +113,12 @@ class PartialFriction(Component):
     K_locked = Parameter(0.0, unit="1/s", min=0,  # noqa: N815 - project name
                          description="Velocity feedback gain while locked: a_relfric = -K_locked*w_relfric "
                                      "(0 = MSL behaviour)")
+    # Unit constants (MSL: constant ... = 1): sa*unitAngularAcceleration/unitTorque is sa, a torque,
+    # read as an acceleration.  The language has no "final"; a value other than 1 scales the dynamics.
+    unitAngularAcceleration = Parameter(1.0, unit="rad/s2",  # noqa: N815 - Modelica name
+                                        description="Unit constant 1 rad/s2 (do not change)")
+    unitTorque = Parameter(1.0, unit="N.m",  # noqa: N815 - Modelica name
+                           description="Unit constant 1 N.m (do not change)")
 
     # defined by the subclass
     w_relfric = Variable(unit="rad/s", description="Relative angular velocity between frictional surfaces")
@@ -112,7 +129,9 @@ class PartialFriction(Component):
     free = Boolean(description="true, if frictional element is not active")
 
     # defined here
-    sa = Variable(unit="1", description="Path parameter of friction characteristic tau = f(a_relfric)")
+    sa = Variable(unit="N.m",
+                  description="Path parameter of friction characteristic tau = f(a_relfric) (the friction "
+                              "torque while locked)")
     startForward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
                            description="true, if w_rel=0 and start of forward sliding")
     startBackward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
@@ -124,11 +143,13 @@ class PartialFriction(Component):
 
     def equations(self):
         return friction_state_machine(self, self.w_relfric, self.a_relfric, self.tau0, self.tau0_max,
-                                      self.w_small, locked_acceleration=-self.K_locked * self.w_relfric)
+                                      self.w_small, locked_acceleration=-self.K_locked * self.w_relfric,
+                                      acceleration_per_force=self.unitAngularAcceleration / self.unitTorque)
 
 
 def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, locked_acceleration=0, *,
-                           forward_allowed=sp.true, backward_allowed=sp.true, sign_fallback=True):
+                           acceleration_per_force, forward_allowed=sp.true, backward_allowed=sp.true,
+                           sign_fallback=True):
     """The five equations F1-F5 of the MSL friction state machine, for either domain.
 
     Rotational and Translational ``PartialFriction`` share these equations
@@ -152,6 +173,12 @@ def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, l
     locked_acceleration : sympy expression, default 0
         ``a_relfric`` while locked (the MSL has 0; the rotational elements'
         ``K_locked`` extension uses ``-K_locked*w_relfric``).
+    acceleration_per_force : sympy expression
+        The element's unit constants, acceleration over force (torque):
+        ``unitAcceleration/unitForce`` or
+        ``unitAngularAcceleration/unitTorque``, equal to 1.  ``sa`` has the
+        unit of ``f0``; the other branches of ``a_relfric`` are multiplied
+        by this to make them accelerations.
     forward_allowed, backward_allowed : sympy Boolean, default true
         Conditions for sliding forward (backward): sliding from Stuck starts,
         and the mode is Forward (Backward), only while they hold
@@ -159,9 +186,10 @@ def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, l
     sign_fallback : bool, default True
         Whether ``a_relfric`` ends with the MSL PartialFriction's branches
         ``sa + f0_max`` if ``pre(mode) == Backward``, else ``sa -
-        sign(v_relfric)*f0_max``; False: it ends with ``sa + f0_max`` for
-        every remaining case (``PartialFrictionWithStop``, where not locked
-        and not free implies one of the cases before it).
+        sign(v_relfric)*f0_max`` (each times ``acceleration_per_force``);
+        False: it ends with ``sa + f0_max`` for every remaining case
+        (``PartialFrictionWithStop``, where not locked and not free implies
+        one of the cases before it).
 
     Returns
     -------
@@ -184,16 +212,19 @@ def friction_state_machine(element, v_relfric, a_relfric, f0, f0_max, v_small, l
         sp.And(is_initial(), w < 0))
     locked = sp.And(sp.Not(element.free),
                     sp.Not(sp.Or(was[Forward], element.startForward, was[Backward], element.startBackward)))
+    # sa and f0_max are forces (torques); the unit constants turn them into accelerations
+    # (they are 1: the generated arithmetic multiplies and divides by 1.0, which is exact).
+    per_force = acceleration_per_force
     if sign_fallback:
-        ending = [(sa + f0_max, was[Backward]), (sa - sp.sign(w) * f0_max, True)]
+        ending = [((sa + f0_max) * per_force, was[Backward]), ((sa - sp.sign(w) * f0_max) * per_force, True)]
     else:
-        ending = [(sa + f0_max, True)]
+        ending = [((sa + f0_max) * per_force, True)]
     acceleration = sp.Piecewise(
         (locked_acceleration, element.locked),
-        (sa, element.free),
-        (sa - f0_max, element.startForward),
-        (sa + f0_max, element.startBackward),
-        (sa - f0_max, was[Forward]),
+        (sa * per_force, element.free),
+        ((sa - f0_max) * per_force, element.startForward),
+        ((sa + f0_max) * per_force, element.startBackward),
+        ((sa - f0_max) * per_force, was[Forward]),
         *ending)
     mode = sp.Piecewise(
         (Free, element.free),

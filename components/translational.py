@@ -240,11 +240,21 @@ class PartialFriction(Component):
     ``f0``, ``f0_max`` and ``free`` by equations, plus its friction force
     (``sa`` when ``locked``).
 
+    ``sa`` is declared in N, the unit of the forces it is compared with and
+    stands for; the sliding and free branches of ``a_relfric`` multiply it
+    by ``unitAcceleration/unitForce``, the MSL's two unit constants (both 1;
+    the MSL declares ``sa`` with unit "1" and multiplies it by the constants
+    instead).
+
     Parameters
     ----------
     v_small : float, default 1e-3 m/s
         Relative velocity near zero: a sliding element whose velocity jumps
         past ``-v_small`` (``+v_small``) by a ``reinit`` reverses directly.
+    unitAcceleration : float, default 1 m/s2
+        Unit constant (MSL ``constant unitAcceleration``); do not change.
+    unitForce : float, default 1 N
+        Unit constant (MSL ``constant unitForce``); do not change.
 
     Notes
     -----
@@ -265,6 +275,12 @@ class PartialFriction(Component):
     Backward = Backward
 
     v_small = Parameter(1e-3, unit="m/s", description="Relative velocity near to zero (see model info text)")
+    # Unit constants (MSL: constant ... = 1): sa*unitAcceleration/unitForce is sa, a force, read
+    # as an acceleration.  The language has no "final"; a value other than 1 scales the dynamics.
+    unitAcceleration = Parameter(1.0, unit="m/s2",  # noqa: N815 - Modelica name
+                                 description="Unit constant 1 m/s2 (do not change)")
+    unitForce = Parameter(1.0, unit="N",  # noqa: N815 - Modelica name
+                          description="Unit constant 1 N (do not change)")
 
     # defined by the subclass
     v_relfric = Variable(unit="m/s", description="Relative velocity between frictional surfaces")
@@ -274,7 +290,8 @@ class PartialFriction(Component):
     free = Boolean(description="= true, if frictional element is not active")
 
     # defined here
-    sa = Variable(unit="1", description="Path parameter of friction characteristic f = f(a_relfric)")
+    sa = Variable(unit="N", description="Path parameter of friction characteristic f = f(a_relfric) "
+                                        "(the friction force while locked)")
     startForward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
                            description="= true, if v_relfric=0 and start of forward sliding")
     startBackward = Boolean(start=False, fixed=True,  # noqa: N815 - Modelica name
@@ -290,4 +307,5 @@ class PartialFriction(Component):
 
     def equations(self):
         return friction_state_machine(self, self.v_relfric, self.a_relfric, self.f0, self.f0_max, self.v_small,
+                                      acceleration_per_force=self.unitAcceleration / self.unitForce,
                                       **self.state_machine_options())

@@ -344,7 +344,8 @@ def friction_state(x, *, locked=False, free=False, start_forward=False, start_ba
 def test_friction_a_relfric_branches_in_order():
     x = attach(BearingFriction())
     a = rhs_of(x, x.a_relfric, PartialFriction)
-    base = {x.sa: 5.0, x.tau0_max: 2.0, x.w_relfric: -3.0, x.K_locked: 0.0}
+    base = {x.sa: 5.0, x.tau0_max: 2.0, x.w_relfric: -3.0, x.K_locked: 0.0,
+            x.unitAngularAcceleration: 1.0, x.unitTorque: 1.0}
     assert value(a, {**base, **friction_state(x, locked=True)}) == 0.0
     assert value(a, {**base, x.K_locked: 4.0, **friction_state(x, locked=True)}) == 12.0
     assert value(a, {**base, **friction_state(x, free=True)}) == 5.0

@@ -6,19 +6,16 @@ nothing) and gives parameters without a default the value 1; each model in
 ``examples/*.py`` is flattened as it is.  No equation may have terms in
 different units.
 
-Known exception, kept visible as an xfail: the friction elements (and the
-lossy gear) use their path parameter ``sa`` as a torque or force in one branch
-and as an acceleration in another.  The MSL declares ``sa`` with unit "1" and
-multiplies it by the constants ``unitTorque`` / ``unitAngularAcceleration``
-(``unitForce`` / ``unitAcceleration``); the equations here leave those
-constants out, so they do not check.  The fix is in the equations (put the
-unit constants back), not in a ``unit=`` string.
+The friction elements and the lossy gear check too: their path parameter
+``sa`` is declared in the unit of the torque (force) it is compared with, and
+where it stands for an acceleration it is multiplied by the element's unit
+constants (``unitAngularAcceleration/unitTorque``,
+``unitAcceleration/unitForce``, as in the MSL).
 """
 
 from __future__ import annotations
 
 import importlib
-import re
 import warnings
 from pathlib import Path
 
@@ -32,12 +29,6 @@ from acausal.library import blocks, rotational, thermal, translational
 from acausal.library.blocks import BooleanConstant, Constant
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-
-#: Findings in an equation that names a path parameter ``sa`` are the known exception above.
-_PATH_PARAMETER = re.compile(r"(^|[.\s(])sa\b")
-
-_KNOWN = ("the path parameter sa is used as a torque/force and as an acceleration without the MSL's "
-          "unit constants (unitTorque, unitAngularAcceleration): see the module docstring")
 
 
 def _library_classes() -> dict[str, type]:
@@ -95,10 +86,7 @@ def _assert_clean(model: Model) -> None:
         warnings.simplefilter("ignore", UnitWarning)
         report = check_units(flatten(model))
     assert not report.unparsed, f"unit strings not understood: {report.unparsed}"
-    unexpected = [f for f in report.findings if not _PATH_PARAMETER.search(f.origin.text)]
-    assert not unexpected, "\n".join(str(f) for f in unexpected)
-    if report.findings:
-        pytest.xfail(f"{len(report.findings)} equation(s): {_KNOWN}")
+    assert not report.findings, "\n".join(str(f) for f in report.findings)
 
 
 LIBRARY = _library_classes()

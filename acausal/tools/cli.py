@@ -314,6 +314,9 @@ def _parser() -> argparse.ArgumentParser:
                                           "and draw the incidence matrix in BLT order.")
     exp.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName")
     exp.add_argument("--out", metavar="DIR", help="folder for the pictures (default: current directory)")
+    exp.add_argument("--html", metavar="DIR",
+                     help="write a self-contained teaching page DIR/index.html (simulates the model for "
+                          "its discrete states and events)")
     exp.set_defaults(run=_cmd_explain)
     commands.add_parser("bench", help="work-precision benchmark (acausal bench --help)", add_help=False)
     commands.add_parser("show", help="a component's parameters, connectors and variables "
@@ -514,22 +517,28 @@ def _cmd_explain(args) -> int:
 
     if args.out:
         _check_writable(Path(args.out), "the pictures into", folder=True)
+    if args.html:
+        _check_writable(Path(args.html), "the page into", folder=True)
     cls = load_model_class(args.model)
     model = _instantiate(cls)
     out = Path(args.out) if args.out else Path.cwd()
-    if not args.out:
+    # with --html alone the page holds the pictures: no PNG files unless --out asks for them
+    pictures = bool(args.out) or not args.html
+    if pictures and not args.out:
         _check_writable(out, "the pictures into", folder=True)
     translation = _translate(model, cache=False)
     try:
-        explanation = explain(translation, out_dir=out)
+        explanation = explain(translation, out_dir=out, html=args.html, pictures=pictures)
     except OSError as exc:
-        print(f"acausal explain: error: cannot write the pictures into {out}: "
+        print(f"acausal explain: error: cannot write into {exc.filename or out}: "
               f"{exc.strerror or exc}", file=sys.stderr)
         return 1
     print(explanation.text, end="")
     print()
     for path in explanation.pictures:
         print(f"wrote {path}")
+    if explanation.page:
+        print(f"wrote {explanation.page}")
     return 0
 
 

@@ -15,8 +15,16 @@ equation-based tool works can follow:
    equations and every discrete state compiled.
 
 It also draws the incidence matrix of each compiled system in BLT order
-(``incidence_<Model>.png``): a square per (equation, unknown) occurrence,
-the matched pairs on the diagonal, the blocks outlined.
+(``incidence_<Model>.png``, or ``incidence_<Model>_<state>.png`` per
+discrete state, the state named by its modes): a square per (equation,
+unknown) occurrence, the matched pairs on the diagonal, the blocks outlined,
+the tearing unknowns marked.  For a simulated hybrid model only the states
+the simulation visited are drawn.
+
+With ``html=DIR`` it also writes the teaching page ``DIR/index.html``
+(:mod:`acausal.tools.report_html`): the same stages with every variable
+linked to where it is computed, the incidence picture of every discrete state
+visited, and the event timeline of the run.
 
 Examples
 --------
@@ -36,6 +44,8 @@ from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
 from ..names import parse
 from ..language import Component
 from ..compiler.translate import ModeSystem, Translation, translate
+from .report_html import (StateNamer, origin_label, solution_kind, state_file_stems, tearing_unknowns,
+                          write_page)
 
 __all__ = ["Explanation", "explain", "MAX_PICTURES"]
 
@@ -59,18 +69,22 @@ class Explanation:
     pictures : tuple of Path
         The incidence pictures written, one per compiled discrete state
         (at most :data:`MAX_PICTURES`).
+    page : Path or None
+        The teaching page written (``explain(..., html=DIR)``), else None.
     """
 
     model: str
     text: str
     pictures: tuple[Path, ...] = ()
+    page: Path | None = None
 
     def __str__(self) -> str:
         return self.text
 
 
 def explain(model_or_translation: Component | Translation, out_dir: str | Path | None = None,
-            key: tuple | None = None) -> Explanation:
+            key: tuple | None = None, *, html: str | Path | None = None,
+            pictures: bool = True) -> Explanation:
     """Explain, stage by stage, how a model is translated.
 
     Parameters
@@ -86,11 +100,19 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
         is explained in detail.  By default a continuous model's only system;
         for a hybrid model the first discrete state the simulation visits
         (the model is simulated first if nothing has been compiled yet).
+    html : str or Path, optional
+        Also write the teaching page ``html/index.html`` (created if
+        missing).  The page needs a run for its event timeline and its
+        discrete states: the model is simulated with its experiment if
+        explain did not simulate it already.
+    pictures : bool
+        Draw the PNG incidence pictures into ``out_dir`` (the page has its
+        own, as inline SVG).
 
     Returns
     -------
     Explanation
-        ``str(explanation)`` is the text.
+        ``str(explanation)`` is the text; ``explanation.page`` the page written.
 
     Raises
     ------
@@ -107,6 +129,7 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     partitioned = translation.partitioned
     notes: list[str] = []
     visited: tuple[str, ...] | None = None
+    result = None
 
     if key is not None:
         main = translation.system(tuple(key))
@@ -123,25 +146,39 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
             if not result.success:
                 notes.append(f"The simulation stopped early: {result.message}")
         main = _first_visited(translation, visited)
+    if html is not None and result is None:
+        result = _run_for_page(translation, notes)
 
     out = Path.cwd() if out_dir is None else Path(out_dir)
     systems = list(translation.systems.values())
     number = {system.key: n for n, system in enumerate(systems, start=1)}
-    # the system explained first, then the states visited, then the others
-    ranked = sorted(systems, key=lambda s: (s is not main,
-                                            visited is not None and s.description not in visited,
-                                            number[s.key]))
+    namer = StateNamer(translation)
+    state_names = {system.key: namer(system.key) for system in systems}
+    if visited is not None:
+        # what the run went through: the pictures a student compares
+        by_description = {s.description: s for s in systems}
+        candidates = [main] + [by_description[d] for d in visited if d in by_description]
+    else:
+        # the system explained first, then the others in the order compiled
+        candidates = sorted(systems, key=lambda s: (s is not main, number[s.key]))
     # one picture per compiled system: states sharing another's system have its picture
-    pictured = [s for s in ranked if s is main or s.shares is None][:MAX_PICTURES]
+    pictured, drawn = [], set()
+    for system in candidates:
+        shared = system.shares if system.shares is not None else system.key
+        if shared not in drawn:
+            drawn.add(shared)
+            pictured.append(system)
+    pictured = pictured[:MAX_PICTURES] if pictures else []
     stem = _safe(translation.flat.name)
+    state_stems = dict(zip([s.key for s in pictured], state_file_stems(state_names[s.key] for s in pictured)))
     names = {}
     for system in pictured:
         names[system.key] = (f"incidence_{stem}.png" if len(systems) == 1
-                             else f"incidence_{stem}_{number[system.key]}.png")
+                             else f"incidence_{stem}_{state_stems[system.key]}.png")
 
     writer = _Writer()
     _write_flat(writer, translation)
-    writer.paragraph(_main_intro(translation, main, names.get(main.key)))
+    writer.paragraph(_main_intro(translation, main, names.get(main.key), state_names[main.key]))
     flat_number = _flat_numbers(translation)
     _write_aliases(writer, main, flat_number)
     _write_structure(writer, main)
@@ -150,24 +187,49 @@ def explain(model_or_translation: Component | Translation, out_dir: str | Path |
     _write_code(writer, translation, main)
     _write_passes(writer, translation, main)
     if partitioned.is_hybrid:
-        _write_hybrid(writer, translation, main, visited, names)
+        _write_hybrid(writer, translation, main, visited, names, state_names)
     if clustering is not None:
         _write_parts(writer, translation, clustering, main)
     for note in notes:
         writer.note(note)
-    if len(systems) > MAX_PICTURES:
-        writer.note(f"{len(systems)} discrete states were compiled; incidence pictures were drawn "
-                    f"for {MAX_PICTURES} of them only (the one explained, then those visited).")
+    distinct = {s.shares if s.shares is not None else s.key for s in systems}
+    if pictures and visited is not None and len(drawn) < len(distinct):
+        writer.note("Incidence pictures were drawn for the discrete states the simulation visited; "
+                    "the states tried during event iteration only are listed, not drawn.")
+    if pictures and len(pictured) < len(drawn):
+        writer.note(f"{len(drawn)} distinct systems qualified for a picture; incidence pictures were "
+                    f"drawn for {MAX_PICTURES} of them only (the one explained first).")
 
-    pictures = []
+    written = []
     if pictured:
         out.mkdir(parents=True, exist_ok=True)
     for system in pictured:
         title = translation.flat.name
         if partitioned.is_hybrid:
-            title += f"\n[{_key_text(translation, system.key)}]"
-        pictures.append(_draw_incidence(system, out / names[system.key], title))
-    return Explanation(translation.flat.name, writer.text(), tuple(pictures))
+            title += f"\n{state_names[system.key]}"
+        written.append(_draw_incidence(system, out / names[system.key], title))
+    text = writer.text()
+    page = None
+    if html is not None:
+        page = write_page(translation, main, html, result=result,
+                          visited=tuple(result.modes) if result is not None else None,
+                          text=text, notes=notes)
+    return Explanation(translation.flat.name, text, tuple(written), page)
+
+
+def _run_for_page(translation: Translation, notes: list[str]):
+    """The run whose events and discrete states the page shows (None if it cannot run)."""
+    from ..errors import AcausalError
+    from ..runtime.simulate import simulate
+
+    try:
+        result = simulate(translation)
+    except AcausalError as exc:
+        notes.append(f"The simulation for the event timeline failed: {exc}")
+        return None
+    if not result.success:
+        notes.append(f"The simulation stopped early: {result.message}")
+    return result
 
 
 # ---------------------------------------------------------------------------
@@ -298,14 +360,14 @@ def _write_flat(w: _Writer, translation: Translation) -> None:
     w.line()
 
 
-def _main_intro(translation: Translation, main: ModeSystem, picture: str | None) -> str:
+def _main_intro(translation: Translation, main: ModeSystem, picture: str | None, name: str) -> str:
     text = ("The next stages turn the flat equations into a system the ODE solver can "
             "integrate: x' = f(t, x), with every other variable computed from the states x.")
     if translation.partitioned.is_hybrid:
         text += (f"  This model is hybrid (section 7): its continuous equations depend on "
                  f"discrete values, so there is one such system per discrete state.  Sections "
                  f"2-6 show the system of the discrete state "
-                 f"[{_key_text(translation, main.key)}].")
+                 f"[{_key_text(translation, main.key)}], named by its modes: {name}.")
     if picture:
         text += f"  The incidence matrix of this system is drawn in {picture}."
     return text
@@ -380,14 +442,8 @@ def _write_matching(w: _Writer, main: ModeSystem) -> None:
     w.line()
 
 
-def _step_kind(step) -> str:
-    if isinstance(step, Assign):
-        return "explicit"
-    if isinstance(step, LinearSolve):
-        return "torn linear"
-    if isinstance(step, NewtonSolve):
-        return "Newton" if len(step.tears) + len(step.inner) == 1 else "torn nonlinear (Newton)"
-    return type(step).__name__
+#: How a block is solved, in words (shared with the page).
+_step_kind = solution_kind
 
 
 def _write_blt(w: _Writer, main: ModeSystem) -> None:
@@ -497,7 +553,7 @@ def _write_passes(w: _Writer, translation: Translation, main: ModeSystem) -> Non
 
 
 def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visited,
-                  pictures: dict) -> None:
+                  pictures: dict, state_names: dict) -> None:
     partitioned = translation.partitioned
     w.section("Hybrid part: relations, discrete equations, discrete states")
     w.paragraph("Relations on continuous quantities become Booleans that keep their value "
@@ -531,10 +587,13 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
                "is reached.  The compiled states below are those the simulation reached or "
                "tried during event iteration.")
         w.line()
-        w.line(f"Discrete states visited by the simulation ({len(visited)}, as result.modes "
-               f"names them):")
+        w.line(f"Discrete states visited by the simulation ({len(visited)}, named by their modes, "
+               f"then as result.modes names them):")
+        named = {s.description: state_names[s.key] for s in translation.systems.values()}
         for d in visited:
-            w.lines += textwrap.wrap(d, _WIDTH, initial_indent="  ", subsequent_indent="      ")
+            if d in named:
+                w.lines += textwrap.wrap(named[d], _WIDTH, initial_indent="  - ", subsequent_indent="    ")
+            w.lines += textwrap.wrap(d, _WIDTH, initial_indent="    ", subsequent_indent="      ")
     w.line()
     systems = list(translation.systems.values())
     state_number = {system.key: n for n, system in enumerate(systems, start=1)}
@@ -548,7 +607,8 @@ def _write_hybrid(w: _Writer, translation: Translation, main: ModeSystem, visite
                          else "tried during event iteration only")
         if system is main:
             marks.append("explained in sections 2-6")
-        w.items(f"  State {n}: ", [_key_text(translation, system.key)], indent=6)
+        w.items(f"  State {n}: ", [state_names[system.key]], indent=6)
+        w.items("    values: ", [_key_text(translation, system.key)], indent=6)
         if marks:
             w.line(f"    ({'; '.join(marks)})")
         if system.shares is not None and system is not main:
@@ -688,14 +748,23 @@ def _safe(name: str) -> str:
 
 _KIND_COLOURS = {"explicit": "tab:blue", "torn linear": "tab:orange", "Newton": "tab:red",
                  "torn nonlinear (Newton)": "tab:red"}
+_TEAR_COLOUR = "#c2185b"
+
+#: Size of the picture's labels in points, and the width of one character in inches
+#: (monospace-like estimate: the margins are computed, not measured, because
+#: measuring every label for a tight bounding box doubled the drawing time).
+_FONT_MAX = 8.0
+_CHAR_INCHES = 0.62 / 72.0
 
 
 def _draw_incidence(system: ModeSystem, path: Path, title: str) -> Path:
     """Draw the incidence matrix of ``system`` in BLT order into a PNG file.
 
-    Rows are the equations in BLT order, columns the unknowns they are
-    matched to (so the matched pairs lie on the diagonal); each block is
-    outlined in the colour of how it is solved.
+    Rows are the equations in BLT order, labelled with the component and
+    equation they come from; columns the unknowns they are matched to (so
+    the matched pairs lie on the diagonal); each block is outlined in the
+    colour of how it is solved; the tearing unknowns' labels are magenta
+    with a dagger and their columns shaded.
     """
     # The Agg canvas draws straight to a file: no display and no change to
     # pyplot's global backend (which matplotlib.use("Agg") would make).
@@ -708,16 +777,30 @@ def _draw_incidence(system: ModeSystem, path: Path, title: str) -> Path:
     rows = blt.equation_order
     cols = blt.unknown_order
     n = len(rows)
+    tears = tearing_unknowns(system)
     position = {j: k for k, j in enumerate(cols)}
-    side = min(max(5.0, 0.2 * n + 3.0), 40.0)
-    font = max(3.0, min(8.0, 420.0 / max(n, 1)))
-    figure = Figure(figsize=(side, side))
+    grid = min(max(3.0, 0.16 * n), 36.0)
+    font = max(3.0, min(_FONT_MAX, 420.0 / max(n, 1)))
+    row_labels = [f"E{i + 1} {origin_label(st.equations[i].origin)}" for i in rows]
+    col_labels = [st.unknowns[j] + (" \u2020" if st.unknowns[j] in tears else "") for j in cols]
+    wrap = max(40, int(grid * 13))
+    title_lines = [part for line in title.split("\n")
+                   for part in (textwrap.wrap(line, wrap, break_on_hyphens=False) or [""])]
+    left = 0.25 + font * _CHAR_INCHES * max((len(t) for t in row_labels), default=4)
+    top = 0.35 + font * _CHAR_INCHES * max((len(t) for t in col_labels), default=4) + 0.17 * len(title_lines)
+    bottom, right = 0.45, 0.25
+    width, height = left + grid + right, top + grid + bottom
+    figure = Figure(figsize=(width, height))
     FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
+    axes = figure.add_axes((left / width, bottom / height, grid / width, grid / height))
+    figure.text(0.5, 1 - 0.08 / height, "\n".join(title_lines), ha="center", va="top", fontsize=9)
     if n == 0:
         axes.text(0.5, 0.5, "no unknowns to solve", ha="center", va="center")
         axes.set_axis_off()
     else:
+        for k, j in enumerate(cols):
+            if st.unknowns[j] in tears:
+                axes.axvspan(k - 0.5, k + 0.5, color=_TEAR_COLOUR, alpha=0.12, linewidth=0)
         xs, ys, mx, my = [], [], [], []
         for r, i in enumerate(rows):
             for j in st.incidence[i]:
@@ -728,7 +811,7 @@ def _draw_incidence(system: ModeSystem, path: Path, title: str) -> Path:
                 else:
                     xs.append(c)
                     ys.append(r)
-        marker = max(1.0, min(7.0, 250.0 / n)) ** 2
+        marker = (0.6 * 72.0 * grid / n) ** 2
         axes.scatter(xs, ys, s=marker, marker="s", color="0.55", linewidths=0)
         axes.scatter(mx, my, s=marker, marker="s", color="black", linewidths=0)
         steps = system.algebraic.steps
@@ -746,23 +829,26 @@ def _draw_incidence(system: ModeSystem, path: Path, title: str) -> Path:
             start += block.size
         axes.set_xlim(-0.5, n - 0.5)
         axes.set_ylim(n - 0.5, -0.5)
-        axes.set_aspect("equal")
-        axes.set_xticks(range(n))
-        axes.set_xticklabels([st.unknowns[j] for j in cols], rotation=90, fontsize=font)
-        axes.set_yticks(range(n))
-        axes.set_yticklabels([f"E{i + 1}" for i in rows], fontsize=font)
-        axes.xaxis.tick_top()
-        axes.tick_params(length=2)
-        axes.set_xlabel("unknowns, in the order they are solved", fontsize=9)
-        axes.set_ylabel("equations, in BLT order", fontsize=9)
+        # labels as plain texts, not tick labels: matplotlib builds a Tick (two
+        # lines, two texts) per tick and measures them all, which was most of the time
+        axes.set_xticks([])
+        axes.set_yticks([])
+        for k, (label, j) in enumerate(zip(col_labels, cols)):
+            torn = st.unknowns[j] in tears
+            axes.text(k, -0.8, label, rotation=90, ha="center", va="bottom", fontsize=font,
+                      color=_TEAR_COLOUR if torn else "black", fontweight="bold" if torn else "normal",
+                      clip_on=False)
+        for r, label in enumerate(row_labels):
+            axes.text(-0.8, r, label, ha="right", va="center", fontsize=font, clip_on=False)
         handles = [Line2D([], [], marker="s", color="black", linestyle="", label="matched (solved for)"),
                    Line2D([], [], marker="s", color="0.55", linestyle="", label="occurs")]
         handles += [Line2D([], [], color=c, label=f"block: {k}") for k, c in kinds_used.items()]
+        if tears:
+            handles.append(Line2D([], [], marker="s", color=_TEAR_COLOUR, alpha=0.4, linestyle="",
+                                  label="\u2020 tearing unknown"))
         axes.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
-    wrap = max(40, int(side * 13))
-    lines = [part for line in title.split("\n")
-             for part in (textwrap.wrap(line, wrap, break_on_hyphens=False) or [""])]
-    axes.set_title("\n".join(lines), fontsize=9)
+        figure.text(0.5, 0.12 / height, "rows: equations in BLT order (component, equation); "
+                    "columns: unknowns in the order they are solved", ha="center", va="bottom", fontsize=7)
     path = Path(path)
-    figure.savefig(path, dpi=110, bbox_inches="tight")
+    figure.savefig(path, dpi=100)
     return path

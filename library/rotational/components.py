@@ -354,6 +354,11 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
     clutch part transmits ``mu_pos(w_rel)*cgeo*fn`` while sliding.  It has its
     own stuck/sliding logic (``startForward``, ``locked``, ``stuck``), not
     PartialFriction; initial values must satisfy ``w_rel >= 0``.
+
+    ``sa`` is declared in N.m (the torque it is compared with and stands for
+    while locked); while sliding ``a_rel = (sa -
+    tau0)*unitAngularAcceleration/unitTorque``, with the MSL's unit
+    constants (both 1; the MSL declares ``sa`` with unit "1" instead).
     """
 
     #: constant eps0 of the MSL: relative tolerance for the disengaged threshold
@@ -380,8 +385,15 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
     tau0 = Variable(unit="N.m", description="Friction torque for w=0 and sliding (protected)")
     tau0_max = Variable(unit="N.m", description="Maximum friction torque for w=0 and locked (protected)")
     free = Boolean(description="true, if frictional element is not active (protected)")
-    sa = Variable(unit="1",
+    sa = Variable(unit="N.m",
                   description="Path parameter of tau = f(a_rel) friction characteristic (protected)")
+    # Unit constants (MSL: constant ... = 1): (sa - tau0)*unitAngularAcceleration/unitTorque is a
+    # torque read as an acceleration.  The language has no "final"; a value other than 1 scales
+    # the dynamics.
+    unitAngularAcceleration = Parameter(1.0, unit="rad/s2",  # noqa: N815 - Modelica name
+                                        description="Unit constant 1 rad/s2 (do not change)")
+    unitTorque = Parameter(1.0, unit="N.m",  # noqa: N815 - Modelica name
+                           description="Unit constant 1 N.m (do not change)")
 
     def equations(self):
         MU = friction_table(self, "mu_pos")
@@ -404,7 +416,7 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
             Eq(self.startForward, start_forward),
             Eq(self.locked, sp.And(pre_stuck, sp.Not(self.startForward))),
             Eq(self.mu, MU(w_rel)),
-            Eq(self.a_rel, If(self.locked, 0, sa - self.tau0)),
+            Eq(self.a_rel, If(self.locked, 0, (sa - self.tau0) * self.unitAngularAcceleration / self.unitTorque)),
             Eq(self.tau, sp.Piecewise((sa, self.locked), (0, self.free),
                                       (self.mu * self.cgeo * self.fn, True))),
             Eq(self.stuck, sp.Or(self.locked, w_rel <= 0)),

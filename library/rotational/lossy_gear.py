@@ -148,15 +148,17 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
 
     **Stuck/rolling state machine** (``mode`` starts at Free and is fixed,
     so the first evaluation sees ``pre(mode) = Free``).  ``sa`` is the path
-    variable of the characteristic: the holding torque while locked, the
-    acceleration plus the loss while rolling::
+    variable of the characteristic, a torque (N.m): the holding torque while
+    locked, the acceleration (read as a torque) plus the loss while rolling.
+    ``u = unitAngularAcceleration/unitTorque`` is the MSL's pair of unit
+    constants (both 1; the MSL declares ``sa`` with unit "1" instead)::
 
         startForward  = pre(mode) == Stuck and sa > tauLossMax_p  or  initial() and w_a > 0
         startBackward = pre(mode) == Stuck and sa < tauLossMin_m  or  initial() and w_a < 0
         locked  = not (ideal or pre(mode) in (Forward, Backward) or startForward or startBackward)
         tauLoss = 0 if ideal; sa if locked;
                   tauLossMax if startForward or pre(mode) == Forward; tauLossMin otherwise
-        a_a     = 0 if locked else sa - tauLoss
+        a_a     = sa*u if ideal; 0 if locked; else (sa - tauLoss)*u
         mode    = Free if ideal;
                   Forward  if (pre(mode) == Forward or startForward) and w_a > 0;
                   Backward if (pre(mode) == Backward or startBackward) and w_a < 0;
@@ -178,6 +180,10 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
         increasing, efficiencies in (0, 1].
     smoothness : Smoothness
         Only ``Smoothness.LinearSegments`` (the MSL default) is supported.
+    unitAngularAcceleration : float, default 1 rad/s2
+        Unit constant (MSL ``constant unitAngularAcceleration``); do not change.
+    unitTorque : float, default 1 N.m
+        Unit constant (MSL ``constant unitTorque``); do not change.
 
     Notes
     -----
@@ -217,9 +223,16 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
     smoothness = Parameter(Smoothness.LinearSegments, structural=True,
                            description="Smoothness of interpolation in lossTable table")
 
+    # Unit constants (MSL: constant ... = 1): sa*unitAngularAcceleration/unitTorque is sa, a torque,
+    # read as an acceleration.  The language has no "final"; a value other than 1 scales the dynamics.
+    unitAngularAcceleration = Parameter(1.0, unit="rad/s2",  # noqa: N815 - Modelica name
+                                        description="Unit constant 1 rad/s2 (do not change)")
+    unitTorque = Parameter(1.0, unit="N.m",  # noqa: N815 - Modelica name
+                           description="Unit constant 1 N.m (do not change)")
+
     phi_a = Variable(unit="rad", description="Angle between left shaft flange and support")
     phi_b = Variable(unit="rad", description="Angle between right shaft flange and support")
-    sa = Variable(unit="1", description="Path parameter for acceleration and torque loss")
+    sa = Variable(unit="N.m", description="Path parameter for acceleration and torque loss")
     w_a = Variable(unit="rad/s", description="Angular velocity of flange_a with respect to support")
     a_a = Variable(unit="rad/s2", description="Angular acceleration of flange_a with respect to support")
 
@@ -319,6 +332,8 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
     def equations(self):
         ideal = self.is_ideal
         tau_a, w_a, sa = self.flange_a.tau, self.w_a, self.sa
+        # sa is a torque; the unit constants (both 1) read a torque as an acceleration
+        acceleration_per_torque = self.unitAngularAcceleration / self.unitTorque
         interpolated = [getattr(self, name) for name in _INTERPOLATION_RESULT]
         equations = [
             Eq(self.ideal, sp.true if ideal else sp.false),
@@ -403,7 +418,7 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
             equations += [
                 Eq(self.locked, sp.false),
                 Eq(self.tauLoss, 0),
-                Eq(self.a_a, sa),
+                Eq(self.a_a, sa * acceleration_per_torque),
                 Eq(self.mode, self.Free),
             ]
         else:
@@ -411,7 +426,7 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
                 Eq(self.locked, sp.Not(sp.Or(was_forward, self.startForward, was_backward, self.startBackward))),
                 Eq(self.tauLoss, sp.Piecewise((sa, self.locked), (self.tauLossMax, forward),
                                               (self.tauLossMin, True))),
-                Eq(self.a_a, If(self.locked, 0, sa - self.tauLoss)),
+                Eq(self.a_a, If(self.locked, 0, (sa - self.tauLoss) * acceleration_per_torque)),
                 Eq(self.mode, sp.Piecewise(
                     (self.Forward, sp.And(forward, w_a > 0)),
                     (self.Backward, sp.And(sp.Or(was_backward, self.startBackward), w_a < 0)),

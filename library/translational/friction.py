@@ -207,7 +207,7 @@ class PartialFrictionWithStop(PartialRigid, PartialFriction):
                         or initial() and v_relfric < 0
         locked = not free and not (pre(mode) == Forward or startForward
                                    or pre(mode) == Backward or startBackward)
-        a_relfric = 0 if locked, sa if free, sa - f0_max if startForward,
+        a_relfric = 0 if locked, else u times: sa if free, sa - f0_max if startForward,
                     sa + f0_max if startBackward, sa - f0_max if pre(mode) == Forward,
                     else sa + f0_max
         mode = Free if free,
@@ -217,6 +217,8 @@ class PartialFrictionWithStop(PartialRigid, PartialFriction):
                            and v_relfric < 0 and s > s_left,
                else Stuck
 
+    Here ``sa`` is a force (N) and ``u = unitAcceleration/unitForce`` is the
+    MSL's pair of unit constants (both 1) that reads it as an acceleration.
     The subclass defines ``v_relfric``, ``a_relfric``, ``f`` (the friction
     force, ``sa`` while locked), ``f0``, ``f0_max`` and ``free``.  The
     centre position ``s`` is always a state (``StateSelect.always``), since

@@ -147,8 +147,9 @@ def test_hybrid_model_with_several_states(tmp_path):
     text = explanation.text
     assert "(step.startTime > time)=True" in text and "(step.startTime > time)=False" in text
     assert "Discrete states compiled (2, 2 distinct systems)" in text
-    assert sorted(p.name for p in explanation.pictures) == ["incidence_StepDrive_1.png",
-                                                            "incidence_StepDrive_2.png"]
+    # each picture's file says which discrete state it shows (a relation true, or none)
+    assert sorted(p.name for p in explanation.pictures) == [
+        "incidence_StepDrive_all_conditions_false.png", "incidence_StepDrive_step.startTime-gt-time.png"]
     for picture in explanation.pictures:
         assert picture.read_bytes()[:8] == PNG
 
