@@ -43,7 +43,9 @@ from typing import Any
 from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
 from ..names import parse
 from ..language import Component
+from ..compiler.clusters import ComposedSystem
 from ..compiler.translate import ModeSystem, Translation, translate
+from ..errors import AcausalError
 from .report_html import (StateNamer, origin_label, solution_kind, state_file_stems, tearing_unknowns,
                           write_page)
 
@@ -545,10 +547,21 @@ def _write_passes(w: _Writer, translation: Translation, main: ModeSystem) -> Non
         for name, seconds in twin.passes:
             w.line(f"    {name:<26} {1e3 * seconds:9.2f} ms")
     initial = translation.initial_systems.get(main.key)
+    if initial is None and not isinstance(main, ComposedSystem):
+        try:  # compiled here if no run has needed it: what initialization will do is part of the story
+            initial = translation.initial_system(main.key)
+        except AcausalError:
+            initial = None
     if initial is not None:
         w.line("  initialization problem:")
         for name, seconds in initial.passes:
             w.line(f"    {name:<26} {1e3 * seconds:9.2f} ms")
+        if getattr(initial, "from_start", ()):
+            # Modelica tools complete an under-determined initial problem from start values
+            w.line("  states without fixed=True that start from their start values (nothing "
+                   "else determines them):")
+            for name, value in initial.from_start:
+                w.line(f"    {name} = {_format_value(value)}")
     w.line()
 
 
