@@ -138,3 +138,18 @@ def check_declarations(component) -> None:
     for key, decl in enabled_declarations(x).items():
         if isinstance(decl, (Boolean, Integer)) and decl.causality != "input":
             assert lhs.count(getattr(x, key)) == 1, f"{name}.{key} needs exactly one defining equation"
+
+
+def exported_classes() -> dict[str, type]:
+    """Every component class the four library packages export, by ``package.Name``."""
+    from acausal.language import Component
+    from acausal.library import blocks, rotational, thermal, translational
+
+    found = {}
+    for package in (rotational, translational, thermal, blocks):
+        for name in package.__all__:
+            value = getattr(package, name)
+            if isinstance(value, type) and issubclass(value, Component) and not issubclass(value, Connector):
+                found[f"{package.__name__.rsplit('.', 1)[-1]}.{name}"] = value
+    return found
+

@@ -18,9 +18,7 @@ import sympy as sp
 
 from acausal.errors import ConnectionError_, ModifierError, ParameterError
 from acausal.language import (
-    Component,
     Boolean,
-    Connector,
     Integer,
     Model,
     StateSelect,
@@ -30,7 +28,6 @@ from acausal.language import (
 )
 from acausal.tables import table_function, validate_table
 from acausal.components.friction import Backward, Forward, Free, PartialFriction, Stuck, Unknown
-from acausal.library import blocks, rotational, thermal
 from acausal.library.blocks import Add, Constant, Cosine, ExpSine, Feedback, Gain, Integrator, Product, Ramp, Sine, Step
 from acausal.library.rotational import (
     AccSensor,
@@ -72,7 +69,7 @@ from acausal.library.thermal import (
     ThermalResistor,
 )
 
-from library_checks import check_declarations, attach, collect, enabled_declarations, local_balance, own_names, params, rhs_of, value  # noqa: F401
+from library_checks import check_declarations, exported_classes, attach, collect, enabled_declarations, local_balance, own_names, params, rhs_of, value  # noqa: F401
 
 
 # --------------------------------------------------------------------------
@@ -160,19 +157,7 @@ def test_discrete_variables_are_defined_with_the_variable_on_the_left(make):
             assert lhs.count(getattr(x, key)) == 1, f"{key} needs exactly one defining equation"
 
 
-def _exported_classes():
-    from acausal.library import translational
-
-    found = {}
-    for package in (rotational, translational, thermal, blocks):
-        for name in package.__all__:
-            value = getattr(package, name)
-            if isinstance(value, type) and issubclass(value, Component) and not issubclass(value, Connector):
-                found[f"{package.__name__.rsplit('.', 1)[-1]}.{name}"] = value
-    return found
-
-
-@pytest.mark.parametrize("name, klass", sorted(_exported_classes().items()), ids=sorted(_exported_classes()))
+@pytest.mark.parametrize("name, klass", sorted(exported_classes().items()), ids=sorted(exported_classes()))
 def test_every_exported_class_passes_the_declaration_checks(name, klass):
     """Each class of the libraries, with its defaults: own names only, balanced, discrete
     variables defined once (their behaviour is tested in the library test folders)."""

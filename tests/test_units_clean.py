@@ -24,21 +24,11 @@ import pytest
 from acausal.compiler.flatten import flatten
 from acausal.compiler.units import check_units
 from acausal.errors import UnitWarning
-from acausal.language import Component, Connector, Model, Parameter, Variable
-from acausal.library import blocks, rotational, thermal, translational
+from acausal.language import Model, Parameter, Variable
 from acausal.library.blocks import BooleanConstant, Constant
+from library_checks import exported_classes
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-
-
-def _library_classes() -> dict[str, type]:
-    found = {}
-    for package in (rotational, translational, thermal, blocks):
-        for name in package.__all__:
-            value = getattr(package, name)
-            if isinstance(value, type) and issubclass(value, Component) and not issubclass(value, Connector):
-                found[f"{package.__name__.rsplit('.', 1)[-1]}.{name}"] = value
-    return found
 
 
 def _stand_in(declaration: Parameter) -> float:
@@ -89,7 +79,7 @@ def _assert_clean(model: Model) -> None:
     assert not report.findings, "\n".join(str(f) for f in report.findings)
 
 
-LIBRARY = _library_classes()
+LIBRARY = exported_classes()
 MODELS = _example_models()
 
 

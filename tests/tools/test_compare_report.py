@@ -9,9 +9,9 @@ written twice, as the MSL reference files do.
 from __future__ import annotations
 
 from pathlib import Path
-from types import MappingProxyType
 
 import numpy as np
+from test_compare import make_reference
 import pytest
 
 from acausal.tools.compare import (
@@ -31,18 +31,7 @@ MODE_NAMES = {-1: "Backward", 0: "Stuck", 1: "Forward", 2: "Free"}
 
 def reference_of(time, signals: dict[str, np.ndarray]) -> Reference:
     """A Reference built in memory."""
-    time = np.asarray(time, dtype=float)
-    return Reference(
-        modelica_class="Test.Model",
-        time=time,
-        signals=MappingProxyType({k: np.asarray(v, dtype=float) for k, v in signals.items()}),
-        compared=tuple(signals),
-        start_time=float(time[0]),
-        stop_time=float(time[-1]),
-        interval=None,
-        tolerance=None,
-        path=Path("."),
-    )
+    return make_reference(time, signals)
 
 
 def steps(changes: list[tuple[float, float]], first: float = 0.0, n: int = 1001):
