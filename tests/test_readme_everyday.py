@@ -41,3 +41,22 @@ def _left_rows(result):
     """Rows followed by another at the same time (the left limits at events)."""
     t = result.time
     return np.append(t[1:] == t[:-1], False)
+
+
+def test_the_analyses_block_runs_after_the_everyday_block(tmp_path, monkeypatch):
+    matplotlib.use("Agg")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(ROOT))
+    text = (ROOT / "README.md").read_text()
+    analyses = re.search(r"```python\n(.*?)```", text.split("## Analyses", 1)[1], re.S).group(1)
+    namespace: dict = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        exec(compile(everyday_block(), "README.md", "exec"), namespace)
+        exec(compile(analyses, "README.md", "exec"), namespace)
+    table = namespace["study"].table
+    assert len(table) == 6 and (table["status"] == 0).all()
+    assert sorted(set(table["J1.J"])) == [0.5, 1, 2]
+    lin = namespace["lin"]
+    assert lin.A.shape == (len(lin.state_names),) * 2 and lin.input_names == ("sin1.y",)
+    assert "clutch1" in lin.discrete_state

@@ -561,11 +561,41 @@ def vectorised(function: Callable, source: str) -> Callable | None:
     None when the function holds a construct that is not translated (a Newton
     iteration, a linear system of three or more unknowns).
     """
+    name = function.__name__
+    key = (source, name)
+    translated = _VECTOR_CODE.get(key, _MISSING)
+    if translated is _MISSING:
+        # the translation depends on the text only: other parameter values (a sweep,
+        # a rebound translation) bind the same code to their own closure
+        translated = _VECTOR_CODE[key] = _vector_code(source, name, function.__code__.co_filename)
+        while len(_VECTOR_CODE) > _VECTOR_CODE_SIZE:
+            _VECTOR_CODE.pop(next(iter(_VECTOR_CODE)))
+    if translated is None:
+        return None
+    code, constants = translated
+    namespace = dict(function.__globals__)
+    cells = function.__closure__ or ()
+    namespace.update(zip(function.__code__.co_freevars, (cell.cell_contents for cell in cells)))
+    namespace.update(_VECTOR_HELPERS)
+    namespace.update(constants)
+    exec(code, namespace)
+    return namespace[f"{name}_many"]
+
+
+#: Translated numpy functions by (source, name): a code object and the constants it reads,
+#: or None where the function cannot be translated.  Bounded, oldest out first.
+_VECTOR_CODE: dict = {}
+_VECTOR_CODE_SIZE = 256
+_MISSING = object()
+
+
+def _vector_code(source: str, name: str, filename: str):
+    """The compiled module defining ``<name>_many`` and its constants, or None (see
+    :func:`vectorised`)."""
     try:
         tree = ast.parse(source)
     except SyntaxError:
         return None
-    name = function.__name__
     make = next((node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"),
                 None)
     found = None if make is None else next(
@@ -581,14 +611,7 @@ def vectorised(function: Callable, source: str) -> Callable | None:
     module = ast.parse(f"def {name}_many(t, x):\n    pass\n")
     module.body[0].body = body
     ast.fix_missing_locations(module)
-    namespace = dict(function.__globals__)
-    cells = function.__closure__ or ()
-    namespace.update(zip(function.__code__.co_freevars, (cell.cell_contents for cell in cells)))
-    namespace.update(_VECTOR_HELPERS)
-    namespace.update(constants)
-    filename = function.__code__.co_filename.rstrip(">") + f" {name}_many>"
-    exec(compile(module, filename, "exec"), namespace)
-    return namespace[f"{name}_many"]
+    return compile(module, filename.rstrip(">") + f" {name}_many>", "exec"), constants
 
 
 def _varying_names(body) -> set[str]:

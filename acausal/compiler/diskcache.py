@@ -41,7 +41,7 @@ from typing import Any
 
 import sympy as sp
 
-__all__ = ["DiskCache", "cache_folder", "disk_cache_enabled", "engine_version", "model_key", "MAX_EQUATIONS"]
+__all__ = ["DiskCache", "MemoryCache", "cache_folder", "disk_cache_enabled", "engine_version", "model_key", "MAX_EQUATIONS"]
 
 #: Version of the entry layout; part of every entry.
 FORMAT = 1
@@ -223,6 +223,46 @@ class DiskCache:
                 raise
         except (OSError, TypeError, ValueError):
             return False
+        return True
+
+
+class MemoryCache:
+    """Payloads held in memory, read as :class:`DiskCache` entries are: how a
+    process that did not translate a model gets its compiled systems
+    (:meth:`~acausal.compiler.translate.Translation.from_bundle`).
+
+    A system compiled where this store is used (a discrete state the payloads
+    do not hold) is kept here too, for the next translation of the process
+    (:attr:`compiled` counts them).
+
+    Parameters
+    ----------
+    payloads : mapping
+        ``entry -> payload``, as :meth:`DiskCache.store` takes them.
+    """
+
+    def __init__(self, payloads) -> None:
+        self.payloads = dict(payloads)
+        #: ``entry -> (GeneratedCode, make)``: the source is loaded once, then every translation binds it
+        self.codes: dict = {}
+        self.hits = 0
+        self.misses = 0
+        self.compiled = 0  #: systems compiled because no payload served them
+
+    def load(self, entry: str) -> dict | None:
+        """The payload of ``entry``, or None."""
+        payload = self.payloads.get(entry)
+        if payload is None:
+            self.misses += 1
+        else:
+            self.hits += 1
+        return payload
+
+    def store(self, entry: str, payload: dict) -> bool:
+        """Keep the payload of a system compiled here."""
+        self.compiled += 1
+        self.payloads[entry] = payload
+        self.codes.pop(entry, None)
         return True
 
 

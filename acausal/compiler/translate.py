@@ -17,31 +17,36 @@ from __future__ import annotations
 import dataclasses
 import functools
 import difflib
+import hashlib
+import io
+import json
+import pickle
 import re
 import time as _time
 import warnings
 from collections import OrderedDict
+from types import SimpleNamespace
 from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
 
-from ..errors import (ModelDefinitionError, RedundantConstraintWarning, SettingError, StructuralError,
+from ..errors import (InitializationError, ModelDefinitionError, RedundantConstraintWarning, SettingError, StructuralError,
                       StructurallySingularError)
 from ..language import Component, structural_names, with_structural
 from ..names import is_derivative, parse
 from .cache import ModelCache
 from .codegen import GeneratedCode, load_make
-from .diskcache import DiskCache, cache_folder, disk_cache_enabled, model_key
+from .diskcache import DiskCache, MemoryCache, cache_folder, disk_cache_enabled, model_key
 from .clusters import Cluster, Clustering, ComposedInitialSystem, ComposedSystem, compose, compose_initial, find_clusters
-from .flatten import FlatEquation, FlatModel, flatten
+from .flatten import FlatEquation, FlatModel, Origin, flatten
 from .initial import InitialSystem, check_fixed_constants, compile_initial_system
 from .modes import ModeSystem, PassLog, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
 from .structure import _incidence, relax_redundant
 
-__all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "translate", "flat_signature",
-           "describe_key"]
+__all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "TranslationBundle", "translate",
+           "flat_signature", "describe_key"]
 
 #: A call of a table function in generated code (see ``codegen._Printer``).
 _CALLED_TABLE = re.compile(r"\b(_f_\w+)\(")
@@ -553,18 +558,26 @@ class Translation:
     def _save(self, entry: str, system, cache: ModelCache, fields: dict) -> None:
         """Store ``system``'s code and ``fields`` under ``entry`` (when the cache is on)."""
         disk = self._disk_cache()
-        if disk is None or system.code is None:
+        if disk is None:
             return
         if system.passes[:1] and system.passes[0][0] == "rebind":
             # compiled for other parameter values: a compilation for these could make
             # other numeric choices; only what was compiled for the key is stored
             return
+        payload = self._payload(system, fields)
+        if payload is not None:
+            disk.store(entry, payload)
+
+    def _payload(self, system, fields: dict) -> dict | None:
+        """``system``'s code and ``fields`` as plain data (None: it calls a table not of this model)."""
+        if system.code is None:
+            return None
         functions = self._functions_payload(system.code.source)
         if functions is None:
-            return
-        disk.store(entry, {"key": list(system.key), "source": system.code.source,
-                           "n_derivative_steps": system.code.n_derivative_steps, "n_steps": system.code.n_steps,
-                           "functions": functions, **fields})
+            return None
+        return {"key": list(system.key), "source": system.code.source,
+                "n_derivative_steps": system.code.n_derivative_steps, "n_steps": system.code.n_steps,
+                "functions": functions, **fields}
 
     def _load(self, entry: str, cache: ModelCache, build):
         """``build(payload, code, functions, passes)`` from the entry stored for ``entry``, or None."""
@@ -576,32 +589,49 @@ class Translation:
         if payload is None:
             return None
         try:
-            code, make = self._code_from(payload)
+            if not _fits(payload, cache.parameters.symbols):
+                return None  # its solution divides by zero for these values: compiled anew
+            # a bundle's store keeps the code made from each entry: the source is
+            # loaded once per process, then every run binds its own values
+            codes = getattr(disk, "codes", None)
+            found = codes.get(entry) if codes is not None else None
+            code, make = found if found is not None else self._code_from(payload)
+            if codes is not None:
+                codes[entry] = (code, make)
             return build(payload, code, make(cache.parameters.vector), (("load", _time.perf_counter() - t0),))
+        except InitializationError:
+            raise  # a fixed start value that conflicts with these values (see _fits)
         except Exception:  # an entry that does not fit (its checksum matched): compile anew
             return None
 
     def _save_mode(self, entry: str, system: ModeSystem, cache: ModelCache) -> None:
-        self._save(entry, system, cache, {
-            "description": system.description, "states": list(system.states),
-            "unknowns": list(system.unknowns), "derivatives": list(system.derivative_names),
-            "alias_plan": [list(a) for a in system.alias_plan],
-            "shares": None if system.shares is None else list(system.shares)})
+        fields = _mode_fields(system)
+        if isinstance(self._disk, MemoryCache):  # kept for other parameter values (from_bundle)
+            fields.update(_bound_fields(system.aliases, system.algebraic))
+        self._save(entry, system, cache, fields)
 
     def _load_mode(self, entry: str, cache: ModelCache) -> ModeSystem | None:
         def build(payload, code, functions, passes):
+            plan = tuple((n, c, s) for n, c, s in payload["alias_plan"])
+            if "aliases" in payload:  # from a bundle: the plan follows these parameter values
+                aliases = {n: _expression(e) for n, e in payload["aliases"].items()}
+                plan = alias_plan(SimpleNamespace(aliases=aliases), cache.parameters.symbols)
             return ModeSystem(
                 tuple(payload["key"]), payload["description"], (), None, None, None, None, code, passes,
-                *functions, tuple(payload["states"]), tuple(payload["unknowns"]),
-                tuple((n, c, s) for n, c, s in payload["alias_plan"]),
+                *functions, tuple(payload["states"]), tuple(payload["unknowns"]), plan,
                 None if payload["shares"] is None else tuple(payload["shares"]),
                 loaded_derivatives=tuple(payload["derivatives"]))
         return self._load(entry, cache, build)
 
     def _save_initial(self, entry: str, system: InitialSystem, cache: ModelCache) -> None:
-        self._save(entry, system, cache, {"unknowns": list(system.unknowns),
-                                          "relaxed": [list(r) for r in system.relaxed],
-                                          "from_start": [list(r) for r in system.from_start]})
+        fields = _initial_fields(system)
+        if isinstance(self._disk, MemoryCache):  # kept for other parameter values (from_bundle)
+            mode = (self.parts.get((int(entry.split()[1]), system.key)) if entry.startswith("initial-part ")
+                    else self.systems.get(system.key))
+            if not isinstance(mode, ModeSystem) or mode.aliases is None:
+                return
+            fields.update(_bound_fields(mode.aliases, system.algebraic))
+        self._save(entry, system, cache, fields)
 
     def _load_initial(self, entry: str, cache: ModelCache) -> InitialSystem | None:
         def build(payload, code, functions, passes):
@@ -610,6 +640,84 @@ class Translation:
                                  passes, functions[2],
                                  tuple((n, v) for n, v in payload.get("from_start", ())))
         return self._load(entry, cache, build)
+
+    # -- to other processes -------------------------------------------------------
+
+    def export(self) -> "TranslationBundle":
+        """This translation as plain data, for processes that run the model without translating it.
+
+        Every system compiled so far is shipped as its persistent-cache payload
+        (generated source and plain metadata), with what binding it to other
+        parameter values needs as text: its aliases, the expressions its
+        solution divides by, the fixed start values it makes constants.
+        Systems loaded from the persistent cache (no stages kept) and systems
+        that call a table function two tables name alike are left out: a
+        process that visits their discrete state compiles it.
+        """
+        if not self._tables:
+            self._tables = self._table_functions() or {}
+        payloads: dict[str, dict] = {}
+
+        def add(entry: str, system, fields: dict) -> None:
+            payload = self._payload(system, fields)
+            if payload is not None:
+                payloads[entry] = payload
+
+        # entries named as system(), _part(), initial_system() and _initial_part() name them
+        modes = [(f"mode {k!r}", s) for k, s in self.systems.items()]
+        modes += [(f"part {i} {k!r}", s) for (i, k), s in self.parts.items()]
+        for entry, system in modes:
+            if isinstance(system, ModeSystem) and system.aliases is not None:
+                add(entry, system, {**_mode_fields(system), **_bound_fields(system.aliases, system.algebraic)})
+        initials = [(f"initial {k!r}", s, self.systems.get(k)) for k, s in self.initial_systems.items()]
+        initials += [(f"initial-part {i} {k!r}", s, self.parts.get((i, k)))
+                     for (i, k), s in self.initial_parts.items()]
+        for entry, system, mode in initials:
+            if isinstance(system, InitialSystem) and system.algebraic is not None \
+                    and isinstance(mode, ModeSystem) and mode.aliases is not None:
+                add(entry, system, {**_initial_fields(system), **_bound_fields(mode.aliases, system.algebraic)})
+        pickler_output = io.BytesIO()
+        _BundlePickler(pickler_output, protocol=pickle.HIGHEST_PROTOCOL).dump(
+            (self.flat, self.partitioned, self.clustering))
+        return TranslationBundle(pickler_output.getvalue(), self.demand, self.redundant_constraints, payloads)
+
+    @classmethod
+    def from_bundle(cls, bundle: "TranslationBundle", flat: FlatModel | None = None,
+                    store: MemoryCache | None = None) -> "Translation":
+        """A translation whose systems are loaded from ``bundle`` (see :meth:`export`), not compiled.
+
+        Parameters
+        ----------
+        bundle : TranslationBundle
+        flat : FlatModel, optional
+            The bundle's flat model with other parameter values (its
+            parameters replaced, nothing else): the systems are bound to them.
+        store : MemoryCache, optional
+            The bundle's payloads, read once (:meth:`TranslationBundle.store`):
+            shared by the translations of one process, it keeps the code made
+            from each payload.
+
+        Returns
+        -------
+        Translation
+            A discrete state the bundle does not hold, or whose solution
+            divides by zero for these values, is compiled on first visit as
+            usual.  A flat model whose values change what the translation
+            decided (a relation of parameters alone, a zero that removes a
+            term) is partitioned anew, and every system it needs compiled.
+        """
+        base, partitioned, clustering = bundle.unpacked()
+        flat = base if flat is None else flat
+        if not _same_structure(base, partitioned, flat):
+            return cls(flat, partition(flat), 0.0, bundle.demand, disk=False,
+                       redundant_constraints=bundle.redundant_constraints)
+        if flat is not base:
+            partitioned = dataclasses.replace(partitioned, flat=flat)
+        translation = cls(flat, partitioned, 0.0, bundle.demand, clusters=clustering is not None,
+                          clustering=clustering, disk=False, redundant_constraints=bundle.redundant_constraints)
+        translation._disk = bundle.store() if store is None else store
+        translation._tables = translation._table_functions() or {}
+        return translation
 
     # -- summary --------------------------------------------------------------
 
@@ -633,6 +741,137 @@ class Translation:
         """Seconds spent compiling initialization problems (the clusters' included)."""
         return (sum(s.seconds for s in self.initial_systems.values())
                 + sum(s.seconds for s in self.initial_parts.values()))
+
+
+def _mode_fields(system: ModeSystem) -> dict:
+    """A mode system's metadata as the persistent cache stores it."""
+    return {"description": system.description, "states": list(system.states),
+            "unknowns": list(system.unknowns), "derivatives": list(system.derivative_names),
+            "alias_plan": [list(a) for a in system.alias_plan],
+            "shares": None if system.shares is None else list(system.shares)}
+
+
+def _initial_fields(system: InitialSystem) -> dict:
+    """An initialization system's metadata as the persistent cache stores it."""
+    return {"unknowns": list(system.unknowns), "relaxed": [list(r) for r in system.relaxed],
+            "from_start": [list(r) for r in system.from_start]}
+
+
+def _bound_fields(aliases, algebraic) -> dict:
+    """What binding a shipped system to other parameter values needs, as text
+    (``sympy.srepr``, read back exactly): its aliases, the expressions its
+    solution divides by, and the fixed start values its mode makes constants."""
+    return {"aliases": {n: sp.srepr(sp.sympify(e)) for n, e in aliases.aliases.items()},
+            "nonzero": [sp.srepr(sp.sympify(g)) for g in algebraic.nonzero],
+            "fixed_constants": [[n, sp.srepr(sp.sympify(e)), float(start)]
+                                for n, e, start in aliases.fixed_constants]}
+
+
+@functools.lru_cache(maxsize=65536)
+def _expression(text: str) -> sp.Expr:
+    """An expression printed by ``sympy.srepr`` (memoised: every run of a sweep reads the same ones)."""
+    return sp.sympify(text)
+
+
+def _fits(payload: dict, parameter_symbols) -> bool:
+    """Whether a shipped system serves these parameter values (payloads of the
+    persistent cache, made for the values of their key, always do).
+
+    Raises
+    ------
+    InitializationError
+        A fixed start value conflicts with the constant these values give it,
+        as when a translation is rebound (:func:`_bind_initial`).
+    """
+    if any(_expression(g).xreplace(parameter_symbols).is_zero for g in payload.get("nonzero", ())):
+        return False
+    if payload.get("fixed_constants"):
+        check_fixed_constants(SimpleNamespace(fixed_constants=[
+            (n, _expression(e), start) for n, e, start in payload["fixed_constants"]]), parameter_symbols)
+    return True
+
+
+def _same_structure(base: FlatModel, partitioned: PartitionedModel, flat: FlatModel) -> bool:
+    """Whether ``flat`` (``base`` with other parameter values) keeps the systems compiled for
+    ``base``: the same variables (start values are compiled into the initialization
+    systems), the same zero parameters (structural zeros) and the same values of the
+    parameters that relations of parameters alone compare."""
+    if flat is base:
+        return True
+    old, new = base.parameter_values, flat.parameter_values
+    return (flat.variables == base.variables and old.keys() == new.keys()
+            and all((old[n] == 0) == (new[n] == 0) for n in old)
+            and all(old[n] == new[n] for n in partitioned.evaluated_parameters))
+
+
+class _BundlePickler(pickle.Pickler):
+    """Pickles a flat model for another process: the texts of equations made on demand
+    (closures) are printed, table functions (classes made at run time) go by their data."""
+
+    def reducer_override(self, obj):
+        if type(obj) is Origin and not isinstance(obj.source, str):
+            return Origin, (obj.component, obj.component_class, obj.declared_in, obj.index, obj.text)
+        if isinstance(obj, type) and issubclass(obj, sp.Function) and getattr(obj, "kind", None) == "linear" \
+                and getattr(obj, "table", None) is not None:
+            from ..tables import table_function
+
+            return table_function, (obj.__name__, obj.table)
+        return NotImplemented
+
+
+@dataclasses.dataclass(frozen=True)
+class TranslationBundle:
+    """A translation as plain data (:meth:`Translation.export`): what another process
+    needs to run the model with other parameter values without translating it.
+
+    Attributes
+    ----------
+    model : bytes
+        The flat model, the partitioned model and the clustering, pickled
+        (texts of equations printed, table functions by their data).
+    demand : frozenset of str or None
+        The translation's output demand.
+    redundant_constraints : str
+        The translation's choice (see :func:`translate`).
+    payloads : dict
+        ``entry -> payload`` of every compiled system shipped: the persistent
+        cache's payloads (generated source, states, unknowns, ...) plus what
+        binding them to other values needs, as text.  JSON-able: no closure
+        travels, only source.
+    digest : str
+        SHA-256 of ``model`` and ``payloads``: a process keeps what it read
+        from a bundle by it.
+    """
+
+    model: bytes
+    demand: frozenset[str] | None
+    redundant_constraints: str
+    payloads: dict
+    digest: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.digest:
+            digest = hashlib.sha256(self.model)
+            digest.update(json.dumps(self.payloads, sort_keys=True).encode())
+            object.__setattr__(self, "digest", digest.hexdigest())
+
+    def extended(self, payloads: Mapping[str, dict]) -> "TranslationBundle":
+        """This bundle with more payloads (systems a process compiled from it, see
+        :class:`~acausal.compiler.diskcache.MemoryCache`)."""
+        return dataclasses.replace(self, payloads={**self.payloads, **payloads}, digest="")
+
+    def unpacked(self) -> tuple[FlatModel, PartitionedModel, Clustering | None]:
+        """The flat model, partitioned model and clustering (unpickled once per process)."""
+        return _unpacked(self.model)
+
+    def store(self) -> MemoryCache:
+        """The payloads as a persistent-cache replacement (:class:`~acausal.compiler.diskcache.MemoryCache`)."""
+        return MemoryCache(self.payloads)
+
+
+@functools.lru_cache(maxsize=4)
+def _unpacked(model: bytes) -> tuple:
+    return pickle.loads(model)
 
 
 def _bind_mode(source: ModeSystem, parameters) -> ModeSystem:

@@ -325,6 +325,8 @@ def _parser() -> argparse.ArgumentParser:
                         add_help=False)
     commands.add_parser("check", help="structural and unit checks without simulating (acausal check "
                                       "MODEL [--strict])", add_help=False)
+    commands.add_parser("sweep", help="a parameter sweep on a process pool or a Dask cluster "
+                                      "(acausal sweep --help)", add_help=False)
     return parser
 
 
@@ -577,6 +579,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .check import main_check
 
         return main_check(argv[1:])
+    if argv and argv[0] == "sweep":
+        from .sweep import main_sweep
+
+        return main_sweep(argv[1:])
     parser = _parser()
     try:
         args = parser.parse_args(argv)

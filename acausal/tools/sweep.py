@@ -1,0 +1,808 @@
+"""Parameter sweeps and ensembles: many runs of one model, one translation.
+
+:func:`sweep` translates the model once, in this process, runs the first
+parameter set here (which compiles the discrete states it visits), and ships
+the translation to the workers as plain data
+(:meth:`~acausal.compiler.translate.Translation.export`): the flat and
+partitioned model and every compiled system *as its generated source*, the
+payloads of the persistent compile cache.  A worker builds its systems from
+that source (:meth:`~acausal.compiler.translate.Translation.from_bundle`),
+binds them to each run's parameter vector and simulates: it never flattens,
+partitions or compiles what was shipped.
+
+A discrete state is only known when a run reaches it: a run that visits one
+the first run did not is compiled in the worker that meets it (once per
+worker process; later runs there load it), and the result counts it
+(:attr:`SweepResult.compiled_in_workers`).  A parameter value that changes
+what the translation decided (a zero that removes a term, a relation of
+parameters alone, a start value computed from a parameter) has its run
+translated in the worker (:attr:`SweepResult.translated_in_workers`), as
+``simulate(model, parameters=...)`` would translate it.
+
+Executors: a process pool of the standard library (the default, sized to the
+machine), any :class:`concurrent.futures.Executor`, a ``dask.distributed``
+``Client`` or a scheduler address ``"tcp://host:port"`` (``pip install
+acausal[dask]``), or ``"serial"`` (in this process).  Runs travel in chunks,
+several parameter sets per task, so that the per-task overhead is paid once
+per chunk.
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures
+import dataclasses
+import itertools
+import math
+import os
+import sys
+import time as _time
+from pathlib import Path
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..compiler.flatten import FlatModel, FlatParameter, _Flattener
+from ..compiler.initial import InitialSystem
+from ..compiler.modes import ModeSystem
+from ..compiler.translate import Translation, TranslationBundle, translate
+from ..errors import AcausalError, SettingError
+from ..language import Component
+from ..runtime.result import SimulationResult
+from ..runtime.simulate import TerminalProgress, progress_reporter, simulate
+from .modelfile import CommandError, load_model_class
+
+__all__ = ["sweep", "SweepResult", "RunOutcome", "parameter_sets", "main_sweep"]
+
+
+# -- the parameter sets ---------------------------------------------------------------------------
+
+
+def parameter_sets(parameters: Mapping[str, Sequence[float]] | Sequence[Mapping[str, float]], *,
+                   samples: int | None = None, seed: int | None = None,
+                   method: str = "lhs") -> list[dict[str, float]]:
+    """The runs of a sweep, in a deterministic order.
+
+    Parameters
+    ----------
+    parameters : mapping or sequence of mappings
+        ``name -> list of values``: the full factorial grid, the last name
+        varying fastest (``itertools.product`` order).  A sequence of
+        ``name -> value`` mappings: those runs, in that order.  With
+        ``samples``: ``name -> (low, high)``.
+    samples : int, optional
+        Draw this many points in the box ``low <= value <= high``.
+    seed : int, optional
+        Seed of the random numbers (the same seed gives the same points).
+    method : {'lhs', 'uniform'}
+        'lhs' (the default): a Latin hypercube (McKay, Beckman & Conover,
+        1979) from :class:`scipy.stats.qmc.LatinHypercube`: each parameter's
+        range is cut in ``samples`` equal strata and every stratum holds
+        exactly one point.  'uniform': independent uniform draws.
+
+    References
+    ----------
+    .. [1] M. D. McKay, R. J. Beckman and W. J. Conover, "A comparison of three
+       methods for selecting values of input variables in the analysis of
+       output from a computer code", Technometrics 21(2), 239-245, 1979.
+    """
+    if samples is not None:
+        if not isinstance(parameters, Mapping):
+            raise SettingError("samples= needs parameters as name -> (low, high)")
+        if int(samples) < 1:
+            raise SettingError(f"samples must be at least 1, not {samples}")
+        names = list(parameters)
+        bounds = []
+        for name in names:
+            try:
+                low, high = (float(v) for v in parameters[name])
+            except (TypeError, ValueError):
+                raise SettingError(f"{name}: with samples=, give (low, high), not {parameters[name]!r}") from None
+            bounds.append((low, high))
+        if method == "lhs":
+            from scipy.stats import qmc
+
+            unit = qmc.LatinHypercube(d=len(names), seed=seed).random(int(samples))
+        elif method == "uniform":
+            unit = np.random.default_rng(seed).random((int(samples), len(names)))
+        else:
+            raise SettingError(f"unknown sampling method {method!r}", hint="choose 'lhs' or 'uniform'")
+        low = np.array([b[0] for b in bounds])
+        high = np.array([b[1] for b in bounds])
+        points = low + unit * (high - low)
+        return [{n: float(v) for n, v in zip(names, row)} for row in points]
+    if isinstance(parameters, Mapping):
+        names = list(parameters)
+        values = [list(parameters[n]) if isinstance(parameters[n], (list, tuple, np.ndarray))
+                  else [parameters[n]] for n in names]
+        return [{n: float(v) for n, v in zip(names, row)} for row in itertools.product(*values)]
+    return [{n: float(v) for n, v in run.items()} for run in parameters]
+
+
+def _flat_values(model: Component, overrides: Mapping[str, float]) -> tuple[tuple[FlatParameter, ...], tuple]:
+    """The flat model's parameters and variables for ``overrides``, without its equations.
+
+    The first steps of :func:`~acausal.compiler.flatten.flatten` (declarations,
+    the values given, bindings resolved and checked, variable attributes):
+    a few milliseconds, where flattening the equations takes tens.
+    """
+    flattener = _Flattener(model, dict(overrides))
+    for component in flattener.components:
+        flattener._declare(component)
+    flattener._apply_overrides()
+    values = flattener.values = flattener._resolve_parameters()
+    for component in flattener.components:
+        flattener._declare_variables(component, values)
+    parameters = tuple(FlatParameter(n, values[n], flattener.parameters[n][1], flattener.parameters[n][2].path)
+                       for n in flattener.parameters if n not in flattener.unknown_parameters)
+    return parameters, tuple(flattener.variables.values())
+
+
+# -- one task: several runs in a worker -----------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class _RunSpec:
+    """One run as a task carries it: the values given and the flat model's resolved ones."""
+
+    index: int
+    values: dict
+    parameters: tuple  #: the flat model's parameter values, in the bundle's order
+    variables: tuple | None  #: the flat model's variables when they differ from the bundle's
+
+
+@dataclasses.dataclass(frozen=True)
+class RunOutcome:
+    """One run of a sweep.
+
+    Attributes
+    ----------
+    index : int
+        Its place in the sweep.
+    values : dict
+        The parameter values given.
+    status : int
+        As :attr:`SimulationResult.status`; -1 also for a run that raised.
+    message : str
+        The result's message, or the error's.
+    error_type : str
+        The class of the error that stopped the run ('' for none).
+    result : SimulationResult or None
+        Its time and the output columns (None when it raised before
+        computing anything); the error object itself stays in the worker.
+    seconds : float
+        Wall time of the run in the worker.
+    compiled : int
+        Systems compiled in the worker for this run (0: everything came
+        from the parent's translation).
+    translated : bool
+        Whether the worker translated the model for this run.
+    """
+
+    index: int
+    values: dict
+    status: int
+    message: str
+    error_type: str
+    result: SimulationResult | None
+    seconds: float
+    compiled: int = 0
+    translated: bool = False
+
+
+#: the bundle a worker process reads, by digest: (base flat model, payload store)
+_WORKER_STATE: dict[str, tuple] = {}
+
+
+def _worker_state(bundle: TranslationBundle) -> tuple:
+    found = _WORKER_STATE.get(bundle.digest)
+    if found is None:
+        _WORKER_STATE.clear()  # one sweep at a time per process: the previous bundle goes
+        found = _WORKER_STATE[bundle.digest] = (bundle.unpacked()[0], bundle.store())
+    return found
+
+
+def _compiled_systems(translation: Translation) -> int:
+    """Systems of ``translation`` that were compiled, not loaded from the bundle."""
+    tables = (translation.systems, translation.parts, translation.initial_systems, translation.initial_parts)
+    return sum(isinstance(s, (ModeSystem, InitialSystem)) and not (s.passes[:1] and s.passes[0][0] == "load")
+               for table in tables for s in table.values())
+
+
+def _compact(result: SimulationResult, outputs: Sequence[str] | None) -> SimulationResult:
+    """``result`` with only the output columns, its error left behind (it need not pickle)."""
+    keep = list(result.columns) if outputs is None else [n for n in outputs if n in result.columns]
+    return dataclasses.replace(result, columns={n: result.columns[n] for n in keep}, error=None,
+                               column_info={n: i for n, i in result.column_info.items() if n in keep})
+
+
+def _run_one(bundle: TranslationBundle, spec: _RunSpec, outputs, options: dict) -> RunOutcome:
+    base, store = _worker_state(bundle)
+    t0 = _time.perf_counter()
+    translation = None
+    try:
+        parameters = tuple(dataclasses.replace(p, value=v) for p, v in zip(base.parameters, spec.parameters))
+        flat = dataclasses.replace(base, parameters=parameters,
+                                   variables=base.variables if spec.variables is None else spec.variables)
+        translation = Translation.from_bundle(bundle, flat, store)
+        result = simulate(translation, progress=False, **options)
+    except Exception as exc:  # noqa: BLE001 - a failed run is a row of the table, the others go on
+        return RunOutcome(spec.index, spec.values, -1, str(getattr(exc, "message", None) or exc),
+                          type(exc).__name__, None, _time.perf_counter() - t0,
+                          _compiled_systems(translation) if translation is not None else 0,
+                          translation is not None and translation._disk is False)
+    return RunOutcome(spec.index, spec.values, result.status, result.message,
+                      type(result.error).__name__ if result.error is not None else "",
+                      _compact(result, outputs), _time.perf_counter() - t0, _compiled_systems(translation),
+                      translation._disk is False)
+
+
+def _run_chunk(bundle: TranslationBundle, specs: Sequence[_RunSpec], outputs, options: dict) -> list[RunOutcome]:
+    """A task: several runs in one worker (module level, so that spawned processes find it)."""
+    return [_run_one(bundle, spec, outputs, options) for spec in specs]
+
+
+# -- executors ------------------------------------------------------------------------------------
+
+
+def _is_dask_client(executor: Any) -> bool:
+    """A ``dask.distributed.Client`` (duck-typed: dask is not imported to check)."""
+    return type(executor).__name__ == "Client" and hasattr(executor, "submit") and hasattr(executor, "gather")
+
+
+class _Serial:
+    """Runs tasks in this process, in order."""
+
+    def map_chunks(self, bundle, chunks, outputs, options):
+        for chunk in chunks:
+            yield _run_chunk(bundle, chunk, outputs, options)
+
+
+class _Pool:
+    """A :class:`concurrent.futures.Executor`: tasks submitted at once, gathered as they finish."""
+
+    def __init__(self, executor: concurrent.futures.Executor) -> None:
+        self.executor = executor
+
+    def map_chunks(self, bundle, chunks, outputs, options):
+        futures = [self.executor.submit(_run_chunk, bundle, chunk, outputs, options) for chunk in chunks]
+        try:
+            for future in concurrent.futures.as_completed(futures):
+                yield future.result()
+        finally:
+            for future in futures:
+                future.cancel()
+
+
+class _Dask:
+    """A ``dask.distributed.Client``: the bundle is scattered to every worker once."""
+
+    def __init__(self, client) -> None:
+        self.client = client
+
+    def map_chunks(self, bundle, chunks, outputs, options):
+        from dask.distributed import as_completed
+
+        shipped = self.client.scatter(bundle, broadcast=True)
+        futures = [self.client.submit(_run_chunk, shipped, chunk, outputs, options, pure=False) for chunk in chunks]
+        try:
+            for future in as_completed(futures):
+                yield future.result()
+        finally:
+            self.client.cancel(futures)
+
+
+def _executor_for(executor, workers: int | None):
+    """``(runner, close)`` for the ``executor`` argument of :func:`sweep`."""
+    if executor == "serial":
+        return _Serial(), lambda: None
+    if executor is None:
+        pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1)
+        return _Pool(pool), lambda: pool.shutdown(wait=True, cancel_futures=True)
+    if isinstance(executor, str):
+        if not executor.startswith(("tcp://", "tls://", "ucx://", "inproc://")):
+            raise SettingError(f"unknown executor {executor!r}",
+                               hint="give None (a process pool), 'serial', a scheduler address "
+                                    "'tcp://host:port', a dask Client or a concurrent.futures Executor")
+        try:
+            from dask.distributed import Client
+        except ImportError:
+            raise SettingError("a scheduler address needs dask.distributed",
+                               hint="pip install 'acausal[dask]'") from None
+        client = Client(executor)
+        return _Dask(client), client.close
+    if _is_dask_client(executor):
+        return _Dask(executor), lambda: None
+    if isinstance(executor, concurrent.futures.Executor):
+        return _Pool(executor), lambda: None
+    raise SettingError(f"executor must be None, 'serial', a scheduler address, a dask Client or a "
+                       f"concurrent.futures.Executor, not {type(executor).__name__}")
+
+
+# -- progress -------------------------------------------------------------------------------------
+
+
+class _SweepLine(TerminalProgress):
+    """The terminal line of a sweep: ``sweep of M  [####......]  40%  16/40 runs``."""
+
+    def __call__(self, done: int, total: int) -> None:  # type: ignore[override]
+        share = done / total if total else 1.0
+        filled = int(round(share * self.width))
+        self.stream.write(f"\r{self.name}  [{'#' * filled}{'.' * (self.width - filled)}]  "
+                          f"{share * 100:3.0f}%  {done}/{total} runs")
+        self.stream.flush()
+        self.drawn = True
+
+
+# -- the result -----------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class SweepResult:
+    """The runs of a sweep, gathered.
+
+    Attributes
+    ----------
+    parameters : pandas.DataFrame
+        One row per run (index ``run``), one column per parameter given.
+    table : pandas.DataFrame
+        One row per run: ``run``, each parameter, ``status``, ``message``,
+        ``error_type``, ``events`` (events recorded), ``seconds``, and for
+        each output ``<name>:final``, ``<name>:min``, ``<name>:max``.
+    outputs : tuple of str
+        The outputs summarised.
+    runs : tuple of RunOutcome
+        Every run, in sweep order, with its (compact) result.
+    units : dict
+        Units of the outputs and parameters ('' when none).
+    compiled_in_workers : int
+        Systems compiled in the workers (discrete states the first run did not
+        visit; once per worker process).
+    translated_in_workers : int
+        Runs the workers translated (values that change the equations).
+    seconds : float
+        Wall time of the sweep, translation included.
+    workers : int or None
+        Workers of the executor, when known.
+    """
+
+    parameters: Any
+    table: Any
+    outputs: tuple[str, ...]
+    runs: tuple[RunOutcome, ...]
+    units: dict
+    compiled_in_workers: int = 0
+    translated_in_workers: int = 0
+    seconds: float = 0.0
+    workers: int | None = None
+
+    @property
+    def failed(self) -> tuple[RunOutcome, ...]:
+        """The runs that did not end as the model asked (status not 0 or 1)."""
+        return tuple(r for r in self.runs if r.status not in (0, 1))
+
+    def series(self, name: str, points: int = 501):
+        """The time series of ``name``: a DataFrame, time as index, one column per run.
+
+        The common grid is ``points`` equally spaced instants from the
+        earliest start to the latest stop time of the runs; each run is
+        interpolated linearly on it (at an event instant, the value after the
+        event), NaN after a failed run's last time.
+        """
+        import pandas as pd
+
+        results = [r.result for r in self.runs if r.result is not None and name in r.result.columns]
+        if not results:
+            raise KeyError(f"no run holds {name!r}; the sweep kept {', '.join(self.outputs) or 'nothing'}")
+        start = min(float(r.time[0]) for r in results)
+        stop = max(float(r.time[-1]) for r in results)
+        grid = np.linspace(start, stop, points)
+        columns = {}
+        for outcome in self.runs:
+            result = outcome.result
+            if result is None or name not in result.columns or len(result.time) == 0:
+                columns[outcome.index] = np.full(points, np.nan)
+                continue
+            values = np.interp(grid, result.time, result.columns[name])
+            values[(grid > result.time[-1]) | (grid < result.time[0])] = np.nan
+            columns[outcome.index] = values
+        frame = pd.DataFrame(columns, index=pd.Index(grid, name="time"))
+        frame.columns.name = "run"
+        return frame
+
+    def plot_envelope(self, name: str, runs: int = 5, points: int = 501):
+        """The band between the runs' smallest and largest ``name``, with ``runs`` of them drawn.
+
+        Returns a matplotlib Figure.
+        """
+        from matplotlib.figure import Figure
+
+        frame = self.series(name, points)
+        figure = Figure(figsize=(7, 4))
+        axes = figure.add_subplot()
+        time = frame.index.to_numpy()
+        axes.fill_between(time, frame.min(axis=1).to_numpy(), frame.max(axis=1).to_numpy(), alpha=0.3,
+                          label=f"min-max of {frame.shape[1]} runs")
+        shown = np.unique(np.linspace(0, frame.shape[1] - 1, min(runs, frame.shape[1])).astype(int))
+        for k in shown:
+            run = frame.columns[k]
+            axes.plot(time, frame[run].to_numpy(), lw=1, label=f"run {run}: {_values_text(self.runs[k].values)}")
+        axes.set_xlabel("time [s]")
+        unit = self.units.get(name, "")
+        axes.set_ylabel(f"{name} [{unit}]" if unit else name)
+        axes.legend(fontsize="small")
+        axes.grid(True, alpha=0.3)
+        figure.tight_layout()
+        return figure
+
+    def plot_scalar(self, output: str, against: str):
+        """A scalar result against a swept parameter: ``output`` is a column of :attr:`table`
+        (``'<name>:final'``, ``':min'``, ``':max'``, ``'events'``, ``'seconds'``) or a
+        name (its final value).  Failed runs are drawn hollow.  Returns a matplotlib Figure."""
+        from matplotlib.figure import Figure
+
+        column = output if output in self.table.columns else f"{output}:final"
+        if column not in self.table.columns:
+            raise KeyError(f"the table has no column {output!r}")
+        if against not in self.table.columns:
+            raise KeyError(f"{against!r} was not swept; swept: {', '.join(self.parameters.columns)}")
+        figure = Figure(figsize=(6, 4))
+        axes = figure.add_subplot()
+        ok = self.table["status"].isin((0, 1))
+        order = self.table.sort_values(against)
+        good = order[ok.loc[order.index]]
+        axes.plot(good[against], good[column], "o-", ms=4, label="runs")
+        bad = order[~ok.loc[order.index]]
+        if len(bad):
+            axes.plot(bad[against], bad[column], "o", mfc="none", label="failed runs")
+        unit_x = self.units.get(against, "")
+        name = column.rpartition(":")[0] if ":" in column else column
+        unit_y = self.units.get(name, "")
+        axes.set_xlabel(f"{against} [{unit_x}]" if unit_x else against)
+        axes.set_ylabel(f"{column} [{unit_y}]" if unit_y else column)
+        axes.grid(True, alpha=0.3)
+        axes.legend(fontsize="small")
+        figure.tight_layout()
+        return figure
+
+
+def _values_text(values: Mapping[str, float]) -> str:
+    return ", ".join(f"{n} = {v:.4g}" for n, v in values.items())
+
+
+def _table(outcomes: Sequence[RunOutcome], names: Sequence[str], outputs: Sequence[str]):
+    import pandas as pd
+
+    rows = []
+    for outcome in outcomes:
+        row: dict = {"run": outcome.index, **{n: outcome.values.get(n, np.nan) for n in names},
+                     "status": outcome.status, "message": outcome.message, "error_type": outcome.error_type,
+                     "events": len(outcome.result.events) if outcome.result is not None else 0,
+                     "seconds": outcome.seconds}
+        for name in outputs:
+            column = None if outcome.result is None else outcome.result.columns.get(name)
+            empty = column is None or len(column) == 0
+            row[f"{name}:final"] = np.nan if empty else float(column[-1])
+            row[f"{name}:min"] = np.nan if empty else float(np.min(column))
+            row[f"{name}:max"] = np.nan if empty else float(np.max(column))
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+# -- the sweep ------------------------------------------------------------------------------------
+
+
+def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence[Mapping[str, float]],
+          outputs: Sequence[str] | None = None, *, executor: Any = None, samples: int | None = None,
+          seed: int | None = None, progress: "bool | Callable[[int, int, RunOutcome], object] | None" = None,
+          chunk_size: int | None = None, workers: int | None = None, sampling: str = "lhs",
+          pilot: int = 1, **simulate_options) -> SweepResult:
+    """Simulate ``model`` for many parameter sets, translated once.
+
+    Parameters
+    ----------
+    model : Model instance
+    parameters : mapping or sequence of mappings
+        ``name -> values`` (a full factorial grid), a list of ``name ->
+        value`` runs, or with ``samples`` ``name -> (low, high)`` (see
+        :func:`parameter_sets`).  Numeric parameters only.
+    outputs : sequence of str, optional
+        The variables kept and summarised; the model computes only what they
+        need (as ``simulate(..., outputs=...)``).  Default: every column.
+    executor : optional
+        None: a :class:`concurrent.futures.ProcessPoolExecutor` of
+        ``workers`` (default ``os.cpu_count()``) processes, made and closed
+        here.  A :class:`concurrent.futures.Executor` or a
+        ``dask.distributed.Client`` is used as it is; a string
+        ``"tcp://host:port"`` connects a Client to that scheduler;
+        ``"serial"`` runs every run in this process.
+    samples, seed : int, optional
+        Draw ``samples`` points (Latin hypercube by default, ``sampling``).
+    progress : bool or callable, optional
+        ``progress(finished, total, outcome)`` after every run; True draws a
+        line on standard error, None (default) draws it only when standard
+        error is a terminal outside CI and pytest.
+    chunk_size : int, optional
+        Runs per task (default: about four tasks per worker).
+    workers : int, optional
+        Size of the default process pool.
+    sampling : {'lhs', 'uniform'}
+    pilot : int
+        Runs made here before the others are shipped (the first, then
+        runs spread over the sweep): the discrete states they reach are
+        compiled once, here, rather than in every worker that reaches them.
+    **simulate_options
+        Passed to :func:`~acausal.runtime.simulate.simulate` for every run
+        (``stop_time``, ``rtol``, ``timeout``, ...).
+
+    Returns
+    -------
+    SweepResult
+        Runs that fail are rows with their status and reason; the others
+        are not affected.
+
+    Notes
+    -----
+    The model is translated once with the first parameter set, which is run
+    here (with ``pilot - 1`` more): the discrete states they visit are
+    compiled here and shipped; a state first reached by another run is
+    compiled by the worker that reaches it, once per worker process (counted
+    in :attr:`SweepResult.compiled_in_workers`).
+    """
+    t_start = _time.perf_counter()
+    runs = parameter_sets(parameters, samples=samples, seed=seed, method=sampling)
+    if not runs:
+        raise SettingError("the sweep has no runs")
+    names = list(dict.fromkeys(n for run in runs for n in run))
+    options = dict(simulate_options)
+    for refused in ("parameters", "outputs", "cache", "progress"):
+        if refused in options:
+            raise SettingError(f"sweep() sets {refused}= itself")
+    redundant = options.pop("redundant_constraints", "relax")
+    # every run's values resolved here, without flattening equations: invalid ones fail
+    # now (as simulate() would raise), the others travel as plain numbers
+    specs: list[_RunSpec] = []
+    outcomes: dict[int, RunOutcome] = {}
+    first: int | None = None
+    resolved: dict[int, tuple] = {}
+    for index, values in enumerate(runs):
+        try:
+            resolved[index] = _flat_values(model, values)
+        except AcausalError as exc:
+            outcomes[index] = RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0)
+            continue
+        if first is None:
+            first = index
+    total = len(runs)
+    reporter = _progress(progress, type(model).__name__)
+    finished = 0
+
+    def report(outcome: RunOutcome) -> None:
+        nonlocal finished
+        finished += 1
+        if reporter is not None:
+            reporter(finished, total, outcome)
+
+    for outcome in outcomes.values():
+        report(outcome)
+    bundle = None
+    if first is not None:
+        translation = translate(model, outputs, cache=False, parameters=runs[first],
+                                redundant_constraints=redundant)
+        bundle_flat = translation.flat
+        outcomes[first] = _run_here(translation, first, runs[first], outputs, options)
+        report(outcomes[first])
+        bundle = translation.export()
+        for index, (flat_parameters, variables) in resolved.items():
+            if index == first:
+                continue
+            by_name = {p.name: p.value for p in flat_parameters}
+            specs.append(_RunSpec(index, runs[index], tuple(by_name[p.name] for p in bundle_flat.parameters),
+                                  None if variables == bundle_flat.variables else variables))
+        if pilot > 1 and specs:
+            # more runs here, spread over the sweep: the discrete states they reach are
+            # compiled once, here, and shipped, instead of once in every worker
+            chosen = sorted(set(np.linspace(0, len(specs) - 1, min(pilot - 1, len(specs))).astype(int)))
+            for k in chosen:
+                outcome = _run_one(bundle, specs[k], outputs, options)
+                outcomes[outcome.index] = dataclasses.replace(outcome, compiled=0)
+                report(outcome)
+            bundle = bundle.extended(_worker_state(bundle)[1].payloads)
+            specs = [spec for k, spec in enumerate(specs) if k not in set(chosen)]
+    n_workers = None
+    if specs:
+        runner, close = _executor_for(executor, workers)
+        n_workers = _worker_count(executor, runner, workers)
+        size = chunk_size or max(1, math.ceil(len(specs) / (4 * (n_workers or 1))))
+        chunks = [specs[k:k + size] for k in range(0, len(specs), size)]
+        try:
+            for chunk_outcomes in runner.map_chunks(bundle, chunks, outputs, options):
+                for outcome in chunk_outcomes:
+                    outcomes[outcome.index] = outcome
+                    report(outcome)
+        finally:
+            close()
+            if isinstance(reporter, _Reporter):
+                reporter.close()
+    elif isinstance(reporter, _Reporter):
+        reporter.close()
+    ordered = tuple(outcomes[k] for k in range(total))
+    kept = _kept_outputs(ordered, outputs)
+    units = _units(ordered, bundle)
+    import pandas as pd
+
+    table = _table(ordered, names, kept)
+    parameter_table = pd.DataFrame([{n: o.values.get(n, np.nan) for n in names} for o in ordered],
+                                   index=pd.Index(range(total), name="run"))
+    return SweepResult(parameter_table, table, tuple(kept), ordered, units,
+                       sum(o.compiled for o in ordered if o.index != first),
+                       sum(o.translated for o in ordered), _time.perf_counter() - t_start, n_workers)
+
+
+def _run_here(translation: Translation, index: int, values: dict, outputs, options: dict) -> RunOutcome:
+    """The first run, in this process, on the translation made for it."""
+    t0 = _time.perf_counter()
+    try:
+        result = simulate(translation, progress=False, **options)
+    except Exception as exc:  # noqa: BLE001 - a failed run is a row of the table
+        return RunOutcome(index, values, -1, str(getattr(exc, "message", None) or exc), type(exc).__name__,
+                          None, _time.perf_counter() - t0)
+    return RunOutcome(index, values, result.status, result.message,
+                      type(result.error).__name__ if result.error is not None else "",
+                      _compact(result, outputs), _time.perf_counter() - t0)
+
+
+def _worker_count(executor, runner, workers: int | None) -> int | None:
+    if executor == "serial":
+        return 1
+    if executor is None:
+        return workers or os.cpu_count() or 1
+    if isinstance(runner, _Dask):
+        try:
+            return len(runner.client.scheduler_info().get("workers", {})) or None
+        except Exception:  # noqa: BLE001 - the count only sizes the chunks
+            return None
+    return getattr(executor, "_max_workers", None)
+
+
+def _kept_outputs(outcomes: Sequence[RunOutcome], outputs: Sequence[str] | None) -> list[str]:
+    if outputs is not None:
+        return list(outputs)
+    for outcome in outcomes:
+        if outcome.result is not None:
+            return [n for n in outcome.result.columns
+                    if outcome.result.column_info.get(n) is None or outcome.result.column_info[n].kind
+                    not in ("boolean", "integer")]
+    return []
+
+
+def _units(outcomes: Sequence[RunOutcome], bundle: TranslationBundle | None) -> dict:
+    units: dict[str, str] = {}
+    if bundle is not None:
+        flat: FlatModel = bundle.unpacked()[0]
+        units.update({p.name: p.unit or "" for p in flat.parameters})
+    for outcome in outcomes:
+        if outcome.result is not None:
+            for name, info in outcome.result.column_info.items():
+                units.setdefault(name, getattr(info, "unit", "") or "")
+    return units
+
+
+class _Reporter:
+    """Progress of a sweep: the user's callback, or the terminal line."""
+
+    def __init__(self, callback, line: _SweepLine | None) -> None:
+        self.callback = callback
+        self.line = line
+
+    def __call__(self, finished: int, total: int, outcome: RunOutcome) -> None:
+        if self.callback is not None:
+            self.callback(finished, total, outcome)
+        if self.line is not None:
+            self.line(finished, total)
+
+    def close(self) -> None:
+        if self.line is not None:
+            self.line.close()
+
+
+def _progress(progress, name: str) -> _Reporter | None:
+    if callable(progress) and not isinstance(progress, bool):
+        return _Reporter(progress, None)
+    # the same rule as a single run's progress line (a terminal, outside CI and pytest)
+    if progress_reporter(progress, name) is None:
+        return None
+    return _Reporter(None, _SweepLine(f"sweep of {name}"))
+
+
+# -- the command ----------------------------------------------------------------------------------
+
+
+def _parse_values(text: str, sampled: bool) -> tuple[str, list[float]]:
+    """``NAME=a:b:n`` (n values from a to b), ``NAME=a,b,c``, or with samples ``NAME=low:high``."""
+    name, sep, spec = text.partition("=")
+    if not sep or not name.strip():
+        raise SettingError(f"--param {text!r}: write NAME=a:b:n, NAME=a,b,c or (with --samples) NAME=low:high")
+    try:
+        if ":" in spec:
+            parts = [float(p) for p in spec.split(":")]
+            if sampled and len(parts) == 2:
+                return name.strip(), parts
+            if len(parts) != 3 or parts[2] < 1 or parts[2] != int(parts[2]):
+                raise ValueError
+            return name.strip(), [float(v) for v in np.linspace(parts[0], parts[1], int(parts[2]))]
+        values = [float(p) for p in spec.split(",") if p.strip()]
+        if not values or (sampled and len(values) != 2):
+            raise ValueError
+        return name.strip(), values
+    except ValueError:
+        raise SettingError(f"--param {text!r}: write NAME=a:b:n (n >= 1 values from a to b), NAME=a,b,c, "
+                           f"or with --samples NAME=low:high") from None
+
+
+def main_sweep(argv: list[str]) -> int:
+    """``acausal sweep FILE.py[:Model] --param NAME=a:b:n ... --out DIR``.
+
+    Writes ``DIR/runs.csv`` (:attr:`SweepResult.table`), and for each
+    ``--output`` ``DIR/series_<name>.csv`` and ``DIR/envelope_<name>.png``;
+    prints a summary.  Returns 0 when every run succeeded, 1 when some
+    failed, 2 for a usage error.
+    """
+    parser = argparse.ArgumentParser(prog="acausal sweep", description="Simulate a model for many parameter sets.")
+    parser.add_argument("model", help="FILE.py[:Model]")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=a:b:n|a,b,c",
+                        help="values of a parameter (repeat for a grid)")
+    parser.add_argument("--samples", type=int, help="draw N Latin-hypercube points (--param NAME=low:high)")
+    parser.add_argument("--seed", type=int, help="seed of the samples")
+    parser.add_argument("--output", action="append", default=None, metavar="NAME", help="a variable to keep")
+    parser.add_argument("--scheduler", help="a dask scheduler address, tcp://host:port")
+    parser.add_argument("--workers", type=int, help="processes of the local pool (default: the CPUs)")
+    parser.add_argument("--chunk", type=int, help="runs per task")
+    parser.add_argument("--stop-time", type=float, help="stop time of every run")
+    parser.add_argument("--out", required=True, help="folder for runs.csv, series and plots")
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:
+        return int(exc.code or 0) and 2
+    try:
+        if not args.param:
+            raise SettingError("give at least one --param NAME=a:b:n")
+        grid = dict(_parse_values(p, args.samples is not None) for p in args.param)
+        model_class = load_model_class(args.model)
+        options = {} if args.stop_time is None else {"stop_time": args.stop_time}
+        result = sweep(model_class(), grid, args.output, executor=args.scheduler, samples=args.samples,
+                       seed=args.seed, chunk_size=args.chunk, workers=args.workers, **options)
+    except (AcausalError, CommandError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    result.table.to_csv(out / "runs.csv", index=False)
+    written = ["runs.csv"]
+    for name in args.output or ():
+        safe = name.replace("/", "_")
+        try:
+            result.series(name).to_csv(out / f"series_{safe}.csv")
+            result.plot_envelope(name).savefig(out / f"envelope_{safe}.png", dpi=100)
+            written += [f"series_{safe}.csv", f"envelope_{safe}.png"]
+        except KeyError as exc:
+            print(f"warning: {exc.args[0]}", file=sys.stderr)
+    failed = result.failed
+    print(f"{len(result.runs)} runs of {model_class.__name__} in {result.seconds:.2f} s"
+          f"{f' on {result.workers} workers' if result.workers else ''}: {len(result.runs) - len(failed)} "
+          f"succeeded, {len(failed)} failed")
+    if result.compiled_in_workers or result.translated_in_workers:
+        print(f"  compiled in workers: {result.compiled_in_workers} systems; "
+              f"translated in workers: {result.translated_in_workers} runs")
+    for outcome in failed[:10]:
+        print(f"  run {outcome.index} ({_values_text(outcome.values)}): {outcome.error_type or 'failed'}: "
+              f"{outcome.message}")
+    if len(failed) > 10:
+        print(f"  ... and {len(failed) - 10} more (see runs.csv)")
+    for name in args.output or ():
+        column = f"{name}:final"
+        if column in result.table:
+            values = result.table[column]
+            print(f"  {name} at the end: min {values.min():.6g}, max {values.max():.6g}")
+    print(f"wrote {', '.join(written)} to {out}")
+    return 1 if failed else 0
