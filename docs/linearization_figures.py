@@ -22,37 +22,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from acausal import Experiment, Model, simulate, translate  # noqa: E402
-from acausal.library.blocks import Constant, Sine  # noqa: E402
-from acausal.library.rotational import (Clutch, ConstantTorque, Fixed, Inertia,  # noqa: E402
-                                        QuadraticSpeedDependentTorque, SpringDamper, Torque)
+import sys  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: examples/
+from acausal import Model, simulate, translate  # noqa: E402
+from acausal.library.rotational import ConstantTorque, Inertia, QuadraticSpeedDependentTorque  # noqa: E402
 from acausal.tools.linearize import linearize, steady_state  # noqa: E402
+from examples.clutch_drive import ClutchDrive  # noqa: E402
 
 FIGURES = Path(__file__).resolve().parent / "figures"
-
-
-class ClutchDrive(Model):
-    """A sine torque drives J1; a clutch couples it to J2, held by an elastic shaft."""
-
-    experiment = Experiment(stop_time=2.0)
-
-    def build(self):
-        rest = dict(start=0, fixed=True)
-        self.drive = Sine(amplitude=60.0, f=1.0)
-        self.torque = Torque()
-        self.J1 = Inertia(J=1.0, phi=rest, w=rest)
-        self.clutch = Clutch(mu_pos=[[0.0, 0.4], [10.0, 0.6]], peak=1.1, fn_max=100.0)
-        self.pressure = Constant(k=1.0)
-        self.J2 = Inertia(J=2.0)
-        self.shaft = SpringDamper(c=400.0, d=4.0)
-        self.fixed = Fixed()
-        self.connect(self.drive.y, self.torque.tau)
-        self.connect(self.torque.flange, self.J1.flange_a)
-        self.connect(self.J1.flange_b, self.clutch.flange_a)
-        self.connect(self.clutch.flange_b, self.J2.flange_a)
-        self.connect(self.pressure.y, self.clutch.f_normalized)
-        self.connect(self.J2.flange_b, self.shaft.flange_a)
-        self.connect(self.shaft.flange_b, self.fixed.flange)
 
 
 class FanDrive(Model):

@@ -21,8 +21,8 @@ import pytest
 
 from acausal import Experiment, Model, RealInput, simulate, translate
 from acausal.errors import SettingError, SolverError
-from acausal.library.blocks import Constant, Sine, Step
-from acausal.library.rotational import (BearingFriction, Clutch, ConstantTorque, Damper, Fixed, Inertia,
+from acausal.library.blocks import Constant, Step
+from acausal.library.rotational import (BearingFriction, ConstantTorque, Damper, Fixed, Inertia,
                                         QuadraticSpeedDependentTorque, SpringDamper, Torque)
 from acausal.tools.linearize import Linearization, SteadyState, linearize, steady_state
 
@@ -30,6 +30,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+from examples.clutch_drive import ClutchDrive  # noqa: E402
 from examples.coupled_clutches import CoupledClutches  # noqa: E402
 
 pytestmark = pytest.mark.filterwarnings("ignore::acausal.errors.StartValueWarning")
@@ -147,30 +148,6 @@ def test_a_top_level_input_is_linearized_at_a_given_point():
 
 
 # -- per discrete state: a clutch drive -------------------------------------------------------
-
-
-class ClutchDrive(Model):
-    """A sine torque drives J1; a clutch couples it to J2, held by an elastic shaft."""
-
-    experiment = Experiment(stop_time=2.0)
-
-    def build(self):
-        rest = dict(start=0, fixed=True)
-        self.drive = Sine(amplitude=60.0, f=1.0)
-        self.torque = Torque()
-        self.J1 = Inertia(J=1.0, phi=rest, w=rest)
-        self.clutch = Clutch(mu_pos=[[0.0, 0.4], [10.0, 0.6]], peak=1.1, fn_max=100.0)
-        self.pressure = Constant(k=1.0)
-        self.J2 = Inertia(J=2.0)
-        self.shaft = SpringDamper(c=400.0, d=4.0)
-        self.fixed = Fixed()
-        self.connect(self.drive.y, self.torque.tau)
-        self.connect(self.torque.flange, self.J1.flange_a)
-        self.connect(self.J1.flange_b, self.clutch.flange_a)
-        self.connect(self.clutch.flange_b, self.J2.flange_a)
-        self.connect(self.pressure.y, self.clutch.f_normalized)
-        self.connect(self.J2.flange_b, self.shaft.flange_a)
-        self.connect(self.shaft.flange_b, self.fixed.flange)
 
 
 def mode_midpoints(result, stop_time, shortest=2e-3):
