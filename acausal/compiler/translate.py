@@ -33,7 +33,7 @@ import sympy as sp
 
 from ..errors import (InitializationError, ModelDefinitionError, RedundantConstraintWarning, SettingError, StructuralError,
                       StructurallySingularError)
-from ..language import Component, structural_names, with_structural
+from ..language import Component, real_symbol, structural_names, with_structural
 from ..names import is_derivative, parse
 from .cache import ModelCache
 from .codegen import GeneratedCode, load_make
@@ -769,8 +769,25 @@ def _bound_fields(aliases, algebraic) -> dict:
 
 @functools.lru_cache(maxsize=65536)
 def _expression(text: str) -> sp.Expr:
-    """An expression printed by ``sympy.srepr`` (memoised: every run of a sweep reads the same ones)."""
-    return sp.sympify(text)
+    """An expression printed by ``sympy.srepr`` (memoised: every run of a sweep reads the same ones).
+
+    Its real symbols are the engine's own (:func:`~acausal.language.real_symbol`):
+    once sympy's bounded cache has dropped ``Symbol('time', real=True)``, reading
+    it anew would make an equal but distinct ``time``, which the engine, which
+    recognises ``time`` by identity, would take for an unknown (and sympy's cache
+    of expressions would then hand it to equations built later).
+    """
+    return sp.sympify(text, locals={"Symbol": _symbol})
+
+
+def _symbol(name: str, **assumptions) -> sp.Symbol:
+    """``Symbol(name, **assumptions)``, the engine's own object for a real symbol."""
+    return real_symbol(name) if assumptions == {"real": True} else sp.Symbol(name, **assumptions)
+
+
+def _is_real_symbol(symbol: sp.Symbol) -> bool:
+    """Whether ``symbol`` has the assumptions :func:`real_symbol` gives (``real=True`` only)."""
+    return symbol == real_symbol(symbol.name)
 
 
 def _fits(payload: dict, parameter_symbols) -> bool:
@@ -809,6 +826,11 @@ class _BundlePickler(pickle.Pickler):
     (closures) are printed, table functions (classes made at run time) go by their data."""
 
     def reducer_override(self, obj):
+        if type(obj) is sp.Symbol and obj.assumptions0.get("real") and _is_real_symbol(obj):
+            # the receiving process's own symbol of that name: the engine recognises
+            # ``time`` by identity, and sympy's bounded cache may have dropped the
+            # object a plain unpickling would find
+            return real_symbol, (obj.name,)
         if type(obj) is Origin and not isinstance(obj.source, str):
             return Origin, (obj.component, obj.component_class, obj.declared_in, obj.index, obj.text)
         if isinstance(obj, type) and issubclass(obj, sp.Function) and getattr(obj, "kind", None) == "linear" \
