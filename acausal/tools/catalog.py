@@ -247,10 +247,18 @@ def _parse(parser: argparse.ArgumentParser, argv: Sequence[str]) -> argparse.Nam
         return int(exit_.code or 0)
 
 
-def _not_found(command: str, error: NameNotFound) -> int:
-    hint = f"; {error.hint}" if error.hint else ""
-    print(f"acausal {command}: {error}{hint}", file=sys.stderr)
-    return 2
+def _parse_and_find(command: str, parser: argparse.ArgumentParser, argv: Sequence[str]):
+    """``(args, the object args.name names)``, or the exit status when there is none
+    (argparse's for a usage error or --help, 2 for a name that names nothing)."""
+    args = _parse(parser, argv)
+    if isinstance(args, int):
+        return args
+    try:
+        return args, find_object(args.name)
+    except NameNotFound as error:
+        hint = f"; {error.hint}" if error.hint else ""
+        print(f"acausal {command}: {error}{hint}", file=sys.stderr)
+        return 2
 
 
 def main_show(argv: list[str]) -> int:
@@ -273,13 +281,10 @@ def main_show(argv: list[str]) -> int:
                     "(defaults, units, limits, descriptions) and the sub-components of a model.")
     parser.add_argument("name", help="library.blocks.Gain, acausal.library.blocks.Gain or FILE.py:Class")
     parser.add_argument("--width", type=int, default=100, help="line width (default 100)")
-    args = _parse(parser, argv)
-    if isinstance(args, int):
-        return args
-    try:
-        found = find_object(args.name)
-    except NameNotFound as error:
-        return _not_found("show", error)
+    parsed = _parse_and_find("show", parser, argv)
+    if isinstance(parsed, int):
+        return parsed
+    args, found = parsed
     if isinstance(found, ModuleType):
         classes = component_classes(found)
         if args.name.endswith(".py") and len(classes) == 1:
@@ -317,13 +322,10 @@ def main_list(argv: list[str]) -> int:
         description="List the component classes of a package or file with the first line of their docstring.")
     parser.add_argument("name", nargs="?", default="library",
                         help="library.blocks, acausal.library.blocks or FILE.py (default: library)")
-    args = _parse(parser, argv)
-    if isinstance(args, int):
-        return args
-    try:
-        found = find_object(args.name)
-    except NameNotFound as error:
-        return _not_found("list", error)
+    parsed = _parse_and_find("list", parser, argv)
+    if isinstance(parsed, int):
+        return parsed
+    args, found = parsed
     if not isinstance(found, ModuleType):
         what = "a component class" if _is_described(found) else f"a {type(found).__name__}"
         print(f"acausal list: {args.name} is {what}, not a module"
