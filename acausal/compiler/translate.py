@@ -1004,7 +1004,7 @@ def _freeze(value):
 
 def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True,
               parameters: Mapping[str, float] | None = None,
-              redundant_constraints: str = "relax") -> Translation:
+              redundant_constraints: str = "relax", disk_cache: bool = True) -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
     Parameters
@@ -1038,6 +1038,11 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         with a :class:`~acausal.errors.RedundantConstraintWarning`
         (:func:`~acausal.compiler.structure.relax_redundant`); 'error' raises
         the :class:`~acausal.errors.StructurallySingularError` instead.
+    disk_cache : bool
+        False: a translation made by this call neither loads from nor stores
+        into the persistent compile cache, so that every system it compiles
+        keeps its stages (what :meth:`Translation.export` ships).  Such
+        translations are cached in this process apart from the others.
     """
     if redundant_constraints not in ("relax", "error"):
         raise SettingError(f"redundant_constraints must be 'relax' or 'error', not {redundant_constraints!r}",
@@ -1056,18 +1061,21 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         return Translation(flat, partition(flat), _time.perf_counter() - t0, demand, disk=False,
                            redundant_constraints=redundant_constraints)
     equations = _Equations(flat)
-    key = (_parameter_part(flat, False), equations, demand, redundant_constraints)
+    # translations without the disk cache are kept apart: theirs keep every stage
+    key = (_parameter_part(flat, False), equations, demand, redundant_constraints, disk_cache)
     found = _CACHE.get(key)
     if found is not None:
         _CACHE.move_to_end(key)
         return found
-    structure = (_parameter_part(flat, True), equations, demand, redundant_constraints)
+    structure = (_parameter_part(flat, True), equations, demand, redundant_constraints, disk_cache)
     base = _STRUCTURES.get(structure)
     translation = base.rebound(flat, _time.perf_counter() - t0) if base is not None else None
     if translation is None:
         translation = Translation(flat, partition(flat), _time.perf_counter() - t0, demand,
-                                  redundant_constraints=redundant_constraints)
+                                  redundant_constraints=redundant_constraints, disk=disk_cache)
         _remember(_STRUCTURES, structure, translation)
+    elif not disk_cache:
+        translation._disk = False  # rebound from one made without the disk cache: the same
     _remember(_CACHE, key, translation)
     return translation
 

@@ -587,8 +587,10 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
         report(outcome)
     bundle = None
     if first is not None:
-        translation = translate(model, outputs, cache=False, parameters=runs[first],
-                                redundant_constraints=redundant)
+        # this process's translation of the model is reused (a second sweep compiles
+        # nothing); what it compiles keeps its stages, which the bundle ships
+        translation = translate(model, outputs, parameters=runs[first], redundant_constraints=redundant,
+                                disk_cache=False)
         bundle_flat = translation.flat
         outcomes[first] = _run_here(translation, first, runs[first], outputs, options)
         report(outcomes[first])
