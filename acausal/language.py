@@ -53,6 +53,7 @@ __all__ = [
     "Variable",
     "Boolean",
     "Integer",
+    "value_names",
     "RealInput",
     "RealOutput",
     "Potential",
@@ -468,6 +469,34 @@ class Integer(Variable):
 
     def make_symbol(self, path: str) -> sp.Symbol:
         return sp.Symbol(path, integer=True)
+
+
+def value_names(klass: type, low: Any, high: Any) -> tuple[tuple[int, str], ...]:
+    """Names of the values ``low..high`` of an Integer declared by ``klass``, if it gives them.
+
+    The engine knows nothing of what an Integer's values mean, so the names
+    are found generically: ``klass`` (or a base class; the most derived one
+    first) must have one public ``int`` constant whose name starts with a
+    capital letter for every value from ``low`` to ``high``, as ``Stuck = 0``,
+    ``Forward = 1`` ...  Otherwise (no integer bounds, more than 32 values, a
+    value unnamed) there are none.  Results, comparisons and the teaching
+    page all show modes by these names (:attr:`FlatVariable.labels
+    <acausal.compiler.flatten.FlatVariable.labels>`).
+    """
+    if type(low) is not int or type(high) is not int or not 0 < high - low + 1 <= 32:
+        return ()
+    return _value_names(klass, low, high)
+
+
+@functools.lru_cache(maxsize=None)
+def _value_names(klass: type, low: int, high: int) -> tuple[tuple[int, str], ...]:
+    named: dict[int, str] = {}
+    for base in klass.__mro__:
+        for attribute, value in vars(base).items():
+            if (type(value) is int and attribute[:1].isupper() and not attribute.isupper()
+                    and low <= value <= high):
+                named.setdefault(value, attribute)  # the most derived class names it first
+    return tuple(sorted(named.items())) if len(named) == high - low + 1 else ()
 
 
 class Potential(Variable):

@@ -52,6 +52,7 @@ from ..language import (
     pre,
     real_symbol,
     time,
+    value_names,
 )
 
 __all__ = [
@@ -159,6 +160,9 @@ class FlatVariable:
     component: str
     causality: str = ""
     role: str = ""  #: 'potential', 'flow' or ''
+    #: names of an Integer's values, ``((value, name), ...)``, from its component's class
+    #: constants (:func:`~acausal.language.value_names`); empty where there are none
+    labels: tuple[tuple[int, str], ...] = ()
 
     @property
     def is_discrete(self) -> bool:
@@ -607,7 +611,8 @@ class _Flattener:
             nominal=nominal or 1.0,
             state_select=StateSelect(attr("state_select") if kind in ("continuous", "discrete") else 2),
             unit=decl.unit, component=component.path, causality=decl.causality,
-            role=getattr(decl, "connector_role", ""))
+            role=getattr(decl, "connector_role", ""),
+            labels=value_names(type(component), attr("min"), attr("max")) if kind == "integer" else ())
         self.variables[path] = variable
         if decl.causality:
             self.signal_declarations[path] = (decl, component)

@@ -140,33 +140,6 @@ def _per_second(unit: str) -> str:
     return f"{numerator}/({denominator.strip('()')}.s)"
 
 
-def _mode_labels(component: "Component", key: str) -> tuple[tuple[int, str], ...]:
-    """Names for the values of the Integer ``key`` of ``component``, if its class gives them.
-
-    The engine knows nothing of what a mode means, so the names are found
-    generically: the Integer must declare ``min`` and ``max``, and the
-    component's class (or a base class) must have one public int constant
-    whose name starts with a capital letter for every value in between, as
-    ``Stuck = 0``, ``Forward = 1`` ...  Otherwise there are no labels.
-    """
-    try:
-        low, high = component.attribute(key, "min"), component.attribute(key, "max")
-    except Exception:  # noqa: BLE001 - an attribute that cannot be evaluated: no labels
-        return ()
-    if not (isinstance(low, (int, np.integer)) and isinstance(high, (int, np.integer))) \
-            or not 0 < high - low + 1 <= 32:
-        return ()
-    named: dict[int, str] = {}
-    for klass in type(component).__mro__:
-        for attribute, value in vars(klass).items():
-            if (type(value) is int and attribute[:1].isupper() and not attribute.isupper()
-                    and low <= value <= high):
-                named.setdefault(value, attribute)  # the most derived class names it first
-    if len(named) != high - low + 1:
-        return ()
-    return tuple(sorted(named.items()))
-
-
 class _ColumnTable(Mapping):
     """:func:`describe_columns`' mapping, built on first use (most runs never ask
     what a column is); the kind of a column is found without building it."""
@@ -206,10 +179,9 @@ def describe_columns(flat: "FlatModel", names: Sequence[str], model: "Component 
                      ) -> Mapping[str, ColumnInfo]:
     """What each of the result columns ``names`` is, as a mapping computed on first use.
 
-    Units and kinds come from the flat model; descriptions and the labels of
-    Integer modes from the declarations of ``model``'s components (None: no
-    descriptions, no labels).  A derivative ``der(x)`` gets the unit of ``x``
-    per second.
+    Units, kinds and the names of Integer values come from the flat model;
+    descriptions from the declarations of ``model``'s components (None: no
+    descriptions).  A derivative ``der(x)`` gets the unit of ``x`` per second.
 
     Parameters
     ----------
@@ -247,15 +219,14 @@ def _describe(flat: "FlatModel", names: list[str], model: "Component | None") ->
                                     + (f" (order {parsed.order})" if parsed.order > 1 else ""),
                                     "continuous")
             continue
-        component, key, declaration = declared.get(name, (None, None, None))
+        _component, _key, declaration = declared.get(name, (None, None, None))
         description = getattr(declaration, "description", "") or ""
         if name in parameters:
             info[name] = ColumnInfo(name, parameters[name].unit, description, "parameter")
         elif name in variables:
             variable = variables[name]
             kind = variable.kind if variable.kind in KINDS else "continuous"
-            labels = _mode_labels(component, key) if kind == "integer" and component is not None else ()
-            info[name] = ColumnInfo(name, variable.unit, description, kind, labels)
+            info[name] = ColumnInfo(name, variable.unit, description, kind, variable.labels)
         else:
             info[name] = ColumnInfo(name, getattr(declaration, "unit", "") or "", description)
     return info

@@ -1058,7 +1058,6 @@ def signal_info(model, names: Iterable[str] | None = None) -> dict[str, SignalIn
     ----------
     model : Component, Translation or FlatModel
         The model (it is flattened here), its translation or its flat model.
-        Only from a component are the names of an Integer's values found.
     names : iterable of str, optional
         The variables wanted; default: every variable of the flat model.
 
@@ -1070,22 +1069,19 @@ def signal_info(model, names: Iterable[str] | None = None) -> dict[str, SignalIn
 
     Notes
     -----
-    The engine knows nothing of what an Integer's values mean, so their
-    names are found generically: the integer class attributes (not Booleans)
-    named with a capital letter of the class of the component that declares
-    the variable, e.g. ``Stuck = 0``, ``Forward = 1``.  A value that two such
-    names share is left unnamed.  A Boolean's values are named false and true.
+    An Integer's values are named as the flat model names them
+    (:func:`acausal.language.value_names`: the capitalised int constants of
+    the declaring component's class, e.g. ``Stuck = 0``, ``Forward = 1``).
+    A Boolean's values are named false and true.
     """
     if hasattr(model, "variables"):
-        flat, components = model, {}
+        flat = model
     elif hasattr(model, "flat"):
-        flat, components = model.flat, {}
+        flat = model.flat
     else:
         from ..compiler.flatten import flatten
 
         flat = flatten(model)
-        # after flattening every component is built: walk() only lists them
-        components = {component.path: component for component in model.walk()}
     wanted = None if names is None else set(names)
     out = {}
     for variable in flat.variables:
@@ -1094,28 +1090,10 @@ def signal_info(model, names: Iterable[str] | None = None) -> dict[str, SignalIn
         labels: dict[int, str] = {}
         if variable.kind == "boolean":
             labels = {0: "false", 1: "true"}
-        elif variable.kind == "integer" and variable.component in components:
-            labels = _named_constants(type(components[variable.component]))
+        elif variable.kind == "integer":
+            labels = dict(variable.labels)
         out[variable.name] = SignalInfo(unit=variable.unit or "", kind=variable.kind, labels=labels)
     return out
-
-
-def _named_constants(cls: type) -> dict[int, str]:
-    """``value -> name`` of the integer class attributes of ``cls`` named with a capital letter.
-
-    The nearest definition along the MRO wins (as attribute look-up); a
-    value given two names is ambiguous and left out.
-    """
-    seen: dict[str, int] = {}
-    for klass in cls.__mro__:
-        for key, value in vars(klass).items():
-            if (key not in seen and key[:1].isupper() and isinstance(value, int)
-                    and not isinstance(value, bool)):
-                seen[key] = value
-    by_value: dict[int, list[str]] = {}
-    for key, value in seen.items():
-        by_value.setdefault(value, []).append(key)
-    return {value: keys[0] for value, keys in sorted(by_value.items()) if len(keys) == 1}
 
 
 def compare_signals(

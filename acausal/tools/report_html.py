@@ -38,7 +38,6 @@ from typing import Any, Iterable, Sequence
 
 from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
 from ..compiler.translate import ModeSystem, Translation
-from ..language import Component
 from ..names import parse
 
 __all__ = ["StateNamer", "anchor_id", "incidence_svg", "origin_label", "solution_kind", "state_file_stems",
@@ -75,56 +74,12 @@ def solution_kind(step: Any) -> str:
     return type(step).__name__
 
 
-def _component_classes() -> dict[str, list[type]]:
-    """Every loaded component class, by its ``__name__`` (several classes may share one)."""
-    found: dict[str, list[type]] = {}
-    pending = [Component]
-    seen: set[type] = set()
-    while pending:
-        cls = pending.pop()
-        for sub in cls.__subclasses__():
-            if sub not in seen:
-                seen.add(sub)
-                found.setdefault(sub.__name__, []).append(sub)
-                pending.append(sub)
-    return found
-
-
-def _constant_names(classes: Sequence[type]) -> dict[int, str]:
-    """``value -> name`` of the public ``int`` class attributes of ``classes``.
-
-    A value with several names keeps those starting with a capital letter
-    (the usual spelling of named constants) and shows them joined by ``/``;
-    classes of the same name that disagree leave the value unnamed.
-    """
-    per_class = []
-    for cls in classes:
-        names: dict[int, list[str]] = {}
-        for klass in reversed(cls.__mro__):
-            for attribute, value in vars(klass).items():
-                if type(value) is int and not attribute.startswith("_"):
-                    for listed in names.values():
-                        if attribute in listed:
-                            listed.remove(attribute)
-                    names.setdefault(value, []).append(attribute)
-        chosen = {}
-        for value, listed in names.items():
-            capitals = [n for n in listed if n[:1].isupper()]
-            if listed:
-                chosen[value] = "/".join(capitals or listed)
-        per_class.append(chosen)
-    if not per_class:
-        return {}
-    first = per_class[0]
-    return {v: n for v, n in first.items() if all(other.get(v) == n for other in per_class[1:])}
-
-
 class StateNamer:
     """Names discrete states and discrete values by what they mean.
 
     ``namer(key)`` gives e.g. ``c1: Stuck, c2: Forward (startForward),
-    time > 0.5``: per component, its Integer selectors by the names of its
-    class's ``int`` constants, its true Booleans by name (in parentheses after
+    time > 0.5``: per component, its Integer selectors by the names the flat
+    model gives their values (:attr:`FlatVariable.labels`), its true Booleans by name (in parentheses after
     a mode), then the true relations.  Integer selectors of the key are
     ``pre(mode)`` values; while the solver integrates in a state they equal
     the modes themselves.
@@ -140,11 +95,6 @@ class StateNamer:
         self._selectors = translation.selectors
         self._variables = flat.variable_map
         self._relation_texts = {r.symbol.name: r.text for r in translation.partitioned.relations}
-        self._class_names: dict[str, str] = {}
-        for eq in (*flat.equations, *flat.discrete_equations, *flat.initial_equations):
-            self._class_names.setdefault(eq.origin.component, eq.origin.component_class)
-        self._constants: dict[str, dict[int, str]] = {}
-        self._classes: dict[str, list[type]] | None = None
         self._names: dict[tuple, str] = {}
 
     def owner(self, variable: str) -> str:
@@ -152,15 +102,10 @@ class StateNamer:
         found = self._variables.get(variable)
         return found.component if found is not None else variable.rpartition(".")[0]
 
-    def _constants_of(self, owner: str) -> dict[int, str]:
-        class_name = self._class_names.get(owner)
-        if class_name is None:
-            return {}
-        if class_name not in self._constants:
-            if self._classes is None:
-                self._classes = _component_classes()
-            self._constants[class_name] = _constant_names(self._classes.get(class_name, []))
-        return self._constants[class_name]
+    def _value_name(self, variable: str, number: int) -> str | None:
+        """The name the flat model gives ``number`` as a value of Integer ``variable``."""
+        found = self._variables.get(variable)
+        return dict(found.labels).get(number) if found is not None else None
 
     def value_text(self, variable: str, value: Any) -> str:
         """``value`` of discrete ``variable`` in words: a constant's name, ``true``, a number."""
@@ -170,7 +115,7 @@ class StateNamer:
             return "true" if value else "false"
         if kind == "integer":
             number = int(value)
-            name = self._constants_of(self.owner(variable)).get(number)
+            name = self._value_name(variable, number)
             return f"{name} ({number})" if name else str(number)
         if isinstance(value, float):
             return f"{value:g}"
@@ -202,7 +147,7 @@ class StateNamer:
                     flags.append(local)
             elif kind == "integer":
                 number = int(value)
-                modes.append((local, self._constants_of(owner).get(number) or str(number)))
+                modes.append((local, self._value_name(variable, number) or str(number)))
             else:
                 modes.append((local, f"{float(value):g}"))
         pieces = []

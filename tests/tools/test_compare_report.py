@@ -211,23 +211,6 @@ def test_signal_info_reads_units_kinds_and_value_names_from_the_model():
     assert info["clutch1.startForward"].labels == {0: "false", 1: "true"}
 
 
-def test_value_names_leave_out_ambiguous_values_and_lowercase_names():
-    from acausal.tools.compare import _named_constants
-
-    class Base:
-        Off = 0
-        On = 1
-
-    class Derived(Base):
-        Idle = 1      # a second name for 1: ambiguous
-        Ready = 2
-        count = 3     # not named with a capital: not a value name
-        Flag = True   # a Boolean, not an Integer value
-        _Hidden = 4
-
-    assert _named_constants(Derived) == {0: "Off", 2: "Ready"}
-
-
 # ---------------------------------------------------------------------------
 # One figure per model
 # ---------------------------------------------------------------------------
