@@ -33,7 +33,7 @@ from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values
 
-__all__ = ["InitialState", "initialize", "start_system", "start_value_message"]
+__all__ = ["InitialState", "initialize", "start_guess", "start_system", "start_value_message"]
 
 
 @dataclass(frozen=True)
@@ -61,16 +61,27 @@ class InitialState:
     ticks: frozenset = frozenset()
 
 
-def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_time: float) -> InitialState:
-    """Solve the initialization problem at ``start_time``."""
-    flat = translation.flat
-    variables = flat.variable_map
+def start_guess(translation: Translation) -> tuple[dict, tuple[bool, ...]]:
+    """The discrete values and relation values initialization starts from: the
+    start values (discrete Reals included) and every relation false.
+
+    With ``initial()`` true, ``evaluator.key(discrete, discrete, relations, True)``
+    is the first discrete state :func:`initialize` tries.
+    """
+    variables = translation.flat.variable_map
     discrete = {n: (bool(variables[n].start) if variables[n].kind == "boolean" else int(variables[n].start))
                 for n in translation.partitioned.discrete_variables}
     # discrete Reals: their start values, until a when-clause with initial() sets them
     discrete.update({n: float(variables[n].start) for n in translation.partitioned.held_variables})
+    return discrete, tuple(False for _ in translation.partitioned.relations)
+
+
+def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_time: float) -> InitialState:
+    """Solve the initialization problem at ``start_time``."""
+    flat = translation.flat
+    variables = flat.variable_map
+    discrete, relations = start_guess(translation)
     fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
-    relations = tuple(False for _ in translation.partitioned.relations)
     at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
     notes: list[str] = []
     values = None

@@ -27,9 +27,10 @@ from dataclasses import dataclass
 
 from ..errors import AcausalError, InitializationError, StructuralError, UnitWarning
 from ..language import Component
-from ..names import parse
 from ..compiler.translate import Translation, translate
 from ..compiler.units import UnitReport, check_units
+from ..runtime.events import evaluator_for
+from ..runtime.initialization import start_guess
 from .modelfile import CommandError, load_model_class
 
 __all__ = ["CheckProblem", "CheckReport", "check_model", "main_check"]
@@ -139,27 +140,10 @@ def _problem(exc: AcausalError) -> CheckProblem:
 
 
 def _start_key(translation: Translation) -> tuple:
-    """The discrete state initialization starts from: start values, every relation false, initial() true.
-
-    The first guess of :func:`acausal.runtime.initialization.initialize`,
-    found without solving anything.
-    """
-    variables = translation.flat.variable_map
-    partitioned = translation.partitioned
-    discrete = {n: (bool(variables[n].start) if variables[n].kind == "boolean" else int(variables[n].start))
-                for n in partitioned.discrete_variables}
-    key = []
-    for selector in translation.selectors:
-        name = parse(selector.name)
-        if name.kind == "relation":
-            key.append(False)
-        elif name.kind == "initial":
-            key.append(True)
-        elif name.kind == "pre":
-            key.append(discrete[name.base])
-        else:
-            key.append(discrete[name.text])
-    return tuple(key)
+    """The discrete state initialization starts from (start values, every relation
+    false, initial() true), found without solving anything."""
+    discrete, relations = start_guess(translation)
+    return evaluator_for(translation).key(discrete, discrete, relations, True)
 
 
 def check_model(model: Component, strict: bool = False) -> CheckReport:
