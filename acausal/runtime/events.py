@@ -161,6 +161,9 @@ class DiscreteEvaluator:
                     self._early_readers.setdefault(a, []).append(i)
         #: relations that cross together at the last event (see :meth:`_twins_at`)
         self._twins: dict[int, tuple[int, ...]] = {}
+        #: the relations' sides in the last pass of event iteration, and those the
+        #: twins were found from (found once per event, when relevance is asked)
+        self._raw_last = self._twins_from = None
         #: the relations whose relevance check (:meth:`_flip_changes`) reads each name
         self._checks_reading: dict[str, set[int]] = {}
         for k in range(len(self.relations)):
@@ -317,7 +320,7 @@ class DiscreteEvaluator:
     # -- relations --------------------------------------------------------------
 
     def relation_values(self, system: ModeSystem, t: float, x, previous, exact: bool = False,
-                        fired: frozenset = frozenset(), clear=None):
+                        fired: frozenset = frozenset(), clear=None, raw=None):
         """Relation values at ``(t, x)``; with hysteresis against ``previous``.
 
         Relations in ``fired`` (those whose crossing caused the event) are
@@ -337,7 +340,8 @@ class DiscreteEvaluator:
         """
         if not self.relations:
             return ()
-        raw = system.crossings(t, x)
+        if raw is None:
+            raw = system.crossings(t, x)
         if len(self._kinds) >= _VECTORISE_FROM:
             values = self._relation_values_vectorised(raw, previous, exact, fired)
             if clear is not None:
@@ -394,12 +398,11 @@ class DiscreteEvaluator:
             holds = np.where(strict, v > 0, v >= 0)
         return tuple(holds.tolist())
 
-    def clearly_decided(self, system: ModeSystem, t: float, x, inherited=None) -> tuple[bool, ...]:
-        """Whether each relation's ``lhs - rhs`` at ``(t, x)`` lies beyond its margin,
-        or is exactly at its limit and kept a value decided clearly before
-        (``inherited``: the answer for the pass before)."""
-        raw = system.crossings(t, x)
-        self._twins = self._twins_at(raw)
+    def clearly_decided(self, raw, inherited=None) -> tuple[bool, ...]:
+        """Whether each relation's ``lhs - rhs`` (``raw``: the sides, as ``crossings``
+        gives them) lies beyond its margin, or is exactly at its limit and kept a
+        value decided clearly before (``inherited``: the answer for the pass before)."""
+        self._raw_last = raw
         epsilon = self.epsilon
         out = []
         for k in range(len(self.relations)):
@@ -713,6 +716,8 @@ class DiscreteEvaluator:
         variable as it is.  Relations that select continuous equations are
         always watched.  At the next event all relations are re-evaluated.
         """
+        if self._raw_last is not self._twins_from:
+            self._twins, self._twins_from = self._twins_at(self._raw_last), self._raw_last
         selector_names = self._selector_set
         always = self._always_watched()
         checked = self._relevance_again(discrete, relations)
@@ -974,9 +979,10 @@ class DiscreteEvaluator:
         # before the event), and a relation that pass decided clearly keeps its
         # value when this guess puts it exactly at its limit
         clear = self._clear if self._clear_for is not None and relations == self._clear_for else None
-        new_relations = self.relation_values(system, t, x, relations, fired=fired, clear=clear)
+        raw = system.crossings(t, x) if self.relations else None
+        new_relations = self.relation_values(system, t, x, relations, fired=fired, clear=clear, raw=raw)
         if self.relations:
-            self._clear, self._clear_for = self.clearly_decided(system, t, x, clear), new_relations
+            self._clear, self._clear_for = self.clearly_decided(raw, clear), new_relations
         if self._continuous_args:
             self._extra.update(self._continuous_env(system, t, x, values if left is None else left))
         self._relations_now = new_relations
