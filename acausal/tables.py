@@ -29,7 +29,7 @@ from sympy.core.function import ArgumentIndexError
 
 from .errors import ParameterError
 
-__all__ = ["table_function", "validate_table"]
+__all__ = ["check_abscissae", "table_function", "validate_table"]
 
 #: (class name, shape, table bytes) -> class; the same table under the same
 #: name always gives the same class, so equations built twice compare equal.
@@ -47,6 +47,25 @@ def _identifier(name: str) -> str:
     if keyword.iskeyword(text):
         text += "_"
     return text
+
+
+def check_abscissae(data: np.ndarray, what: str, column: str, symbol: str, hint: str) -> None:
+    """Raise a ParameterError unless the matrix ``data`` is finite and its first
+    column strictly increasing (what linear interpolation in a table needs).
+
+    ``what`` names the table in the message, ``column`` its first column in
+    words, ``symbol`` the quantity of that column; ``hint`` says how to mend it.
+    """
+    if not np.all(np.isfinite(data)):
+        raise ParameterError(f"{what} contains non-finite values (nan or inf)",
+                             hint="every entry must be a finite number")
+    steps = np.diff(data[:, 0])
+    if np.any(steps <= 0):
+        row = int(np.argmax(steps <= 0)) + 1
+        raise ParameterError(
+            f"{what}: {column} must be strictly increasing, but row {row + 1} "
+            f"({symbol} = {data[row, 0]:g}) does not exceed row {row} ({symbol} = {data[row - 1, 0]:g})",
+            hint=hint)
 
 
 def validate_table(table: Any, name: str = "table", *, value_min: float | None = None,
@@ -86,16 +105,7 @@ def validate_table(table: Any, name: str = "table", *, value_min: float | None =
     if data.ndim != 2 or data.shape[1] != 2:
         raise ParameterError(f"table {name} must be an n x 2 matrix, but its shape is {data.shape}",
                              hint=f"one row [x, y] per point, {example}")
-    if not np.all(np.isfinite(data)):
-        raise ParameterError(f"table {name} contains non-finite values (nan or inf)",
-                             hint="every entry must be a finite number")
-    steps = np.diff(data[:, 0])
-    if np.any(steps <= 0):
-        row = int(np.argmax(steps <= 0)) + 1
-        raise ParameterError(
-            f"table {name}: the first column must be strictly increasing, but row {row + 1} "
-            f"(x = {data[row, 0]:g}) does not exceed row {row} (x = {data[row - 1, 0]:g})",
-            hint="sort the rows by x and remove repeated x values")
+    check_abscissae(data, f"table {name}", "the first column", "x", "sort the rows by x and remove repeated x values")
     if value_min is not None:
         below = data[:, 1] < value_min
         if np.any(below):

@@ -17,7 +17,7 @@ from acausal.errors import ParameterError
 from acausal.hybrid import noEvent
 from acausal.language import Boolean, Component, Eq, If, Integer, Parameter, StateSelect, Variable, der, pre
 from acausal.library.blocks.sources import Smoothness
-from acausal.tables import table_function
+from acausal.tables import check_abscissae, table_function
 from acausal.components.checks import where
 from acausal.components.logic import is_initial
 from acausal.components.rotational import Flange_a, Flange_b, PartialElementaryTwoFlangesAndSupport2, Support
@@ -59,16 +59,8 @@ def _loss_table(component, table) -> np.ndarray:
     if data.size == 0 or data.ndim != 2 or data.shape[1] != 5:
         raise ParameterError(f"{path} must be an n x 5 matrix (n >= 1), but its shape is {data.shape}",
                              hint=f"columns |w_a|, eta_mf1, eta_mf2, tau_bf1, tau_bf2; {example}")
-    if not np.all(np.isfinite(data)):
-        raise ParameterError(f"{path} contains non-finite values (nan or inf)",
-                             hint="every entry must be a finite number")
-    steps = np.diff(data[:, 0])
-    if np.any(steps <= 0):
-        row = int(np.argmax(steps <= 0)) + 1
-        raise ParameterError(
-            f"{path}: the speeds |w_a| (first column) must be strictly increasing, but row {row + 1} "
-            f"(w = {data[row, 0]:g}) does not exceed row {row} (w = {data[row - 1, 0]:g})",
-            hint="sort the rows by speed and remove repeated speeds (CombiTable1D needs this)")
+    check_abscissae(data, path, "the speeds |w_a| (first column)", "w",
+                    "sort the rows by speed and remove repeated speeds (CombiTable1D needs this)")
     for column in (1, 2):
         bad = (data[:, column] <= 0) | (data[:, column] > 1)
         if np.any(bad):
