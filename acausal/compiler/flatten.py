@@ -144,6 +144,7 @@ class FlatParameter:
     value: float
     unit: str
     component: str
+    description: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -163,6 +164,7 @@ class FlatVariable:
     #: names of an Integer's values, ``((value, name), ...)``, from its component's class
     #: constants (:func:`~acausal.language.value_names`); empty where there are none
     labels: tuple[tuple[int, str], ...] = ()
+    description: str = ""  #: as declared
 
     @property
     def is_discrete(self) -> bool:
@@ -400,7 +402,7 @@ class _Flattener:
             modelica_class=getattr(model, "modelica_class", None),
             experiment=getattr(model, "experiment", Experiment()),
             parameters=tuple(FlatParameter(n, values[n], self.parameters[n][1],
-                                           self.parameters[n][2].path)
+                                           self.parameters[n][2].path, self._description(n))
                              for n in self.parameters if n not in self.unknown_parameters),
             structural_parameters=dict(self.structural),
             variables=tuple(self.variables.values()),
@@ -410,6 +412,12 @@ class _Flattener:
             hints={c.path: h for c in self.components if (h := component_hints(type(c)))},
             hybrid=HybridPart(tuple(self.reinits), tuple(self.asserts), tuple(self.terminations)),
         )
+
+    def _description(self, parameter: str) -> str:
+        """The declared description of ``parameter`` (a dotted name of this model)."""
+        component = self.parameters[parameter][2]
+        key = parameter[len(component.path) + 1:] if component.path else parameter
+        return getattr(self._declarations(component).get(key), "description", "") or ""
 
     def _declarations(self, component: Component) -> dict:
         """``component.declarations()``, computed once per class (it walks the class hierarchy)."""
@@ -612,7 +620,8 @@ class _Flattener:
             state_select=StateSelect(attr("state_select") if kind in ("continuous", "discrete") else 2),
             unit=decl.unit, component=component.path, causality=decl.causality,
             role=getattr(decl, "connector_role", ""),
-            labels=value_names(type(component), attr("min"), attr("max")) if kind == "integer" else ())
+            labels=value_names(type(component), attr("min"), attr("max")) if kind == "integer" else (),
+            description=decl.description)
         self.variables[path] = variable
         if decl.causality:
             self.signal_declarations[path] = (decl, component)

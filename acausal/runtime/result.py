@@ -35,7 +35,6 @@ if TYPE_CHECKING:  # only for annotations: the result does not need the compiler
     import pandas
 
     from ..compiler.flatten import FlatModel
-    from ..language import Component
 
 __all__ = ["ColumnInfo", "Event", "SimulationResult", "describe_columns", "read_csv", "read_mat",
            "register_plotter"]
@@ -144,8 +143,8 @@ class _ColumnTable(Mapping):
     """:func:`describe_columns`' mapping, built on first use (most runs never ask
     what a column is); the kind of a column is found without building it."""
 
-    def __init__(self, flat: "FlatModel", names: list[str], model: "Component | None") -> None:
-        self._source: tuple | None = (flat, names, model)
+    def __init__(self, flat: "FlatModel", names: list[str]) -> None:
+        self._source: tuple | None = (flat, names)
         self._table: dict[str, ColumnInfo] | None = None
         self._discrete = {v.name: v.kind for v in flat.variables if v.is_discrete}
 
@@ -159,7 +158,7 @@ class _ColumnTable(Mapping):
     def _get(self) -> dict[str, ColumnInfo]:
         if self._table is None:
             self._table = _describe(*self._source)
-            self._source = None  # let go of the model
+            self._source = None
         return self._table
 
     def __getitem__(self, name: str) -> ColumnInfo:
@@ -175,38 +174,24 @@ class _ColumnTable(Mapping):
         return dict, (dict(self._get()),)
 
 
-def describe_columns(flat: "FlatModel", names: Sequence[str], model: "Component | None" = None
-                     ) -> Mapping[str, ColumnInfo]:
+def describe_columns(flat: "FlatModel", names: Sequence[str]) -> Mapping[str, ColumnInfo]:
     """What each of the result columns ``names`` is, as a mapping computed on first use.
 
-    Units, kinds and the names of Integer values come from the flat model;
-    descriptions from the declarations of ``model``'s components (None: no
-    descriptions).  A derivative ``der(x)`` gets the unit of ``x`` per second.
+    Units, descriptions, kinds and the names of Integer values come from the
+    flat model.  A derivative ``der(x)`` gets the unit of ``x`` per second.
 
     Parameters
     ----------
     flat : FlatModel
     names : sequence of str
         The result's columns.
-    model : Component, optional
-        The model instance that was translated.
     """
-    return _ColumnTable(flat, list(names), model)
+    return _ColumnTable(flat, list(names))
 
 
-def _describe(flat: "FlatModel", names: list[str], model: "Component | None") -> dict[str, ColumnInfo]:
+def _describe(flat: "FlatModel", names: list[str]) -> dict[str, ColumnInfo]:
     variables = {v.name: v for v in flat.variables}
     parameters = {p.name: p for p in flat.parameters}
-    declared: dict[str, tuple] = {}
-    if model is not None:
-        declarations: dict[type, dict] = {}
-        for component in model.walk():
-            klass = type(component)
-            if klass not in declarations:
-                declarations[klass] = klass.declarations()
-            prefix = component.path + "." if component.path else ""
-            for key, declaration in declarations[klass].items():
-                declared[prefix + key] = (component, key, declaration)
     info = {}
     for name in names:
         parsed = parse(name) if name.endswith(")") else None
@@ -218,17 +203,15 @@ def _describe(flat: "FlatModel", names: list[str], model: "Component | None") ->
             info[name] = ColumnInfo(name, unit, f"time derivative of {parsed.base}"
                                     + (f" (order {parsed.order})" if parsed.order > 1 else ""),
                                     "continuous")
-            continue
-        _component, _key, declaration = declared.get(name, (None, None, None))
-        description = getattr(declaration, "description", "") or ""
-        if name in parameters:
-            info[name] = ColumnInfo(name, parameters[name].unit, description, "parameter")
+        elif name in parameters:
+            parameter = parameters[name]
+            info[name] = ColumnInfo(name, parameter.unit, parameter.description, "parameter")
         elif name in variables:
             variable = variables[name]
             kind = variable.kind if variable.kind in KINDS else "continuous"
-            info[name] = ColumnInfo(name, variable.unit, description, kind, variable.labels)
+            info[name] = ColumnInfo(name, variable.unit, variable.description, kind, variable.labels)
         else:
-            info[name] = ColumnInfo(name, getattr(declaration, "unit", "") or "", description)
+            info[name] = ColumnInfo(name)
     return info
 
 

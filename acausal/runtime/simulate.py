@@ -237,7 +237,6 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     run.notes.extend(_structural_notes(translation, parameters))
     run.max_steps, run.timeout = max_steps, timeout
     run.progress = progress_reporter(progress, translation.flat.name)
-    run.model = model if isinstance(model, Component) else None  # descriptions for the result
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
@@ -872,7 +871,7 @@ class _Run:
         return SimulationResult(times, columns, status if error is not None or status == 1 else 0, message, tuple(self.events),
                                 tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
                                 error, translation.flat.name,
-                                describe_columns(translation.flat, list(columns), getattr(self, "model", None)))
+                                describe_columns(translation.flat, list(columns)))
 
 
 def _check_finite(t: float, names, values, what: str) -> None:

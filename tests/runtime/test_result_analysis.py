@@ -92,12 +92,15 @@ def test_mode_labels_are_the_component_class_constants(breakaway):
     assert all(not breakaway.info(n).labels for n in breakaway.names if n != "bearing.mode")
 
 
-def test_a_translation_gives_units_but_no_descriptions():
+def test_a_translation_gives_units_and_descriptions_too():
+    """The flat model carries them: a result of a translation knows as much as one of a model."""
     from acausal import translate
+    from acausal.library.rotational import Inertia
 
     result = simulate(translate(Spin()))
     assert result.unit("inertia.w") == "rad/s"
-    assert result.info("inertia.w").description == ""
+    assert result.info("inertia.w").description == Inertia.w.description
+    assert result.info("inertia.J").description == Inertia.J.description != ""
 
 
 # -- discrete columns and unknown names ----------------------------------------------------
