@@ -22,6 +22,7 @@ __all__ = [
     "ModifierError",
     "ConnectionError_",
     "ParameterError",
+    "TableError",
     "StructuralError",
     "OverDeterminedError",
     "UnderDeterminedError",
@@ -108,6 +109,13 @@ class ConnectionError_(ModelDefinitionError):
 
 class ParameterError(ModelDefinitionError):
     """A parameter value is out of its allowed range or malformed."""
+
+
+class TableError(ParameterError):
+    """An interpolation table that cannot be used: a missing file or matrix, a
+    wrong shape, abscissae that do not increase where the options need it,
+    non-finite entries, an unknown option.  The message names the file (if
+    any), the table and the row concerned."""
 
 
 class StructuralError(AcausalError, ValueError):

@@ -16,7 +16,7 @@ import sympy as sp
 from .errors import ModelDefinitionError, StructuralError
 from .language import time as _time
 
-__all__ = ["prescribed"]
+__all__ = ["prescribed", "settle"]
 
 #: (name, number of derivatives given, differentiate_last, hint) -> class; the same call
 #: always gives the same class, so equations built twice compare equal.
@@ -126,6 +126,29 @@ def prescribed(value, *derivatives, time=_time, name: str, hint: str | None = No
     return _function_class(name, len(derivatives), bool(differentiate_last), hint)(0, value, *derivatives, time)
 
 
+def settle(expr: sp.Expr) -> sp.Expr:
+    """``expr`` with every application of a function that only carries given
+    derivatives replaced by the expression it evaluates to.
+
+    A function with given derivatives (:func:`prescribed`, Modelica's
+    ``derivative`` annotation with ``noDerivative``) matters to index
+    reduction only: differentiating it takes the next given signal.  Its
+    *value* depends on one argument alone (``prescribed(p, u1, u2)`` is
+    ``p``), so once the equations have been differentiated as far as index
+    reduction needs, the engine settles them: matching, sorting and code see
+    what the value really depends on (matching ``u2`` to the equation of its
+    order-0 value would be structurally wrong, as a Modelica tool that
+    inlines the function never does).
+
+    The protocol is generic: any :class:`sympy.Function` subclass with a
+    method ``settled()`` is replaced by what that method returns.
+    """
+    if not isinstance(expr, sp.Basic) or not any(hasattr(type(f), "settled") for f in expr.atoms(sp.Function)):
+        return expr
+    return expr.replace(lambda e: isinstance(e, sp.Function) and hasattr(type(e), "settled"),
+                        lambda e: e.settled())
+
+
 class _Prescribed(sp.Function):
     """A value given with ``given`` time derivatives (made by :func:`prescribed`).
 
@@ -166,6 +189,10 @@ class _Prescribed(sp.Function):
 
     def _eval_evalf(self, prec):
         return self.args[1 + int(self.args[0])].evalf(prec)
+
+    def settled(self) -> sp.Expr:
+        """The signal this application evaluates to (see :func:`settle`)."""
+        return self.args[1 + int(self.args[0])]
 
     def _eval_is_real(self):
         return self.args[1 + int(self.args[0])].is_real

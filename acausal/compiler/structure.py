@@ -47,6 +47,7 @@ from ..errors import (
 )
 from .flatten import FlatEquation, FlatVariable, Origin
 from ..names import base_name, der_name, derivative_order, parse
+from ..functions import settle
 from ..language import StateSelect, parameter_symbols, real_symbol, time
 
 __all__ = [
@@ -471,6 +472,14 @@ class StructureMemo:
     parameters: set[str] = field(default_factory=set)
     values: dict = field(default_factory=dict)  #: parameter symbol -> sympy Float
     derivatives: dict = field(default_factory=dict)  #: residual -> its time derivative
+    settled: dict = field(default_factory=dict)  #: residual -> the same, settled (functions.settle)
+
+    def settle(self, residual: sp.Expr) -> sp.Expr:
+        """``residual`` with functions of given derivatives replaced by their values (memoised)."""
+        found = self.settled.get(residual)
+        if found is None:
+            found = self.settled[residual] = settle(residual)
+        return found
 
     def bind(self, parameter_values: dict[str, float]) -> None:
         """Take ``parameter_values``, or check that they are the ones taken."""
@@ -619,7 +628,9 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
         return index[name]
 
     eqs: list[FlatEquation] = list(equations)
-    incidence_names = [_incidence(eq.residual, values) for eq in eqs]
+    # the incidence is that of the settled residuals: a function with given derivatives
+    # depends on the one signal it evaluates to (functions.settle)
+    incidence_names = [_incidence(memo.settle(eq.residual), values) for eq in eqs]
     for names in incidence_names:
         for name in sorted(names, key=lambda n: (order_of.get(base_name(n), 0), derivative_order(n))):
             add_var(name)
@@ -642,7 +653,7 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
                             origin.index, functools.partial(_derivative_text, origin))
         eqs.append(FlatEquation(derivative, new_origin))
         parent_eq.append(l)
-        names = _incidence(derivative, values)
+        names = _incidence(memo.settle(derivative), values)
         for name in sorted(names, key=lambda n: (derivative_order(n), n)):
             add_var(name)
         return sorted(index[n] for n in names)
@@ -691,6 +702,8 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
     for j, i in enumerate(assign_u):
         matching[i] = j
     differentiated = tuple((i, parent_eq[i]) for i in range(len(eqs)) if parent_eq[i] >= 0)
+    # no stage after this one differentiates: the later ones get the settled equations
+    eqs = [eq if (r := memo.settle(eq.residual)) is eq.residual else FlatEquation(r, eq.origin) for eq in eqs]
     return StructuralResult(tuple(eqs), tuple(states), tuple(derivatives), tuple(unknowns),
                             tuple(matching), tuple(incidence), differentiated,
                             tuple(sorted(dummies, key=lambda n: (order_of[base_name(n)], n))))
