@@ -396,6 +396,7 @@ class _Flattener:
             origin = Origin(name.rpartition(".")[0], "", "binding", 0, f"der({name}) = 0")
             self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
         self._hold_discrete_reals()
+        self._state_candidates()
         model = self.model
         return FlatModel(
             name=type(model).__name__,
@@ -1096,6 +1097,26 @@ class _Flattener:
                     f"(der({item.variable}) appears in no equation)",
                     hint="reinit applies to continuous states only; reinitialize the state this "
                          "variable is computed from", components=(item.origin.component,))
+
+    def _state_candidates(self) -> None:
+        """A variable declared with ``state_select`` prefer or always that no
+        equation differentiates gets the equation ``$der = der(v)`` (a hidden
+        variable), so that it is a state candidate, as Dymola and OpenModelica
+        take it: index reduction then differentiates what determines it, and
+        state selection weighs it with the others."""
+        differentiated = {parse(s.name).base for eq in self.equations for s in eq.residual.free_symbols
+                          if parse(s.name).kind == "derivative"}
+        for name, variable in list(self.variables.items()):
+            if (variable.kind != "continuous" or name in differentiated
+                    or variable.state_select < StateSelect.prefer):
+                continue
+            hidden = self._hidden_variable("der", "continuous", variable.component)
+            self.variables[hidden.name] = dataclasses.replace(self.variables[hidden.name],
+                                                              state_select=StateSelect.never)
+            origin = Origin(variable.component, "", "state_select", 0,
+                            f"{hidden.name} = der({name}) ({name} has state_select="
+                            f"{variable.state_select.name}: a state candidate)")
+            self.equations.append(FlatEquation(real_symbol(hidden.name) - real_symbol(der_name(name)), origin))
 
     def _time_derivative(self, expr: sp.Basic) -> sp.Basic:
         result = sp.diff(expr, time) if expr.has(time) else sp.Integer(0)
