@@ -371,7 +371,10 @@ def relax_redundant(equations: Sequence[FlatEquation], incidence: Sequence[set[s
     matched.  Each deficient pairing is repaired by leaving out one equation
     of the over-determined part that the discrete state selected
     (``droppable``, indices into ``equations``) and setting one flow
-    variable of the under-determined part to zero.  (The MSL Rotational
+    variable of the under-determined part to zero: the one nearest to the
+    dropped equation, ties broken by name (:func:`_share_to_zero`), so that
+    the choice is a share of the redundant constraint itself and does not
+    depend on the declaration order.  (The MSL Rotational
     Users Guide, RequirementsForSimulationTool, leaves the choice to the
     tool; a least-norm split gives the same mode decisions in the cases
     tried, see docs/hard-cases.md, case 5.)
@@ -410,10 +413,13 @@ def relax_redundant(equations: Sequence[FlatEquation], incidence: Sequence[set[s
         # an equation the matching left over is the natural one to drop; else the
         # last selected equation of the over-determined part (both deterministic)
         choices = [i for i in unmatched_eqs if i in droppable] or sorted(over & droppable)[-1:]
-        zero = next((j for j in flow_columns if j in under), None)
-        if not choices or zero is None:
+        if not choices:
             return None
         drop = choices[0]
+        zero = _share_to_zero(G, readers, drop, [j for j in flow_columns if j in under], families,
+                              matched=len(G) - len(unmatched_eqs))
+        if zero is None:
+            return None
         name = families[zero]
         dropped.append(equations[drop])
         zeroed.append(name)
@@ -424,6 +430,41 @@ def relax_redundant(equations: Sequence[FlatEquation], incidence: Sequence[set[s
         G[drop] = [zero]
         droppable.discard(drop)
         flow_columns.remove(zero)
+    return None
+
+
+def _share_to_zero(G: list[list[int]], readers: list[list[int]], drop: int, candidates: list[int],
+                   families: Sequence[str], matched: int) -> int | None:
+    """The flow column to set to zero in place of equation ``drop``, or None.
+
+    The share left open belongs to the redundant constraint itself: of the
+    flows of the under-determined part, the one nearest to the dropped
+    equation in the equation-variable graph (a torque of the locked loop,
+    not a heat flow that merely depends on it through a loss power), ties
+    broken by name, so that the choice does not depend on the order in which
+    the model declares its components.  A candidate is taken only if the
+    matching grows with it (the system gets one step closer to solvable).
+    """
+    distance = {}
+    frontier, d = [drop], 0
+    seen_eqs = {drop}
+    while frontier:
+        following = []
+        for i in frontier:
+            for j in G[i]:
+                if j not in distance:
+                    distance[j] = d
+                    for k in readers[j]:
+                        if k not in seen_eqs:
+                            seen_eqs.add(k)
+                            following.append(k)
+        frontier, d = following, d + 1
+    ordered = sorted(candidates, key=lambda j: (distance.get(j, len(G) + 1), families[j]))
+    for zero in ordered:
+        trial = list(G)
+        trial[drop] = [zero]
+        if sum(a != -1 for a in maximum_matching(trial, len(families))) > matched:
+            return zero
     return None
 
 
