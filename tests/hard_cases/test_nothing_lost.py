@@ -403,7 +403,7 @@ def test_compare_with_good_reference_folder_passes(in_tmp, capsys):
 
 @pytest.mark.parametrize("broken, words", [
     (dict(signals=None), ["comparisonSignals.txt", "not found"]),
-    (dict(signals="time\n"), ["comparisonSignals.txt", "lists no signals"]),
+    (dict(signals="\n"), ["comparisonSignals.txt", "lists no signals"]),
     (dict(signals="time\ny\n"), ["comparisonSignals.txt", "y", "not a column"]),
     (dict(csv_text=GOOD_CSV.replace("0.5,", "zero.five,")), ["Decay.csv", "line 7", "not a number"]),
     (dict(csv_text='"time","x"\n0,1,2\n0.1,0.9\n'), ["Decay.csv", "line 2", "3 values for 2 columns"]),

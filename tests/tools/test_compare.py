@@ -485,6 +485,16 @@ def test_missing_folder(tmp_path):
     assert "ACAUSAL_REFERENCE_DIR" in message
 
 
+def test_a_reference_listing_only_time_compares_nothing(tmp_path):
+    """MAP-LIB's own references do this for models whose check is that they run."""
+    write_folder(tmp_path, signals="time\n")
+    reference = load_reference("Pkg.Model", tmp_path)
+    assert reference.compared == ()
+    comparison = compare_signals(reference, reference.time, {})
+    assert comparison.passed and comparison.signals == ()
+    assert "0 of 0 signals passed" in comparison.table()
+
+
 def test_missing_folder_uses_environment(tmp_path, monkeypatch):
     monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "elsewhere"))
     with pytest.raises(ReferenceDataError, match="elsewhere"):
@@ -495,7 +505,7 @@ def test_missing_folder_uses_environment(tmp_path, monkeypatch):
     "kwargs, file_name, words",
     [
         ({"signals": None}, "comparisonSignals.txt", "not found"),
-        ({"signals": "time\n"}, "comparisonSignals.txt", "no signals"),
+        ({"signals": "\n"}, "comparisonSignals.txt", "no signals"),
         ({"signals": "time\na.x\na.w\n"}, "comparisonSignals.txt", "a.w"),
         ({"creation": None}, "creation.txt", "not found"),
         ({"creation": "StartTime=0\n"}, "creation.txt", "StopTime"),
