@@ -31,17 +31,13 @@ from ..errors import EventIterationError, SimulationError
 from ..names import INITIAL_NAME, TERMINAL_NAME, is_relation, parse, pre_name, relation_name
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import vectorised_function
+from .relations import decide, decide_many, kind_arrays
 
 __all__ = ["DiscreteEvaluator", "EventOutcome", "evaluator_for", "mode_values"]
 
 
 #: From this many watched relations on, they are checked with numpy at once.
 _VECTORISE_FROM = 48
-
-#: Relative size of ``lhs - rhs`` that counts as zero for a time event's relation at
-#: its own instant: its crossing time is computed in closed form, so what is left of
-#: g there is round-off (``(t - T_start) - width`` against ``t - (T_start + width)``).
-_ROUND_OFF = 1e-13
 
 #: Whether a pass of event iteration re-evaluates only what changed since the
 #: last (:meth:`DiscreteEvaluator._evaluate_again`) and the relevant relations
@@ -343,60 +339,11 @@ class DiscreteEvaluator:
         if raw is None:
             raw = system.crossings(t, x)
         if len(self._kinds) >= _VECTORISE_FROM:
-            values = self._relation_values_vectorised(raw, previous, exact, fired)
-            if clear is not None:
-                values = tuple(True if clear[k] and previous[k] and raw[2 * k] == raw[2 * k + 1] and not exact
-                               else v for k, v in enumerate(values))
-            return values
-        out = []
-        epsilon = self.epsilon
-        # Relation.holds and holds_with_hysteresis, inlined (see flipped_relations)
-        for k, (d, strict, timed) in enumerate(self._kinds):
-            lhs, rhs = raw[2 * k], raw[2 * k + 1]
-            # an argument exactly at its limit takes the relation's own value (u <= 0 for
-            # u = 0 is true): the margin only keeps round-off from flipping a relation
-            if timed and k in fired and abs(lhs - rhs) <= _ROUND_OFF * max(1.0, abs(lhs), abs(rhs)):
-                v = 0.0  # at its time event: the crossing instant was computed exactly
-            elif lhs == rhs and clear is not None and clear[k] and previous[k] and not exact:
-                out.append(True)
-                continue
-            elif exact or timed or k in fired or lhs == rhs:
-                v = d * (lhs - rhs)
-            else:
-                v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(1.0, abs(lhs), abs(rhs))))
-            out.append(v > 0 if strict else v >= 0)
-        return tuple(out)
-
-    def _relation_values_vectorised(self, raw, previous, exact: bool, fired) -> tuple[bool, ...]:
-        """:meth:`relation_values` for many relations at once, with numpy: the same
-        operations on the same doubles, so the same decisions."""
-        if self._kind_arrays is None:
-            d = np.array([k[0] for k in self._kinds])
-            strict = np.array([k[1] for k in self._kinds], dtype=bool)
-            timed = np.array([k[2] for k in self._kinds], dtype=bool)
-            self._kind_arrays = (d, strict, timed)
-        d, strict, timed = self._kind_arrays
-        with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
-            values = np.asarray(raw, dtype=float)
-            lhs, rhs = values[0::2], values[1::2]
-            g = lhs - rhs
-            if exact:
-                v = d * g
-            else:
-                margin = np.maximum(np.maximum(np.abs(lhs), np.abs(rhs)), 1.0) * self.epsilon
-                toward = np.where(np.asarray(previous, dtype=bool), d, -d)
-                plain = timed | (g == 0)
-                if fired:
-                    plain[list(fired)] = True
-                v = d * np.where(plain, g, g + toward * margin)
-            if fired:
-                # a time event's relation at its instant: the round-off of g is not a side
-                at_root = np.zeros_like(timed)
-                at_root[list(fired)] = True
-                at_root &= timed & (np.abs(g) <= _ROUND_OFF * np.maximum(np.maximum(np.abs(lhs), np.abs(rhs)), 1.0))
-                v = np.where(at_root, 0.0, v)
-            holds = np.where(strict, v > 0, v >= 0)
-        return tuple(holds.tolist())
+            if self._kind_arrays is None:
+                self._kind_arrays = kind_arrays(self._kinds)
+            return decide_many(self._kinds, raw, previous, self.epsilon, exact=exact, fired=fired, clear=clear,
+                               arrays=self._kind_arrays)
+        return decide(self._kinds, raw, previous, self.epsilon, exact=exact, fired=fired, clear=clear)
 
     def clearly_decided(self, raw, inherited=None) -> tuple[bool, ...]:
         """Whether each relation's ``lhs - rhs`` (``raw``: the sides, as ``crossings``
@@ -883,7 +830,7 @@ class DiscreteEvaluator:
             # again from the new states, with sample() false; pre = the values reached
             pre = dict(outcome.discrete)
             relations_before = outcome.relations
-            # a time event's relations stay at their instant (see _ROUND_OFF); the others
+            # a time event's relations stay at their instant (relations.ROUND_OFF); the others
             # are judged with their margins again
             fired, ticks = frozenset(k for k in fired if self._kinds[k][2]), frozenset()
         else:
