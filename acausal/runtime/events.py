@@ -868,7 +868,14 @@ class DiscreteEvaluator:
                     found = self._search(t, values, pre, new_relations, relations_before, initial, fired,
                                          seen, new_discrete)
                     if found is None:
-                        self._fail(t, [dict(d) for d, _ in seen], "the mixed continuous/discrete system")
+                        # No assignment is consistent while pre() is held (a friction element
+                        # at its breakaway torque whose sliding torque is lower): take one
+                        # step of Modelica's event iteration, the values the first pass gave,
+                        # and let pre() follow them (pre(startForward) then keeps it sliding).
+                        # The outer iteration still fails if that does not settle either.
+                        discrete, relations = dict(seen[0][0]), seen[0][1]
+                        inner.append(dict(discrete))
+                        break
                     new_discrete, new_relations = found
                 seen.append(state)
                 inner.append(dict(new_discrete))
