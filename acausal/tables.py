@@ -29,7 +29,8 @@ from sympy.core.function import ArgumentIndexError
 
 from .errors import ParameterError
 
-__all__ = ["check_abscissae", "table_function", "validate_table"]
+__all__ = ["check_abscissae", "table_function", "validate_table", "TableFunction", "table_1d_function",
+           "table_2d_function", "time_table_functions"]
 
 #: (class name, shape, table bytes) -> class; the same table under the same
 #: name always gives the same class, so equations built twice compare equal.
@@ -306,3 +307,180 @@ def _slope_class(ident: str, xs: tuple, slopes: tuple) -> type[sp.Function]:
         constant = None
     return _make_class(ident, scalar, vector, constant=constant, derivative=lambda: sp.Integer(0),
                        attributes={"breakpoints": xs, "values": slopes, "kind": "steps"})
+
+
+# --------------------------------------------------------------------------
+# The MSL tables (acausal.interpolation) as functions of equations
+# --------------------------------------------------------------------------
+
+
+class TableFunction(sp.Function):
+    """An application of an interpolation table of :mod:`acausal.interpolation` in an equation.
+
+    One class per table, output and derivative order (made and cached by
+    :func:`table_1d_function`, :func:`table_2d_function` and
+    :func:`time_table_functions`): equations built twice compare equal, and the
+    generated code calls ``_imp_`` (floats or numpy arrays).  Differentiating
+    an application gives the class of the next derivative order (MSL's
+    ``derivative`` annotations of ``getTable1DValue``, ``getTable2DValue`` and
+    ``getTimeTableValue``), so a table can drive a position source or be
+    differentiated by index reduction.
+
+    Class attributes: ``table`` (the numeric table), ``output`` (0-based
+    column of the outputs), ``orders`` (derivative orders), ``shape`` (which
+    arguments the value is a function of, see the factories), ``data_text``
+    (a digest of the table and options, for the compile cache) and
+    ``rebuild`` (how another process makes the same class).
+    """
+
+    table: Any = None
+    output: int = 0
+    orders: tuple[int, ...] = ()
+    shape: str = ""
+    data_text: str = ""
+    rebuild: tuple = ()
+
+    @classmethod
+    def eval(cls, *args):
+        if cls.shape != "next" and all(isinstance(a, sp.Number) and a.is_finite for a in args):
+            return sp.Float(cls._imp_(*(float(a) for a in args)))
+        return None
+
+    def _eval_evalf(self, prec):
+        values = [a.evalf(prec) for a in self.args]
+        if all(isinstance(v, sp.Number) and v.is_finite for v in values):
+            return sp.Float(type(self)._imp_(*(float(v) for v in values)), prec)
+        return None
+
+    def _eval_is_real(self):
+        return True
+
+    def fdiff(self, argindex: int = 1):
+        shape, args = self.shape, self.args
+        if shape == "1d" and argindex == 1:
+            return _table_class(self.rebuild, (self.orders[0] + 1,))(*args)
+        if shape == "2d" and argindex in (1, 2):
+            o1, o2 = self.orders
+            orders = (o1 + 1, o2) if argindex == 1 else (o1, o2 + 1)
+            return _table_class(self.rebuild, orders)(*args)
+        if shape == "time":
+            # (time, next event, start, shift): the held next event and the start are
+            # piecewise constant; the value is a function of time - shift
+            following = _table_class(self.rebuild, (self.orders[0] + 1,))(*args)
+            if argindex == 1:
+                return following
+            if argindex == 4:
+                return -following
+            if argindex in (2, 3):
+                return sp.Integer(0)
+        if shape == "next" and argindex in (1, 2, 3):
+            return sp.Integer(0)
+        raise ArgumentIndexError(self, argindex)
+
+    def __reduce_ex__(self, protocol):
+        return _apply_table, (self.rebuild, self.orders, self.args)
+
+
+def _apply_table(rebuild: tuple, orders: tuple, args: tuple) -> sp.Expr:
+    """A table application (how one is unpickled)."""
+    return _table_class(rebuild, orders)(*args)
+
+
+#: (kind, name, output, table digest, orders) -> class
+_TABLE_CLASSES: dict[tuple, type] = {}
+
+
+#: id(table) -> (table, digest): a table's digest is computed once
+_DIGESTS: dict[int, tuple[Any, str]] = {}
+
+
+def _digest(table) -> str:
+    """A short text that changes with every number and option of ``table``."""
+    found = _DIGESTS.get(id(table))
+    if found is not None and found[0] is table:
+        return found[1]
+    import hashlib
+
+    digest = hashlib.sha256(np.ascontiguousarray(table.data, dtype=float).tobytes())
+    options = [type(table).__name__, getattr(table, "columns", None), getattr(table, "smoothness", None),
+               getattr(table, "extrapolation", None), getattr(table, "time_events", None), table.data.shape]
+    digest.update(repr([int(o) if isinstance(o, int) else o for o in options]).encode())
+    text = digest.hexdigest()[:16]
+    _DIGESTS[id(table)] = (table, text)
+    return text
+
+
+def _table_class(rebuild: tuple, orders: tuple) -> type:
+    """The class of the table application ``rebuild`` describes, at derivative ``orders``."""
+    shape, name, output, table = rebuild
+    key = (shape, name, output, _digest(table), tuple(orders))
+    cls = _TABLE_CLASSES.get(key)
+    if cls is not None:
+        return cls
+    ident = _identifier(name)
+    suffix = {"1d": f"_y{output + 1}", "2d": "", "time": f"_y{output + 1}", "next": "_next_event"}[shape]
+    if any(orders):
+        suffix += "_d" + "_".join(str(o) for o in orders)
+    if shape == "1d":
+        (order,) = orders
+
+        def evaluate(u):
+            return table.value(output, u, order)
+    elif shape == "2d":
+        o1, o2 = orders
+
+        def evaluate(u1, u2):
+            return table.value(u1, u2, o1, o2)
+    elif shape == "time":
+        (order,) = orders
+
+        def evaluate(t, next_event, start, shift):
+            return table.value(output, t, next_event, start, shift, order)
+    else:
+        scalar = np.vectorize(table.next_event, otypes=[float])
+
+        def evaluate(t, start, shift):
+            if isinstance(t, np.ndarray):
+                return scalar(t, start, shift)
+            return table.next_event(float(t), float(start), float(shift))
+
+    cls = type(f"{ident}{suffix}", (TableFunction,), {
+        "__module__": __name__,
+        "__doc__": f"Table {name} ({shape}, output {output + 1}, derivative orders {orders}).",
+        "nargs": {"1d": 1, "2d": 2, "time": 4, "next": 3}[shape],
+        "table": table,
+        "output": output,
+        "orders": tuple(orders),
+        "shape": shape,
+        "data_text": f"{shape} {name} output {output} orders {tuple(orders)} data {_digest(table)}",
+        "rebuild": rebuild,
+        "_imp_": staticmethod(evaluate),
+        "numeric": staticmethod(evaluate),
+    })
+    _TABLE_CLASSES[key] = cls
+    return cls
+
+
+def table_1d_function(table, output: int, name: str) -> type[sp.Function]:
+    """``y(u)``: output ``output`` (0-based) of a :class:`~acausal.interpolation.Table1D`,
+    as a sympy function of one argument (its derivatives are the table's)."""
+    return _table_class(("1d", name, int(output), table), (0,))
+
+
+def table_2d_function(table, name: str) -> type[sp.Function]:
+    """``y(u1, u2)`` of a :class:`~acausal.interpolation.Table2D`, as a sympy function of
+    two arguments (its partial derivatives are the table's)."""
+    return _table_class(("2d", name, 0, table), (0, 0))
+
+
+def time_table_functions(table, output: int, name: str) -> tuple[type[sp.Function], type[sp.Function]]:
+    """The two functions a CombiTimeTable's equations call, for output ``output`` (0-based):
+
+    * ``value(t, next_event, start, shift)``: the output of the
+      :class:`~acausal.interpolation.TimeTable` at scaled time ``t`` while the
+      held next event instant is ``next_event`` (scaled);
+    * ``next(t, start, shift)``: the next event instant after ``t`` (scaled),
+      what the block's when-clause assigns.
+    """
+    return (_table_class(("time", name, int(output), table), (0,)),
+            _table_class(("next", name, 0, table), (0,)))

@@ -100,7 +100,7 @@ def engine_version() -> str:
 
 def _table_text(function: type) -> str:
     parts = [function.__name__]
-    for attribute in ("table", "breakpoints", "values", "slopes", "kind"):
+    for attribute in ("table", "breakpoints", "values", "slopes", "kind", "data_text"):
         value = getattr(function, attribute, None)
         if value is not None:
             parts.append(f"{attribute}={_plain(value)}")

@@ -909,7 +909,8 @@ class _Flattener:
 
     def _mirror_discrete(self, node: sp.Basic, args: list) -> sp.Basic:
         """A relation between continuous and discrete values, with each discrete value
-        (``pre(n)``, an Integer) replaced by a discrete Real that mirrors it.
+        (``pre(n)``, an Integer, ``pre(x)`` of a discrete Real) replaced by a discrete
+        Real that mirrors it.
 
         The relation's crossing function is computed by the continuous system,
         which knows no Integers or Booleans (they select its equations); a
@@ -921,7 +922,9 @@ class _Flattener:
         for sym in symbols:
             what = parse(sym.name)
             base = self.variables.get(what.base if what.kind in ("pre", "variable") else "")
-            if base is not None and base.is_discrete:
+            if base is not None and (base.is_discrete or (what.kind == "pre" and base.is_held)):
+                # (pre() of a discrete Real, too: between events it is the value held, but the
+                # continuous system knows only that value, not its left limit)
                 discrete.append(sym)
             elif sym is time or what.kind == "derivative" or (
                     base is not None and not base.is_discrete and what.kind == "variable"):

@@ -35,6 +35,7 @@ from ..errors import (InitializationError, ModelDefinitionError, RedundantConstr
                       StructurallySingularError)
 from ..language import Component, real_symbol, structural_names, with_structural
 from ..names import is_derivative, parse
+from ..tables import TableFunction, _table_class
 from .cache import ModelCache
 from .codegen import GeneratedCode, load_make
 from .diskcache import DiskCache, MemoryCache, cache_folder, disk_cache_enabled, model_key
@@ -838,6 +839,8 @@ class _BundlePickler(pickle.Pickler):
             from ..tables import table_function
 
             return table_function, (obj.__name__, obj.table)
+        if isinstance(obj, type) and issubclass(obj, TableFunction) and obj.rebuild:
+            return _table_class, (obj.rebuild, obj.orders)
         return NotImplemented
 
 
