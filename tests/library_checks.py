@@ -116,6 +116,17 @@ def params(component, **values):
     return {getattr(component, k): v for k, v in values.items()}
 
 
+def connected_names(component) -> set[str]:
+    """The names of the component's own connectors and signals its ``connect`` statements join."""
+    ends = [end for pair in getattr(component, "_connections", ()) for end in pair]
+    names = set()
+    for key in enabled_declarations(component):
+        mine = getattr(component, key, None)
+        if any(end is mine or (isinstance(end, sp.Basic) and end == mine) for end in ends):
+            names.add(key)
+    return names
+
+
 def check_declarations(component) -> None:
     """Assert the three structural rules above for one (unbuilt) component instance."""
     x = attach(component)
@@ -137,6 +148,8 @@ def check_declarations(component) -> None:
     lhs += [v for e in equations if isinstance(e, When) for v in assigned_in(e)]
     for key, decl in enabled_declarations(x).items():
         if isinstance(decl, (Boolean, Integer)) and decl.causality != "input":
+            if x.children and key in connected_names(x):
+                continue  # a composite's output connected to a part's output: the part defines it
             assert lhs.count(getattr(x, key)) == 1, f"{name}.{key} needs exactly one defining equation"
 
 
@@ -153,3 +166,16 @@ def exported_classes() -> dict[str, type]:
                 found[f"{package.__name__.rsplit('.', 1)[-1]}.{name}"] = value
     return found
 
+
+
+def msl_resources():
+    """The MSL's table files laid out as a MODELICAPATH root (``Modelica/Resources/Data/Tables``):
+    the first root of $MODELICAPATH that holds them, else ``shared/msl-resources`` beside the
+    checkout; a path that may not exist (tests that need it skip)."""
+    import os
+    from pathlib import Path
+
+    for root in os.environ.get("MODELICAPATH", "").split(os.pathsep):
+        if root and (Path(root) / "Modelica" / "Resources" / "Data" / "Tables").is_dir():
+            return Path(root)
+    return Path(__file__).resolve().parents[2] / "shared" / "msl-resources"

@@ -15,14 +15,16 @@ from .logical import (And, AssertCondition, Change, Edge, FallingEdge, Greater, 
                       GreaterThreshold, Hysteresis, Less, LessEqual, LessEqualThreshold, LessThreshold,
                       LogicalSwitch, Nand, Nor, Not, OnDelay, OnOffController, Or, Pre, RSFlipFlop, Switch,
                       TerminateSimulation, Timer, TriggeredTrapezoid, Xor, ZeroCrossing)
-from .math import Add, Atan, Feedback, Gain, Product, Sin
+from .math import Add, Atan, Feedback, Gain, Product, RealToInteger, Sin
 from .nonlinear import DeadZone, Limiter, LimiterHomotopy, SlewRateLimiter, VariableLimiter, VariableLimiterHomotopy
+from .tables import CombiTable1Ds, CombiTable1Dv, CombiTable2Ds, CombiTable2Dv
 from .types import Regularization
-from .sources import (CombiTimeTable, Constant, Cosine, ExpSine, Extrapolation, Pulse, Ramp, SawTooth, Sine,
+from .sources import (CombiTimeTable, Constant, ContinuousClock, Cosine, IntegerTable, ExpSine, Extrapolation, Pulse, Ramp, SawTooth, Sine,
                       Smoothness, Step, TimeEvents, TimeTable, Trapezoid)
 
-__all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid", "TimeTable",
+__all__ = ["Constant", "ContinuousClock", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid", "TimeTable",
            "CombiTimeTable", "Smoothness", "Extrapolation", "TimeEvents",
+           "CombiTable1Ds", "CombiTable1Dv", "CombiTable2Ds", "CombiTable2Dv", "IntegerTable", "RealToInteger",
            "Gain", "Product", "Add", "Feedback", "Atan", "Sin", "Regularization",
            "Init", "Integrator", "LimIntegrator", "FirstOrder", "Der",
            "Sampler", "ZeroOrderHold", "FirstOrderHold", "UnitDelay", "TransferFunction", "StateSpace",

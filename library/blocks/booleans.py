@@ -20,6 +20,9 @@ from acausal.hybrid import When, sample
 from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, initial, time
 from acausal.components.blocks import BooleanInput, BooleanOutput
 from acausal.components.logic import is_initial
+from acausal.components.tables import Extrapolation, Smoothness
+
+from .sources import CombiTimeTable
 
 __all__ = ["BooleanConstant", "BooleanStep", "BooleanPulse", "SampleTrigger", "BooleanTable",
            "BooleanToReal", "RealToBoolean"]
@@ -96,18 +99,23 @@ class BooleanTable(PartialBooleanSource):
     """Generate a Boolean output signal based on a vector of time instants
     (Modelica.Blocks.Sources.BooleanTable).
 
-    ``y = startValue`` before ``table[0]`` and toggles at every entry of
-    ``table`` (strictly increasing times), holding its last value after the
-    last (MSL's default extrapolation, HoldLastPoint).  ``y`` is
-    right-continuous: at ``time = table[i]`` the new value holds.  The table
-    is shifted by ``shiftTime``; before a finite ``startTime`` the output is
-    false.  Every entry is a time event.
+    As MSL 4.1 builds it: a CombiTimeTable with constant segments whose
+    second column toggles between 0 and 1 at every entry of ``table``
+    (strictly increasing times; ``startValue`` before the first), and a
+    RealToBoolean (``y = table value >= 0.5``).  So ``y`` is
+    right-continuous (at ``time = table[i]`` the new value holds), every
+    entry is a time event, ``extrapolation`` (HoldLastPoint by default;
+    Periodic repeats the pattern; LastTwoPoints is refused, as in the MSL)
+    and ``shiftTime`` act as in the CombiTimeTable, and before a finite
+    ``startTime`` the output is false.
     """
 
     table = Parameter((0.0, 1.0), unit="s", structural=True,
                       description="Vector of time points. At every time point, the output y gets its opposite value")
     startValue = Parameter(False, structural=True, description="Start value of y; at time = table[0], y changes to 'not startValue'")  # noqa: N815,E501
-    startTime = Parameter(-math.inf, unit="s", structural=True, finite=False,  # noqa: N815
+    extrapolation = Parameter(Extrapolation.HoldLastPoint, structural=True,
+                              description="Extrapolation of data outside the definition range")
+    startTime = Parameter(-math.inf, unit="s", finite=False,  # noqa: N815
                           description="Output = false for time < startTime")
     shiftTime = Parameter(0.0, unit="s", description="Shift time of table")  # noqa: N815
 
@@ -121,32 +129,32 @@ class BooleanTable(PartialBooleanSource):
         for i in range(1, len(times)):
             if not times[i] > times[i - 1]:
                 raise ParameterError(
-                    f"{where}.table: the time instants must be strictly increasing, but table[{i}] = "
-                    f"{times[i]:g} follows table[{i - 1}] = {times[i - 1]:g}",
+                    f"{where}.table: time values of table not strictly increasing: table[{i}] = "
+                    f"{times[i - 1]:g}, table[{i + 1}] = {times[i]:g}",
                     hint="list each switching instant once, in increasing order")
         if not all(math.isfinite(t) for t in times):
             raise ParameterError(f"{where}.table: the time instants must be finite numbers")
         return times
 
-    def equations(self):
+    def build(self) -> None:
+        where = self.path or type(self).__name__
+        if Extrapolation(self.extrapolation) is Extrapolation.LastTwoPoints:
+            raise ParameterError(f"{where}: unsuitable extrapolation setting LastTwoPoints",
+                                 hint="use HoldLastPoint (the default), Periodic or NoExtrapolation")
         times = self._times()
-        start_value = bool(self.startValue)
-        # y is true on the intervals [t_i, t_{i+1}) it toggles into (and before table[0] if startValue)
-        edges = [time >= self.shiftTime + t for t in times]
-        on = []
-        bounds = ([None] if start_value else []) + list(range(len(times)))
-        for k in range(0, len(bounds), 2):
-            first = bounds[k]
-            last = bounds[k + 1] if k + 1 < len(bounds) else None
-            parts = [] if first is None else [edges[first]]
-            if last is not None:
-                parts.append(sp.Not(edges[last]))
-            on.append(sp.And(*parts) if parts else sp.true)
-        y = sp.Or(*on) if on else sp.false
-        start_time = float(self.startTime)
-        if start_time > -math.inf:
-            y = sp.And(time >= start_time, y)
-        return [Eq(self.y, y)]
+        first = 1.0 if self.startValue else 0.0
+        if times:
+            # the value after the i-th instant (i from 1): 0 and 1 in turn, starting from not startValue
+            rows = [[times[0], first]] + [[t, float((i + (1 if self.startValue else 0)) % 2)]
+                                          for i, t in enumerate(times, start=1)]
+        else:
+            rows = [[0.0, first]]
+        self.combiTimeTable = CombiTimeTable(table=rows, smoothness=Smoothness.ConstantSegments, columns=[2],
+                                             extrapolation=self.extrapolation, startTime=self.startTime,
+                                             shiftTime=self.shiftTime)
+        self.realToBoolean = RealToBoolean()
+        self.connect(getattr(self.combiTimeTable, "y[1]"), self.realToBoolean.u)
+        self.connect(self.realToBoolean.y, self.y)
 
 
 class BooleanToReal(Component):

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import sympy as sp
 
-from acausal.language import Eq, Parameter
-from acausal.components.blocks import SI2SO, SISO
+from acausal.hybrid import ceil, floor
+from acausal.language import Component, Eq, If, Parameter, RealInput
+from acausal.components.blocks import SI2SO, SISO, IntegerOutput
 
-__all__ = ["Gain", "Product", "Add", "Feedback", "Atan", "Sin"]
+__all__ = ["Gain", "Product", "Add", "Feedback", "Atan", "Sin", "RealToInteger"]
 
 
 class Gain(SISO):
@@ -58,3 +59,15 @@ class Sin(SISO):
 
     def equations(self):
         return [Eq(self.y, sp.sin(self.u))]
+
+
+class RealToInteger(Component):
+    """Convert Real to Integer signal (Modelica.Blocks.Math.RealToInteger): the nearest
+    Integer, halves away from zero: ``y = floor(u + 0.5)`` if ``u > 0``, else ``ceil(u - 0.5)``
+    (event-generating, as Modelica's ``integer``)."""
+
+    u = RealInput(description="Connector of Real input signal")
+    y = IntegerOutput(description="Connector of Integer output signal")
+
+    def equations(self):
+        return [Eq(self.y, If(self.u > 0, floor(self.u + 0.5), ceil(self.u - 0.5)))]

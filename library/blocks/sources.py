@@ -2,30 +2,39 @@
 
 The periodic sources (:class:`Pulse`, :class:`SawTooth`, :class:`Trapezoid`)
 count their periods in a when-clause, at exact time events; the tables
-(:class:`TimeTable`, :class:`CombiTimeTable`) are piecewise expressions of
-``time`` whose switching at the table times are time events (values
-right-continuous at a repeated time).  The Boolean sources are in
+(:class:`TimeTable` is a piecewise expression of ``time`` whose switching at
+the table times are time events (values right-continuous at a repeated
+time); :class:`CombiTimeTable` is MSL 4.1's: a held next time event and
+the interpolations of :mod:`acausal.interpolation`.  The Boolean sources are in
 :mod:`acausal.library.blocks.booleans`.
 """
 
 from __future__ import annotations
 
-import enum
 import math
 from typing import Any, Callable, Sequence
 
 import sympy as sp
 
-from acausal.components.blocks import SO, SignalSource
+from acausal.components.blocks import SO, IntegerOutput, SignalSource
 from acausal.components.declarations import DerivedDefaults, VectorBlock
-from acausal.errors import ModelDefinitionError, ParameterError
-from acausal.hybrid import Assert, When, noEvent, sample
-from acausal.language import Eq, If, Integer, Parameter, RealOutput, Variable, initial, time
+from acausal.components.logic import is_initial
+from acausal.components.tables import (Extrapolation, Smoothness, TableData, TimeEvents, default_columns,
+                                       range_asserts)
+from acausal.errors import ParameterError
+from acausal.hybrid import When, noEvent, sample
+from acausal.interpolation import TimeTable as NumericTimeTable
+from acausal.language import Component, Eq, If, Integer, Parameter, RealOutput, Variable, initial, pre, time
+from acausal.tables import time_table_functions
 
 from .discrete import EPS, SMALL
+from .math import RealToInteger
 
-__all__ = ["Constant", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid",
-           "TimeTable", "CombiTimeTable", "Smoothness", "Extrapolation", "TimeEvents"]
+#: Modelica.Constants.inf: what the MSL holds as "no further time event"
+MODELICA_INF = 1e60
+
+__all__ = ["Constant", "ContinuousClock", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid",
+           "TimeTable", "CombiTimeTable", "IntegerTable", "Smoothness", "Extrapolation", "TimeEvents"]
 
 
 class Constant(SO):
@@ -35,6 +44,14 @@ class Constant(SO):
 
     def equations(self):
         return [Eq(self.y, self.k)]
+
+
+class ContinuousClock(SignalSource):
+    """Generate current time signal (Modelica.Blocks.Sources.ContinuousClock):
+    ``y = offset + (0 if time < startTime else time - startTime)``."""
+
+    def equations(self):
+        return [Eq(self.y, self.offset + If(time < self.startTime, 0, time - self.startTime))]
 
 
 class Step(SignalSource):
@@ -236,34 +253,6 @@ class Trapezoid(_Periodic):
 
 
 
-class Smoothness(enum.IntEnum):
-    """Smoothness of table interpolation (Modelica.Blocks.Types.Smoothness); the values are Modelica's ordinals."""
-
-    LinearSegments = 1
-    ContinuousDerivative = 2
-    ConstantSegments = 3
-    MonotoneContinuousDerivative1 = 4
-    MonotoneContinuousDerivative2 = 5
-    ModifiedContinuousDerivative = 6
-
-
-class Extrapolation(enum.IntEnum):
-    """Extrapolation of data outside the definition range (Modelica.Blocks.Types.Extrapolation)."""
-
-    HoldLastPoint = 1
-    LastTwoPoints = 2
-    Periodic = 3
-    NoExtrapolation = 4
-
-
-class TimeEvents(enum.IntEnum):
-    """Type of time event handling of table interpolation (Modelica.Blocks.Types.TimeEvents)."""
-
-    Always = 1
-    AtDiscontinuities = 2
-    NoTimeEvents = 3
-
-
 def _rows(table: Any, where: str, columns: int | None = None) -> list[list[float]]:
     """A structural table as rows of floats, the first column non-decreasing."""
     try:
@@ -359,22 +348,31 @@ class TimeTable(DerivedDefaults, SignalSource):
                                                       evaluate=False))]
 
 
-class CombiTimeTable(DerivedDefaults, VectorBlock):
-    """Table look-up with respect to time and linear/periodic extrapolation methods (Modelica.Blocks.Sources.CombiTimeTable).
+class CombiTimeTable(DerivedDefaults, TableData, VectorBlock):
+    """Table look-up with respect to time and various interpolation and extrapolation methods (data from matrix/file) (Modelica.Blocks.Sources.CombiTimeTable).
 
     ``table`` rows are ``[time, value_2, value_3, ...]`` (times not
     decreasing; a repeated time is a jump, the later row holding from that
-    time on).  Output ``y[i]`` is ``offset[i]`` plus column ``columns[i]``
-    interpolated at ``(time - shiftTime)/timeScale`` (``offset`` before
-    ``startTime``).  Supported: ``smoothness`` LinearSegments (default) and
-    ConstantSegments; ``extrapolation`` LastTwoPoints (default),
-    HoldLastPoint and NoExtrapolation (an error outside the table).  Every
-    table time is a time event (unless ``timeEvents = NoTimeEvents``).  The
-    table is given in the model (``tableOnFile`` is not supported).
+    time on), from the model or from a file (``tableOnFile``, ``tableName``,
+    ``fileName``, ``delimiter``, ``nHeaderLines``).  Output ``y[i]`` is
+    ``offset[i]`` plus column ``columns[i]`` at ``time/timeScale`` shifted
+    by ``shiftTime`` (``offset`` alone before ``startTime``), with every
+    ``smoothness`` and ``extrapolation`` of Modelica.Blocks.Types
+    (:mod:`acausal.interpolation`).
+
+    As in the MSL, a when-clause holds the next time event,
+    ``when {time >= pre(nextTimeEvent), initial()} then nextTimeEventScaled
+    = next event after time/timeScale``, and the outputs interpolate within
+    the event interval that ends there: a time event at each table time
+    (``timeEvents = Always``, LinearSegments), at the jumps only
+    (``AtDiscontinuities``) or none (``NoTimeEvents``; the smooth
+    interpolations always), plus the table's start and end, the periods of
+    ``Periodic`` and ``startTime``.  One relation whatever the number of
+    rows, and a look-up of O(log n).  The outputs' time derivatives are the
+    table's own (a Der block after it, or index reduction, differentiates
+    the interpolation).
     """
 
-    tableOnFile = Parameter(False, structural=True,  # noqa: N815
-                            description="= true, if table is defined on file or in function usertab (not supported)")
     table = Parameter(((0.0, 0.0),), structural=True,
                       description="Table matrix (time = first column; e.g., table=[0, 0; 1, 1; 2, 4])")
     columns = Parameter(None, structural=True,
@@ -385,75 +383,111 @@ class CombiTimeTable(DerivedDefaults, VectorBlock):
                               description="Extrapolation of data outside the definition range")
     timeScale = Parameter(1.0, unit="s", min=EPS, description="Time scale of first table column")  # noqa: N815
     offset = Parameter((0.0,), structural=True, description="Offsets of output signals")
-    startTime = Parameter(0.0, unit="s", description="Output = offset for time < startTime")  # noqa: N815
+    startTime = Parameter(0.0, unit="s", finite=False,  # noqa: N815
+                          description="Output = offset for time < startTime")
     shiftTime = Parameter(None, unit="s", description="Shift time of first table column (default startTime)")  # noqa: N815
     timeEvents = Parameter(TimeEvents.Always, structural=True,  # noqa: N815
                            description="Time event handling of table interpolation")
+    verboseExtrapolation = Parameter(False, structural=True,  # noqa: N815
+                                     description="= true, if warning messages are to be printed if time is "
+                                                 "outside the table definition range")
+    nextTimeEvent = Variable(start=0.0, fixed=True, unit="s", discrete=True,  # noqa: N815
+                             description="Next time event instant (protected)")
+    nextTimeEventScaled = Variable(start=0.0, fixed=True, discrete=True,  # noqa: N815
+                                   description="Next scaled time event instant (protected)")
 
     derived_defaults = {"shiftTime": lambda block: block.startTime}
-
-    @staticmethod
-    def _columns(table: Any, columns: Any) -> list[int]:
-        if columns is None:
-            width = len(table[0]) if len(table) else 2
-            return list(range(2, width + 1))
-        return [int(c) for c in (columns if isinstance(columns, (list, tuple)) else [columns])]
 
     @classmethod
     def arrays(cls, value):
         offset = value("offset")
         n_offset = len(offset) if isinstance(offset, (list, tuple)) else 1
-        nout = max(len(cls._columns(value("table"), value("columns"))), n_offset)
+        matrix = cls.read_matrix(value, cls.__name__)
+        nout = max(len(default_columns(matrix, value("columns"))), n_offset)
         return {"y": (nout, lambda i: RealOutput(description="Connector of Real output signals"))}
+
+    def numeric_table(self) -> NumericTimeTable:
+        where = self.path or type(self).__name__
+        matrix = self.matrix()
+        columns = default_columns(matrix, self.columns)
+        y = self.vector("y")
+        if len(columns) == 1:
+            columns = columns * len(y)
+        return NumericTimeTable(matrix, columns, Smoothness(self.smoothness), Extrapolation(self.extrapolation),
+                                TimeEvents(self.timeEvents), name=where)
 
     def equations(self):
         where = self.path or type(self).__name__
-        if self.tableOnFile:
-            raise ModelDefinitionError(f"{where}: tables on file are not supported",
-                                       hint="give the table in the model: CombiTimeTable(table=[[0, 0], [1, 1]])")
-        smoothness = Smoothness(self.smoothness)
-        extrapolation = Extrapolation(self.extrapolation)
-        if smoothness not in (Smoothness.LinearSegments, Smoothness.ConstantSegments):
-            raise ModelDefinitionError(f"{where}: smoothness {smoothness.name} is not supported",
-                                       hint="use Smoothness.LinearSegments or Smoothness.ConstantSegments")
-        if extrapolation is Extrapolation.Periodic:
-            raise ModelDefinitionError(f"{where}: extrapolation Periodic is not supported",
-                                       hint="use LastTwoPoints, HoldLastPoint or NoExtrapolation")
-        rows = _rows(self.table, where)
-        columns = self._columns(rows, self.columns)
-        width = len(rows[0])
-        bad = [c for c in columns if not 2 <= c <= width]
-        if bad:
-            raise ParameterError(f"{where}.columns: column {bad[0]} is not in the table (2..{width})",
-                                 hint="columns count from 1; column 1 holds the time")
+        table = self.numeric_table()
         y = self.vector("y")
         offset = list(self.offset) if isinstance(self.offset, (list, tuple)) else [self.offset]
         if len(offset) == 1:
             offset = offset * len(y)
-        if len(columns) == 1:
-            columns = columns * len(y)
-        if len(offset) != len(y) or len(columns) != len(y):
-            raise ParameterError(f"{where}: columns and offset have different sizes",
-                                 hint="give one offset per column, or a single offset")
-        times = [r[0] for r in rows]
-        scaled = (time - self.shiftTime) / self.timeScale
-
-        def nearly(a: float, b: float) -> bool:  # ModelicaStandardTables.c: isNearlyEqual
-            return abs(b - a) < 1e-10 * max(abs(a), abs(b), 1e-10)
-
+        if len(offset) != len(y) or table.n_outputs != len(y):
+            raise ParameterError(f"{where}: columns ({table.n_outputs}) and offset ({len(offset)}) have different "
+                                 f"sizes", hint="give one offset per column, or a single offset")
+        scaled = time / self.timeScale
+        start, shift = self.startTime / self.timeScale, self.shiftTime / self.timeScale
         equations = []
-        for i, (yi, column, off) in enumerate(zip(y, columns, offset)):
-            value = _table_value(times, [r[column - 1] for r in rows], scaled,
-                                 lambda t: time < self.shiftTime + t * self.timeScale,
-                                 constant=smoothness is Smoothness.ConstantSegments,
-                                 extrapolation=extrapolation, nearly=nearly)
-            expr = sp.Piecewise((0, time < self.startTime), (value, True), evaluate=False)
-            if TimeEvents(self.timeEvents) is TimeEvents.NoTimeEvents:
-                expr = noEvent(expr)
-            equations.append(Eq(yi, off + expr))
-        if extrapolation is Extrapolation.NoExtrapolation and len(times) > 1:
-            equations.append(Assert(sp.Or(time < self.startTime,
-                                          sp.And(time >= self.shiftTime + times[0] * self.timeScale,
-                                                 time <= self.shiftTime + times[-1] * self.timeScale)),
-                                    f"Extrapolation error: time outside the table of {where}"))
+        for i, (yi, off) in enumerate(zip(y, offset)):
+            value, following = time_table_functions(table, i, f"{where}.table")
+            equations.append(Eq(yi, off + value(scaled, self.nextTimeEventScaled, start, shift)))
+        # the next event after the one being processed: from the instant that fired (time/timeScale
+        # may round below it), from time itself at initialization
+        after = If(is_initial(), scaled, sp.Max(scaled, pre(self.nextTimeEventScaled)))
+        # no further event: Modelica.Constants.inf (1e60), a finite number, as the MSL holds it
+        equations.append(When([time >= pre(self.nextTimeEvent), initial()],
+                              Eq(self.nextTimeEventScaled, sp.Min(following(after, start, shift), MODELICA_INF)),
+                              Eq(self.nextTimeEvent, self.nextTimeEventScaled * self.timeScale)))
+        if len(table.data) > 1:
+            inside = sp.Or(time < self.startTime,
+                           sp.And(time >= self.shiftTime + table.t_min * self.timeScale,
+                                  time <= self.shiftTime + table.t_max * self.timeScale))
+            equations += range_asserts(where, Extrapolation(self.extrapolation), bool(self.verboseExtrapolation),
+                                       inside, "the time")
         return equations
+
+
+class IntegerTable(Component):
+    """Generate an Integer output signal based on a table matrix with [time, yi] values
+    (Modelica.Blocks.Sources.IntegerTable).
+
+    As MSL 4.1 builds it: a CombiTimeTable with constant segments (times
+    strictly increasing, values Integers) and a RealToInteger.  The output
+    holds ``table[i, 2]`` from ``table[i, 1]`` on; ``extrapolation``
+    (HoldLastPoint by default; LastTwoPoints is refused, as in the MSL),
+    ``startTime`` and ``shiftTime`` act as in the CombiTimeTable.
+    """
+
+    table = Parameter(((0.0, 0.0),), structural=True,
+                      description="Table matrix (time = first column, integer output = second column)")
+    extrapolation = Parameter(Extrapolation.HoldLastPoint, structural=True,
+                              description="Extrapolation of data outside the definition range")
+    startTime = Parameter(-math.inf, unit="s", finite=False,  # noqa: N815
+                          description="Output = 0 for time < startTime")
+    shiftTime = Parameter(0.0, unit="s", description="Shift time of table")  # noqa: N815
+    y = IntegerOutput(description="Connector of Integer output signal")
+
+    def build(self) -> None:
+        where = self.path or type(self).__name__
+        if Extrapolation(self.extrapolation) is Extrapolation.LastTwoPoints:
+            raise ParameterError(f"{where}: unsuitable extrapolation setting LastTwoPoints",
+                                 hint="use HoldLastPoint (the default), Periodic or NoExtrapolation")
+        rows = _rows(self.table, where, 2)
+        if len(rows[0]) != 2:
+            raise ParameterError(f"{where}.table must have 2 columns (time, value), not {len(rows[0])}")
+        for i in range(1, len(rows)):
+            if not rows[i][0] > rows[i - 1][0]:
+                raise ParameterError(
+                    f"{where}.table: time values of table not strictly increasing: table[{i},1] = "
+                    f"{rows[i - 1][0]:g}, table[{i + 1},1] = {rows[i][0]:g}",
+                    hint="list each switching instant once, in increasing order")
+        for i, (_t, v) in enumerate(rows, start=1):
+            if v != int(v):
+                raise ParameterError(f"{where}.table: table value is not an Integer: table[{i},2] = {v:g}")
+        self.combiTimeTable = CombiTimeTable(table=rows, smoothness=Smoothness.ConstantSegments, columns=[2],
+                                             extrapolation=self.extrapolation, startTime=self.startTime,
+                                             shiftTime=self.shiftTime)
+        self.realToInteger = RealToInteger()
+        self.connect(getattr(self.combiTimeTable, "y[1]"), self.realToInteger.u)
+        self.connect(self.realToInteger.y, self.y)
