@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
-from acausal.language import Component, Eq, Parameter, RealInput, Variable, der
+from acausal.errors import ParameterError
+from acausal.language import Component, Eq, Parameter, RealInput, RealOutput, Variable, der
+from acausal.components.adaptors import FlowToPotentialAdaptor, PotentialToFlowAdaptor
 from acausal.components.thermal import Element1D, HeatPort_a, HeatPort_b
 
-__all__ = ["HeatCapacitor", "ThermalConductor", "ThermalResistor", "Convection"]
+__all__ = ["HeatCapacitor", "ThermalConductor", "ThermalResistor", "Convection",
+           "GeneralHeatFlowToTemperatureAdaptor", "GeneralTemperatureToHeatFlowAdaptor"]
 
 
 class HeatCapacitor(Component):
@@ -72,3 +75,69 @@ class Convection(Component):
             Eq(self.fluid.Q_flow, -self.Q_flow),
             Eq(self.Q_flow, self.Gc * self.dT),
         ]
+
+
+def _no_second_derivative(adaptor: Component) -> None:
+    """The thermal adaptors fix use_pder2 = false (final in the MSL)."""
+    if adaptor.use_pder2:
+        where = adaptor.path or type(adaptor).__name__
+        raise ParameterError(f"{where}.use_pder2 is final false in the thermal adaptors",
+                             hint="the second derivative of the temperature is not an interface signal here")
+
+
+class GeneralHeatFlowToTemperatureAdaptor(FlowToPotentialAdaptor):
+    """Signal adaptor for a HeatTransfer port with temperature and derivative of temperature as outputs and heat flow as input (Modelica.Thermal.HeatTransfer.Components.GeneralHeatFlowToTemperatureAdaptor).
+
+    For wrapping a thermal model as an input/output block (e.g. an FMU):
+    the heat flow input ``f`` enters the model through ``heatPort``
+    (``heatPort.Q_flow = f``), and the port's temperature ``p = heatPort.T``
+    and its derivative ``pder = der(p)`` (if ``use_pder``) are outputs.
+    Modelica.Blocks.Interfaces.Adaptors.FlowToPotentialAdaptor
+    (:class:`acausal.components.adaptors.FlowToPotentialAdaptor`) with the
+    MSL's final settings ``use_pder2 = use_fder = use_fder2 = false``.
+    """
+
+    use_pder2 = Parameter(False, structural=True,
+                          description="Use output for 2nd derivative of potential (final false)")
+    p = RealOutput(unit="K", description="Output for potential (temperature)")
+    pder = RealOutput(unit="K/s", condition="use_pder", description="Optional output for der(potential)")
+    f = RealInput(unit="W", description="Input for flow (heat flow)")
+    heatPort = HeatPort_a(description="Heat port whose temperature is output and whose heat flow is input")  # noqa: N815
+
+    def build(self) -> None:
+        _no_second_derivative(self)
+
+    def equations(self):
+        return [Eq(self.y, self.heatPort.T),        # output = potential = temperature
+                Eq(self.u, self.heatPort.Q_flow)]   # input = flow = heat flow
+
+
+class GeneralTemperatureToHeatFlowAdaptor(PotentialToFlowAdaptor):
+    """Signal adaptor for a HeatTransfer port with heat flow as output and temperature and derivative of temperature as input (Modelica.Thermal.HeatTransfer.Components.GeneralTemperatureToHeatFlowAdaptor).
+
+    For wrapping a thermal model as an input/output block (e.g. an FMU):
+    the port follows the temperature input (``heatPort.T = p``) and the heat
+    flow it takes is the output ``f = -heatPort.Q_flow``.  The optional input
+    ``pder`` (if ``use_pder``) must be ``der(p)``; it replaces the
+    derivative of ``p`` where the model needs it (a heat capacitor on the
+    port does), so ``p`` itself is never differentiated
+    (:func:`acausal.prescribed`, the MSL's ``state1``).
+    Modelica.Blocks.Interfaces.Adaptors.PotentialToFlowAdaptor
+    (:class:`acausal.components.adaptors.PotentialToFlowAdaptor`) with the
+    MSL's final settings ``use_pder2 = use_fder = use_fder2 = false``.
+    """
+
+    pder_hint = "enable use_pder and connect der(T) to pder"
+    use_pder2 = Parameter(False, structural=True,
+                          description="Use input for 2nd derivative of potential (final false)")
+    p = RealInput(unit="K", description="Input for potential (temperature)")
+    pder = RealInput(unit="K/s", condition="use_pder", description="Optional input for der(potential)")
+    f = RealOutput(unit="W", description="Output for flow (heat flow)")
+    heatPort = HeatPort_b(description="Heat port that follows the temperature input")  # noqa: N815
+
+    def build(self) -> None:
+        _no_second_derivative(self)
+
+    def equations(self):
+        return [Eq(self.y, self.heatPort.Q_flow),   # output = flow = heat flow
+                Eq(self.u, self.heatPort.T)]        # input = potential = temperature

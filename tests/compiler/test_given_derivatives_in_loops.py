@@ -172,3 +172,54 @@ def test_an_application_in_a_loop_is_solved_for_its_value():
     result = simulate(InLoop())
     assert result.success, result.message
     assert result.final("y") == pytest.approx(1.0 + 1.0 - 1.0)
+
+
+class DirectInverseCapacity(Model):
+    """The thermal form (Modelica.Thermal.HeatTransfer.Examples.GenerationOfFMUs, first part):
+    a heat flow into a capacitor, its temperature handed through the General adaptors to a
+    second capacitor, whose heat flow is handed back: one capacity of C_a + C_b."""
+
+    experiment = Experiment(stop_time=1.0, interval=0.001)
+
+    def build(self):
+        from acausal.library.thermal import (
+            GeneralHeatFlowToTemperatureAdaptor, GeneralTemperatureToHeatFlowAdaptor, HeatCapacitor,
+            PrescribedHeatFlow)
+
+        self.sine = Sine(f=2, amplitude=1000)
+        self.heatFlow = PrescribedHeatFlow()
+        self.capacitorA = HeatCapacitor(C=1.1, T=dict(start=293.15, fixed=True))
+        self.heatFlowToTemperature = GeneralHeatFlowToTemperatureAdaptor()
+        self.temperatureToHeatFlow = GeneralTemperatureToHeatFlowAdaptor()
+        self.capacitorB = HeatCapacitor(C=2.2)
+        self.connect(self.sine.y, self.heatFlow.Q_flow)
+        self.connect(self.heatFlow.port, self.capacitorA.port)
+        self.connect(self.capacitorA.port, self.heatFlowToTemperature.heatPort)
+        self.connect(self.heatFlowToTemperature.p, self.temperatureToHeatFlow.p)
+        self.connect(self.heatFlowToTemperature.pder, self.temperatureToHeatFlow.pder)
+        self.connect(self.temperatureToHeatFlow.f, self.heatFlowToTemperature.f)
+        self.connect(self.temperatureToHeatFlow.heatPort, self.capacitorB.port)
+
+
+def test_direct_and_inverse_capacity_heat_as_one_capacity():
+    result = simulate(DirectInverseCapacity(), rtol=1e-9, atol=1e-9)
+    assert result.success, result.message
+    omega, capacity = 4 * math.pi, 3.3
+    T = 293.15 + 1000 / (capacity * omega) * (1 - np.cos(omega * result.time))
+    assert np.max(np.abs(result["capacitorA.T"] - T)) < 1e-5
+    assert np.max(np.abs(result["capacitorB.T"] - T)) < 1e-5
+    # the heat the second capacitor takes is handed back: C_b * dT/dt
+    heat = 2.2 * 1000 / capacity * np.sin(omega * result.time)
+    assert np.max(np.abs(result["temperatureToHeatFlow.f"] - heat)) < 1e-6
+
+
+def test_the_thermal_adaptors_fix_the_second_derivative():
+    from acausal.errors import ParameterError
+    from acausal.library.thermal import GeneralTemperatureToHeatFlowAdaptor
+
+    class Bad(Model):
+        def build(self):
+            self.adaptor = GeneralTemperatureToHeatFlowAdaptor(use_pder2=True)
+
+    with pytest.raises(ParameterError, match="use_pder2"):
+        simulate(Bad())
