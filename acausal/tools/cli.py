@@ -430,12 +430,24 @@ def _cmd_simulate(args) -> int:
     return 0
 
 
+def _reproduced(model: str) -> list[str]:
+    """The FILE.py:Model specs ``model`` (a folder, a file or FILE.py:Model) stands for."""
+    path = Path(model)
+    if path.is_dir():
+        return reproducing_models(model)
+    if path.is_file() and path.suffix == ".py":
+        specs = reproducing_models(model)
+        if len(specs) > 1:
+            return specs
+    return [model]
+
+
 def _cmd_compare(args) -> int:
     if args.plot:
         _check_writable(Path(args.plot), "the plots into", folder=True)
-    # a folder stands for every model in it that names the Modelica class it reproduces
-    args.models = [spec for model in args.models
-                   for spec in (reproducing_models(model) if Path(model).is_dir() else [model])]
+    # a folder stands for every model in it that names the Modelica class it reproduces, and
+    # so does a file that defines several models
+    args.models = [spec for model in args.models for spec in _reproduced(model)]
     statuses = []
     for number, model in enumerate(args.models, 1):
         if len(args.models) > 1:

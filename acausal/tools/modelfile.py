@@ -72,9 +72,11 @@ def _models_defined(module) -> list[type]:
 
 
 def reproducing_models(folder: str) -> list[str]:
-    """``FILE.py:Model`` of every model in a folder's Python files that declares ``modelica_class``."""
+    """``FILE.py:Model`` of every model in a folder's Python files (or in one file) that
+    declares ``modelica_class``."""
     specs = []
-    for path in sorted(Path(folder).glob("*.py")):
+    paths = [Path(folder)] if Path(folder).is_file() else sorted(Path(folder).glob("*.py"))
+    for path in paths:
         module = _import_file(path, str(path))
         specs += [f"{path}:{cls.__name__}" for cls in _models_defined(module)
                   if getattr(cls, "modelica_class", None)]

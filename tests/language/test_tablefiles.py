@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
+from library_checks import msl_resources
 import scipy.io
 import scipy.sparse
 
@@ -21,7 +23,7 @@ from acausal import tablefiles
 from acausal.errors import ParameterError, TableError
 from acausal.tablefiles import load_resource, modelica_path, read_table, register_usertab, usertab
 
-MSL_ROOT = Path("/work/shared/msl-resources")
+MSL_ROOT = msl_resources()
 TABLES = MSL_ROOT / "Modelica" / "Resources" / "Data" / "Tables"
 TEST_TABLES = MSL_ROOT / "ModelicaTest" / "Resources" / "Data" / "Tables"
 URI = "modelica://Modelica/Resources/Data/Tables/"

@@ -37,14 +37,22 @@ REPO = Path(__file__).resolve().parents[2]
 #: The references that ship with acausal (library/reference/msl-4.1.0 in the repository).
 BUNDLED = REPO / "library" / "reference" / "msl-4.1.0"
 
-#: The classes whose references ship: those of the five bundled examples.
+#: The classes whose references ship: those the examples reproduce.
 def _examples_classes() -> tuple[str, ...]:
-    """The Modelica classes the examples reproduce (their ``modelica_class``)."""
-    import re
+    """The Modelica classes the examples reproduce (their models' ``modelica_class``)."""
+    import importlib
+    import inspect
+
+    from acausal import Model
 
     examples = Path(__file__).resolve().parents[2] / "examples"
-    return tuple(sorted({m.group(1) for path in examples.rglob("*.py")
-                         for m in re.finditer(r'modelica_class = "([^"]+)"', path.read_text())}))
+    found = set()
+    for path in sorted(examples.glob("*.py")):
+        module = importlib.import_module(f"examples.{path.stem}")
+        found |= {klass.modelica_class for _, klass in inspect.getmembers(module, inspect.isclass)
+                  if issubclass(klass, Model) and klass.__module__ == module.__name__
+                  and getattr(klass, "modelica_class", None)}
+    return tuple(sorted(found))
 
 
 BUNDLED_CLASSES = _examples_classes()
