@@ -65,6 +65,10 @@ module (with ``examples/`` on ``sys.path``) and uses:
     every run compiles or reuses more than one system).
 ``EXACT_ERROR_TEXT``
     How the exact cases' *error* is measured, for the bench's table.
+``table_models(rows)``
+    The models of the *tables* section: a 1-D table in a feedback loop, an
+    Akima time table integrated, a 2-D table in a loop, with tables of about
+    ``rows`` rows (:mod:`acausal.tools.table_bench`).
 
 ``acausal simulate examples/benchmarks.py:CoastDown`` (or ``:StickSlip``)
 runs an exact-solution case on its own.
@@ -499,3 +503,54 @@ def floor_case():
                      "(startForward, then mode = Forward once w > 0); the floor switches straight into a "
                      "sliding mode"),
         method="RK45")
+
+
+def table_models(rows: int) -> dict:
+    """The models of the bench's *tables* section (acausal.tools.table_bench), with tables of
+    about ``rows`` rows: ``{name: model class}``."""
+    from acausal import Eq, Experiment, Model, Variable, der
+    from acausal.library.blocks import CombiTable1Ds, CombiTable2Ds, CombiTimeTable, ContinuousClock, Smoothness
+
+    u = np.linspace(-2.0, 2.0, rows)
+    curve = np.column_stack([u, np.sin(u)]).tolist()
+    t = np.linspace(0.0, 10.0, rows)
+    signal = np.column_stack([t, np.sin(t)]).tolist()
+    n = max(2, int(round(rows ** 0.5)))
+    grid = np.linspace(-2.0, 2.0, n)
+    surface = np.zeros((n + 1, n + 1))
+    surface[0, 1:], surface[1:, 0] = grid, grid
+    surface[1:, 1:] = np.sin(grid)[:, None] * np.cos(0.2 * grid)[None, :]
+
+    class Loop1D(Model):
+        experiment = Experiment(stop_time=10.0, interval=0.01)
+        x = Variable(start=1.5, fixed=True)
+
+        def build(self):
+            self.f = CombiTable1Ds(table=curve)
+
+        def equations(self):
+            return [Eq(self.f.u, self.x), Eq(der(self.x), -getattr(self.f, "y[1]") + 0.5 * self.x)]
+
+    class TimeAkima(Model):
+        experiment = Experiment(stop_time=10.0, interval=0.01)
+        x = Variable(start=0.0, fixed=True)
+
+        def build(self):
+            self.s = CombiTimeTable(table=signal, smoothness=Smoothness.ContinuousDerivative)
+
+        def equations(self):
+            return [Eq(der(self.x), getattr(self.s, "y[1]"))]
+
+    class Loop2D(Model):
+        experiment = Experiment(stop_time=10.0, interval=0.01)
+        x = Variable(start=1.5, fixed=True)
+
+        def build(self):
+            self.g = CombiTable2Ds(table=surface.tolist())
+            self.clock = ContinuousClock()
+
+        def equations(self):
+            return [Eq(self.g.u1, self.x), Eq(self.g.u2, 0.2 * self.clock.y - 1.0),
+                    Eq(der(self.x), -self.g.y + 0.5 * self.x)]
+
+    return {"1-D in a loop": Loop1D, "time table, Akima": TimeAkima, "2-D in a loop": Loop2D}

@@ -149,7 +149,7 @@ SLOW_RUN_SECONDS = 5.0
 #: Smallest error shown in the work-precision plots (exact results are clipped to it).
 ERROR_FLOOR = 1e-16
 #: The sections of the bench, as ``acausal bench --only`` names them.
-SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors")
+SECTIONS = ("work-precision", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors", "tables")
 
 
 def _ensure_path() -> None:
@@ -2192,7 +2192,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               repeats: int | None = None, isolate_scaling: bool = True,
               commands: bool = True, soak_runs: int | None = None, verbose: bool = False,
               parameters: bool = True, storm: bool = True, storm_sizes: Sequence[int] | None = None,
-              floors: bool = True) -> BenchResult:
+              floors: bool = True, table_sizes: bool = True) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -2208,8 +2208,9 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         ``bench.md`` then), whether to run the effects section, the scaling
         sizes (``()`` for none), whether to time the fresh-process commands,
         the soak's runs per mode (default 20 quick, 200 full; 0 for none).
-    parameters, storm, floors : bool
-        Whether to run the parameter-change, storm and floors sections.
+    parameters, storm, floors, table_sizes : bool
+        Whether to run the parameter-change, storm, floors and table-size
+        (:mod:`acausal.tools.table_bench`) sections.
     storm_sizes : optional
         The storm's N (default 3, 6 quick; 5 ... 200 full); each N <= 6
         (quick) or 20 (full) also without clusters.
@@ -2320,6 +2321,12 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
                     break
         floor_rows = timed("floors", lambda: run_floors(command_repeats, command_records or None,
                                                         commands=floor_commands, log=log))
+    table_rows: list[dict] = []
+    if table_sizes:
+        from .table_bench import FULL_ROWS, QUICK_ROWS, run_tables
+
+        table_rows = timed("tables", lambda: run_tables(suite().table_models, QUICK_ROWS if quick else FULL_ROWS,
+                                                        2 if quick else 3, log=log))
     fits = {}
     for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
                 "evaluator_setup", "initial_systems", "initialization", "simulate"):
@@ -2373,6 +2380,11 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     if floor_rows:
         files.update(write_floors(floor_rows, out_dir))
         tables["floors"] = files["floors.md"].read_text()
+    if table_rows:
+        from .table_bench import write_tables
+
+        files.update(write_tables(table_rows, out_dir))
+        tables["tables"] = files["tables.md"].read_text()
     if soak is not None:
         files.update(write_soak(soak, out_dir))
         tables["soak"] = _soak_markdown(soak).split("\n## Runs")[0].rstrip() + "\n"
@@ -2395,8 +2407,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                                      description="Work-precision benchmark of the adaptive methods, "
                                                  "effects of output demand, scaling with model size, a "
                                                  "soak (one model simulated many times in one process), "
-                                                 "a storm of independent hybrid parts, and floors (the "
-                                                 "same work without the engine).")
+                                                 "a storm of independent hybrid parts, floors (the "
+                                                 "same work without the engine), and what a table's "
+                                                 "size costs.")
     parser.add_argument("--quick", action="store_true",
                         help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40; storm N = 3, 6)")
     parser.add_argument("--out", default="bench-out", metavar="DIR", help="output folder (default bench-out)")
@@ -2447,13 +2460,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         reduced["storm"] = False
     if "floors" not in only:
         reduced["floors"] = False
+    if "tables" not in only:
+        reduced["table_sizes"] = False
     if "soak" not in only:
         reduced["soak_runs"] = 0
     elif args.soak_runs is not None:
         reduced["soak_runs"] = args.soak_runs
     result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True, **reduced)
     print()
-    for key in ("bench", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors"):
+    for key in ("bench", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors", "tables"):
         if key in result.tables:
             print(result.tables[key])
             print()

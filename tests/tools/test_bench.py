@@ -62,7 +62,7 @@ def test_run_bench_writes_files(tmp_path):
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-4, 1e-7],
                              case_names=["CoastDown", "StickSlip"], effects=False, scaling_sizes=(2, 4),
                              isolate_scaling=False, commands=False, soak_runs=0, parameters=False,
-                             storm=False, floors=False, repeats=1)
+                             storm=False, floors=False, table_sizes=False, repeats=1)
     for name in ("bench.md", "bench.csv", "work_precision.png", "scaling.md", "scaling.csv", "scaling.png"):
         assert (tmp_path / name).is_file() and (tmp_path / name).stat().st_size > 0, name
     assert not (tmp_path / "soak.md").exists() and result.soak is None
@@ -104,7 +104,8 @@ def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeyp
     monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
     result = bench.run_bench(True, tmp_path, methods=["RK45"], rtols=[1e-6],
                              case_names=["StickSlip", "First"], effects=False, scaling_sizes=(),
-                             soak_runs=0, parameters=False, storm=False, floors=False, repeats=1)
+                             soak_runs=0, parameters=False, storm=False, floors=False, table_sizes=False,
+                             repeats=1)
     assert [run.case.name for run in result.runs] == ["StickSlip"]
     assert set(result.skipped) == {"case First", "fresh-process commands"}
     assert all("no-reference" in why for why in result.skipped.values())
@@ -303,3 +304,15 @@ def test_floors_rows_and_files(tmp_path):
     assert set(files) == {"floors.md", "floors.csv"}
     text = (tmp_path / "floors.md").read_text()
     assert "× import numpy" in text and "× numpy+scipy.integrate" in text and "| agree |" in text
+
+
+def test_the_tables_section_measures_every_size(tmp_path, capsys):
+    """``acausal bench --only tables``: each model with each table size, simulated to the end."""
+    from acausal.tools import table_bench
+
+    assert bench.main(["--only", "tables", "--quick", "--out", str(tmp_path)]) == 0
+    text = (tmp_path / "tables.md").read_text()
+    for rows in table_bench.QUICK_ROWS:
+        assert f"| {rows:,} |" in text
+    assert "failed" not in text and (tmp_path / "tables.png").stat().st_size > 0
+    assert "What a table's size costs" in capsys.readouterr().out
