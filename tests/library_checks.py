@@ -179,3 +179,32 @@ def msl_resources():
         if root and (Path(root) / "Modelica" / "Resources" / "Data" / "Tables").is_dir():
             return Path(root)
     return Path(__file__).resolve().parents[2] / "shared" / "msl-resources"
+
+
+def reference_or_skip(modelica_class: str, required: bool = True):
+    """The reference result of ``modelica_class``; where the reference folder lacks it, a
+    skip saying where it was looked for (or None if not ``required``)."""
+    import pytest
+
+    from acausal.tools.compare import load_reference, reference_dir
+
+    directory = reference_dir()
+    if not (directory / modelica_class).is_dir():
+        if not required:
+            return None
+        pytest.skip(f"no reference result of {modelica_class} in {directory} (ACAUSAL_REFERENCE_DIR)")
+    return load_reference(modelica_class)
+
+
+def assert_in_the_tube(model_class, result=None):
+    """Simulate ``model_class`` (unless ``result`` is given) and assert that every signal its
+    reference compares lies in the csv-compare tube; returns the result."""
+    from acausal import simulate
+    from acausal.tools.compare import compare_signals
+
+    reference = reference_or_skip(model_class.modelica_class)
+    result = simulate(model_class()) if result is None else result
+    assert result.success, result.message
+    comparison = compare_signals(reference, result.time, result.columns)
+    assert comparison.passed, comparison.table()
+    return result

@@ -20,9 +20,7 @@ from acausal.hybrid import When, sample
 from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, initial, time
 from acausal.components.blocks import BooleanInput, BooleanOutput
 from acausal.components.logic import is_initial
-from acausal.components.tables import Extrapolation, Smoothness
-
-from .sources import CombiTimeTable
+from .sources import _StepTable
 
 __all__ = ["BooleanConstant", "BooleanStep", "BooleanPulse", "SampleTrigger", "BooleanTable",
            "BooleanToReal", "RealToBoolean"]
@@ -95,7 +93,7 @@ class SampleTrigger(PartialBooleanSource):
         return [Eq(self.y, sample(self.startTime, self.period))]
 
 
-class BooleanTable(PartialBooleanSource):
+class BooleanTable(_StepTable, PartialBooleanSource):
     """Generate a Boolean output signal based on a vector of time instants
     (Modelica.Blocks.Sources.BooleanTable).
 
@@ -113,11 +111,6 @@ class BooleanTable(PartialBooleanSource):
     table = Parameter((0.0, 1.0), unit="s", structural=True,
                       description="Vector of time points. At every time point, the output y gets its opposite value")
     startValue = Parameter(False, structural=True, description="Start value of y; at time = table[0], y changes to 'not startValue'")  # noqa: N815,E501
-    extrapolation = Parameter(Extrapolation.HoldLastPoint, structural=True,
-                              description="Extrapolation of data outside the definition range")
-    startTime = Parameter(-math.inf, unit="s", finite=False,  # noqa: N815
-                          description="Output = false for time < startTime")
-    shiftTime = Parameter(0.0, unit="s", description="Shift time of table")  # noqa: N815
 
     def _times(self) -> list[float]:
         where = self.path or type(self).__name__
@@ -137,10 +130,7 @@ class BooleanTable(PartialBooleanSource):
         return times
 
     def build(self) -> None:
-        where = self.path or type(self).__name__
-        if Extrapolation(self.extrapolation) is Extrapolation.LastTwoPoints:
-            raise ParameterError(f"{where}: unsuitable extrapolation setting LastTwoPoints",
-                                 hint="use HoldLastPoint (the default), Periodic or NoExtrapolation")
+        self.check_extrapolation()
         times = self._times()
         first = 1.0 if self.startValue else 0.0
         if times:
@@ -149,12 +139,7 @@ class BooleanTable(PartialBooleanSource):
                                           for i, t in enumerate(times, start=1)]
         else:
             rows = [[0.0, first]]
-        self.combiTimeTable = CombiTimeTable(table=rows, smoothness=Smoothness.ConstantSegments, columns=[2],
-                                             extrapolation=self.extrapolation, startTime=self.startTime,
-                                             shiftTime=self.shiftTime)
-        self.realToBoolean = RealToBoolean()
-        self.connect(getattr(self.combiTimeTable, "y[1]"), self.realToBoolean.u)
-        self.connect(self.realToBoolean.y, self.y)
+        self.build_steps(rows, RealToBoolean(), "realToBoolean")
 
 
 class BooleanToReal(Component):

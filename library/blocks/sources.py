@@ -448,7 +448,34 @@ class CombiTimeTable(DerivedDefaults, TableData, VectorBlock):
         return equations
 
 
-class IntegerTable(Component):
+class _StepTable(Component):
+    """What BooleanTable and IntegerTable share: MSL 4.1 builds each from a CombiTimeTable
+    with constant segments (``combiTimeTable``) and a conversion of its output."""
+
+    extrapolation = Parameter(Extrapolation.HoldLastPoint, structural=True,
+                              description="Extrapolation of data outside the definition range")
+    startTime = Parameter(-math.inf, unit="s", finite=False,  # noqa: N815
+                          description="Output = 0 (false) for time < startTime")
+    shiftTime = Parameter(0.0, unit="s", description="Shift time of table")  # noqa: N815
+
+    def check_extrapolation(self) -> None:
+        if Extrapolation(self.extrapolation) is Extrapolation.LastTwoPoints:
+            where = self.path or type(self).__name__
+            raise ParameterError(f"{where}: unsuitable extrapolation setting LastTwoPoints",
+                                 hint="use HoldLastPoint (the default), Periodic or NoExtrapolation")
+
+    def build_steps(self, rows: list, conversion: Component, name: str) -> None:
+        """``combiTimeTable`` of ``rows`` (constant segments) feeding ``conversion`` (as ``name``),
+        whose output is this block's ``y``."""
+        self.combiTimeTable = CombiTimeTable(table=rows, smoothness=Smoothness.ConstantSegments, columns=[2],
+                                             extrapolation=self.extrapolation, startTime=self.startTime,
+                                             shiftTime=self.shiftTime)
+        setattr(self, name, conversion)
+        self.connect(getattr(self.combiTimeTable, "y[1]"), conversion.u)
+        self.connect(conversion.y, self.y)
+
+
+class IntegerTable(_StepTable):
     """Generate an Integer output signal based on a table matrix with [time, yi] values
     (Modelica.Blocks.Sources.IntegerTable).
 
@@ -461,18 +488,11 @@ class IntegerTable(Component):
 
     table = Parameter(((0.0, 0.0),), structural=True,
                       description="Table matrix (time = first column, integer output = second column)")
-    extrapolation = Parameter(Extrapolation.HoldLastPoint, structural=True,
-                              description="Extrapolation of data outside the definition range")
-    startTime = Parameter(-math.inf, unit="s", finite=False,  # noqa: N815
-                          description="Output = 0 for time < startTime")
-    shiftTime = Parameter(0.0, unit="s", description="Shift time of table")  # noqa: N815
     y = IntegerOutput(description="Connector of Integer output signal")
 
     def build(self) -> None:
         where = self.path or type(self).__name__
-        if Extrapolation(self.extrapolation) is Extrapolation.LastTwoPoints:
-            raise ParameterError(f"{where}: unsuitable extrapolation setting LastTwoPoints",
-                                 hint="use HoldLastPoint (the default), Periodic or NoExtrapolation")
+        self.check_extrapolation()
         rows = _rows(self.table, where, 2)
         if len(rows[0]) != 2:
             raise ParameterError(f"{where}.table must have 2 columns (time, value), not {len(rows[0])}")
@@ -485,9 +505,4 @@ class IntegerTable(Component):
         for i, (_t, v) in enumerate(rows, start=1):
             if v != int(v):
                 raise ParameterError(f"{where}.table: table value is not an Integer: table[{i},2] = {v:g}")
-        self.combiTimeTable = CombiTimeTable(table=rows, smoothness=Smoothness.ConstantSegments, columns=[2],
-                                             extrapolation=self.extrapolation, startTime=self.startTime,
-                                             shiftTime=self.shiftTime)
-        self.realToInteger = RealToInteger()
-        self.connect(getattr(self.combiTimeTable, "y[1]"), self.realToInteger.u)
-        self.connect(self.realToInteger.y, self.y)
+        self.build_steps(rows, RealToInteger(), "realToInteger")

@@ -27,16 +27,15 @@ the class).  The models extend the partial models of
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from library_checks import msl_resources
+from library_checks import assert_in_the_tube, msl_resources, reference_or_skip
 
 from acausal import Eq, Experiment, Model, simulate, tablefiles, time
 from acausal.library.blocks import CombiTable2Ds, CombiTable2Dv, Ramp, Smoothness
-from acausal.tools.compare import compare_signals, load_reference, reference_dir
+from acausal.tools.compare import compare_signals
 from examples import tables_combi_table_2ds as combi_table_2ds
 
 #: The MSL 4.1.0 resources laid out as a MODELICAPATH root (Modelica/Resources/Data/Tables/...)
@@ -217,14 +216,6 @@ def msl_resources(monkeypatch):
     tablefiles.register_usertab("TestTable_2D", TEST_TABLE_2D)
 
 
-def _reference(modelica_class: str, required: bool = True):
-    """The reference result; if absent a skip saying where it was looked for (None if not ``required``)."""
-    directory = reference_dir()
-    if not (directory / modelica_class).is_dir():
-        if not required:
-            return None
-        pytest.skip(f"no reference result of {modelica_class} in {directory} (ACAUSAL_REFERENCE_DIR)")
-    return load_reference(modelica_class)
 
 
 def _name(model_class) -> str:
@@ -232,13 +223,9 @@ def _name(model_class) -> str:
 
 
 @pytest.mark.parametrize("model_class", WITH_REFERENCE, ids=_name)
-def test_matches_reference(model_class):
+def test_matchesreference_or_skip(model_class):
     """Every compared signal of the reference lies in the tube."""
-    reference = _reference(model_class.modelica_class)
-    result = simulate(model_class())
-    assert result.success, result.message
-    comparison = compare_signals(reference, result.time, result.columns)
-    assert comparison.passed, comparison.table()
+    assert_in_the_tube(model_class)
 
 
 def test_mat_v73_gives_the_mat_v4_result():
@@ -250,7 +237,7 @@ def test_mat_v73_gives_the_mat_v4_result():
     for name in ("t_new.y", "d_t_new.y"):
         np.testing.assert_allclose(v73.columns[name], v4.columns[name], rtol=0, atol=1e-12, err_msg=name)
     # and so it lies in the tube of Test10's reference too
-    reference = _reference(Test10.modelica_class, required=False)
+    reference = reference_or_skip(Test10.modelica_class, required=False)
     if reference is not None:
         comparison = compare_signals(reference, v73.time, v73.columns)
         assert comparison.passed, comparison.table()
@@ -301,7 +288,7 @@ def test_surface_runs_to_the_end(model_class, surfaces):
     result = surfaces[model_class]
     assert result.success, result.message
     assert result.time[-1] == pytest.approx(model_class.experiment.stop_time)
-    reference = _reference(model_class.modelica_class, required=False)
+    reference = reference_or_skip(model_class.modelica_class, required=False)
     if reference is not None:
         assert reference.compared == ()  # comparisonSignals.txt lists time only
         assert reference.start_time == result.time[0]
@@ -358,7 +345,7 @@ def test_surface_diagonal_matches_dymola(model_class, surfaces):
     """``t_new`` (u1 = u2 = 60*time) lies in the tube of Dymola's inline-table test with u1 = u2 = time on [0, 60]."""
     result = surfaces[model_class]
     assert result.success, result.message
-    reference = _reference(model_class.diagonal_reference)
+    reference = reference_or_skip(model_class.diagonal_reference)
     comparison = compare_signals(reference, 60 * result.time, {"t_new.y": result.columns["t_new.y"]},
                                  signals=["t_new.y"])
     assert comparison.passed, comparison.table()
