@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import Sequence
 
 import networkx as nx
 import sympy as sp
@@ -45,6 +46,11 @@ _MAX_VARIANTS = 8
 _RELATIONS = (sp.StrictGreaterThan, sp.GreaterThan, sp.StrictLessThan, sp.LessThan)
 
 
+#: The relative margin of a relation free of integration noise (``Relation.is_exact``):
+#: round-off of its sides, no more.
+EXACT_MARGIN = 1e-13
+
+
 @dataclass(frozen=True)
 class Relation:
     """A relation watched for events.
@@ -64,6 +70,10 @@ class Relation:
     is_time_event: bool
     #: the components whose equations contain the relation (for their hints)
     components: tuple[str, ...] = ()
+    #: g is free of integration noise: a function of time, parameters and values constant
+    #: between events, assigned without iteration (``exact_relations``); decided with a
+    #: round-off margin rather than the crossing margin
+    is_exact: bool = False
 
     def holds(self, g_value: float) -> bool:
         """The exact value of the relation for ``g = g_value``."""
@@ -97,6 +107,17 @@ class Relation:
     def holds_with_hysteresis(self, g_value: float, previous: bool, epsilon: float) -> bool:
         """The value of the relation at an event, given its value before it."""
         return self.holds(self.shifted(g_value, previous, epsilon))
+
+    def margin_parameters(self, epsilon: float) -> tuple[float, float]:
+        """``(eps, floor)`` of this relation's margin ``eps * max(floor, |lhs|, |rhs|)`` for
+        the crossing margin ``epsilon``: ``(epsilon, 1)``, or for an exact relation
+        round-off relative to its sides alone, ``(EXACT_MARGIN, 0)``."""
+        return (EXACT_MARGIN, 0.0) if self.is_exact else (epsilon, 1.0)
+
+    def margin(self, lhs: float, rhs: float, epsilon: float) -> float:
+        """The margin of this relation at sides ``lhs`` and ``rhs`` (see :meth:`margin_parameters`)."""
+        eps, floor = self.margin_parameters(epsilon)
+        return eps * max(floor, abs(lhs), abs(rhs))
 
 
 @dataclass(frozen=True)
@@ -578,6 +599,70 @@ def partition(flat: FlatModel, *, templates: bool | None = None) -> PartitionedM
                     f"continuous equation", hint="use it in a when-condition, When(sample(0, 0.1), ...), "
                                                  "or give it a Boolean variable of its own")
     selectors = tuple(sorted(selector_set, key=lambda s: s.name))
+    exact = exact_relations(equations, tuple(relations.values()), flat)
+    relations = {key: dataclasses.replace(rel, is_exact=True) if rel.index in exact else rel
+                 for key, rel in relations.items()}
     return PartitionedModel(flat, equations, initial_equations, discrete,
                             tuple(relations.values()), selectors, discrete_names, frozenset(evaluated),
                             tuple(finder.clocks.values()), held)
+
+
+def exact_relations(equations: Sequence[FlatEquation], relations: Sequence[Relation],
+                    flat: FlatModel) -> frozenset[int]:
+    """The relations whose two sides carry no integration noise.
+
+    Known are time, the parameters, and everything constant between events
+    (discrete variables, pre() values, held discrete Reals, relation
+    indicators, ``initial()``).  An equation in which exactly one variable is
+    not known yet, linearly with a coefficient of known values, makes that
+    variable known (it is assigned, without iteration, from known values:
+    a source signal through gains and connections); repeated to a fixed
+    point.  A relation whose sides read only known values is exact: time
+    events, and also ``fn <= 0`` for a normal force ``fn = fn_max*sin(...)``.
+
+    Such a relation needs no hysteresis against the noise of the integrator,
+    only against round-off: two elements whose normal forces rise from 0 at
+    one instant (the same sine, other gains) engage in one event, as in
+    Modelica tools, instead of each when its force passes the crossing margin.
+    """
+    if not relations:
+        return frozenset()
+    variables = flat.variable_map
+    parameters = {p.name for p in flat.parameters}
+    known: set[str] = {"time", *parameters}
+    for name, variable in variables.items():
+        if variable.is_discrete or variable.is_held:
+            known.add(name)
+
+    def is_known(name: str) -> bool:
+        what = parse(name)
+        return name in known or what.kind in ("pre", "relation", "initial", "sample", "terminal")
+
+    # a worklist on plain index lists: each equation's count of variables not known yet
+    unknown_in: list[list[str]] = []
+    readers: dict[str, list[int]] = {}
+    for i, eq in enumerate(equations):
+        names = sorted({sym.name for sym in eq.residual.free_symbols if not is_known(sym.name)})
+        unknown_in.append(names)
+        for name in names:
+            readers.setdefault(name, []).append(i)
+    left = [len(names) for names in unknown_in]
+    queue = [i for i, n in enumerate(left) if n == 1]
+    while queue:
+        i = queue.pop()
+        names = [n for n in unknown_in[i] if n not in known]
+        if len(names) != 1 or parse(names[0]).kind == "derivative":
+            continue  # der(x) is the integrator's: never known here
+        name = names[0]
+        residual = equations[i].residual
+        symbol = next(sym for sym in residual.free_symbols if sym.name == name)
+        coefficient = residual.diff(symbol)
+        if coefficient.has(symbol) or coefficient == 0:
+            continue  # not assigned explicitly (iterated): it may carry the solver's noise
+        known.add(name)
+        for j in readers.get(name, ()):
+            left[j] -= 1
+            if left[j] == 1:
+                queue.append(j)
+    return frozenset(rel.index for rel in relations
+                     if all(is_known(s.name) for s in (rel.lhs - rel.rhs).free_symbols))

@@ -136,6 +136,11 @@ class DiscreteEvaluator:
         self._scalar_plan = None
         self._kinds = [(1.0 if r.op in (">", ">=") else -1.0, r.op in (">", "<"), r.is_time_event)
                        for r in self.relations]
+        #: each relation's margin, epsilon * max(floor, |lhs|, |rhs|): the crossing margin, or
+        #: round-off relative to the sides alone for a relation free of integration noise
+        #: (Relation.is_exact: two forces rising from 0 on one sine cross together)
+        self._margins, self._floors = (tuple(m) for m in zip(
+            *[r.margin_parameters(relation_epsilon) for r in self.relations])) if self.relations else ((), ())
         self._relation_names = [relation_name(k) for k in range(len(self.relations))]
         self._pre_names: dict[str, str] = {}
         self._selector_set = frozenset(s.name for s in translation.selectors)
@@ -341,23 +346,23 @@ class DiscreteEvaluator:
         if len(self._kinds) >= _VECTORISE_FROM:
             if self._kind_arrays is None:
                 self._kind_arrays = kind_arrays(self._kinds)
-            return decide_many(self._kinds, raw, previous, self.epsilon, exact=exact, fired=fired, clear=clear,
-                               arrays=self._kind_arrays)
-        return decide(self._kinds, raw, previous, self.epsilon, exact=exact, fired=fired, clear=clear)
+            return decide_many(self._kinds, raw, previous, self._margins, floor=self._floors, exact=exact,
+                               fired=fired, clear=clear, arrays=self._kind_arrays)
+        return decide(self._kinds, raw, previous, self._margins, floor=self._floors, exact=exact, fired=fired,
+                      clear=clear)
 
     def clearly_decided(self, raw, inherited=None) -> tuple[bool, ...]:
         """Whether each relation's ``lhs - rhs`` (``raw``: the sides, as ``crossings``
         gives them) lies beyond its margin, or is exactly at its limit and kept a
         value decided clearly before (``inherited``: the answer for the pass before)."""
         self._raw_last = raw
-        epsilon = self.epsilon
         out = []
-        for k in range(len(self.relations)):
+        for k, (epsilon, floor) in enumerate(zip(self._margins, self._floors)):
             lhs, rhs = raw[2 * k], raw[2 * k + 1]
             if lhs == rhs:
                 out.append(bool(inherited is not None and inherited[k]))
             else:
-                out.append(abs(lhs - rhs) > epsilon * max(1.0, abs(lhs), abs(rhs)))
+                out.append(abs(lhs - rhs) > epsilon * max(floor, abs(lhs), abs(rhs)))
         return tuple(out)
 
     def flipped_relations(self, system: ModeSystem, t: float, x, relations,
@@ -380,15 +385,15 @@ class DiscreteEvaluator:
         plan = self._scalar_plan
         if plan is None or plan[0] is not watched or plan[1] is not relations:
             plan = self._scalar_plan = (watched, relations, [
-                (k, 2 * k, *self._relation_kind(k, relations[k])) for k in watched])
+                (k, 2 * k, *self._relation_kind(k, relations[k]), self._margins[k], self._floors[k])
+                for k in watched])
         out = []
-        epsilon = self.epsilon
-        for k, i, d, toward, strict, timed, previous in plan[2]:
+        for k, i, d, toward, strict, timed, previous, epsilon, floor in plan[2]:
             lhs, rhs = raw[i], raw[i + 1]
             if timed:
                 v = d * (lhs - rhs)
             else:
-                v = d * ((lhs - rhs) + toward * (epsilon * max(1.0, abs(lhs), abs(rhs))))
+                v = d * ((lhs - rhs) + toward * (epsilon * max(floor, abs(lhs), abs(rhs))))
             if (v > 0 if strict else v >= 0) != previous:
                 out.append(k)
         return tuple(out)
@@ -401,7 +406,7 @@ class DiscreteEvaluator:
         d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])
         few = getattr(system, "crossings_for", None)
         crossings = few((k,)) if few is not None else system.crossings
-        epsilon, i = self.epsilon, 2 * k
+        epsilon, floor, i = self._margins[k], self._floors[k], 2 * k
         sign = -1.0 if previous else 1.0
 
         def distance(t, x) -> float:
@@ -409,7 +414,7 @@ class DiscreteEvaluator:
             lhs, rhs = raw[i], raw[i + 1]
             if timed:
                 return sign * (d * (lhs - rhs))
-            return sign * (d * ((lhs - rhs) + toward * (epsilon * max(1.0, abs(lhs), abs(rhs)))))
+            return sign * (d * ((lhs - rhs) + toward * (epsilon * max(floor, abs(lhs), abs(rhs)))))
 
         return distance
 
@@ -441,9 +446,12 @@ class DiscreteEvaluator:
             strict = np.array([kind[2] for kind in kinds], dtype=bool)
             timed = np.array([kind[3] for kind in kinds], dtype=bool)
             previous = np.array([kind[4] for kind in kinds], dtype=bool)
-            columns = tuple(a[:, None] for a in (d, toward, strict, previous))
+            margin = np.array([self._margins[k] for k in watched])
+            floor = np.array([self._floors[k] for k in watched])
+            columns = tuple(a[:, None] for a in (d, toward, strict, previous, margin, floor))
             plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1,
-                                        (d, toward, strict, previous), columns, timed, bool(timed.any()))
+                                        (d, toward, strict, previous, margin, floor), columns, timed,
+                                        bool(timed.any()))
         return plan
 
     def _flips(self, values: np.ndarray, relations, watched):
@@ -451,12 +459,12 @@ class DiscreteEvaluator:
         flipped at each column of ``values`` (the crossing functions' values, one
         instant a column; or one instant as a vector)."""
         _, _, w, left, right, vectors, columns, timed, any_timed = self._plan(relations, watched)
-        d, toward, strict, previous = columns if values.ndim == 2 else vectors
+        d, toward, strict, previous, margin, floor = columns if values.ndim == 2 else vectors
         lhs, rhs = values[left], values[right]
         # (callers silence numpy's warnings: inf/NaN sides decide as in Python)
         eps = np.maximum(np.abs(lhs), np.abs(rhs))
-        np.maximum(eps, 1.0, out=eps)
-        eps *= self.epsilon
+        np.maximum(eps, floor, out=eps)
+        eps *= margin
         if any_timed:
             eps[timed] = 0.0
         v = lhs - rhs

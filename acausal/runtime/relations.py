@@ -38,7 +38,8 @@ ROUND_OFF = 1e-13
 Kind = tuple[float, bool, bool]
 
 
-def decide(kinds: Sequence[Kind], raw: Sequence[float], previous: Sequence[bool], epsilon: float, *,
+def decide(kinds: Sequence[Kind], raw: Sequence[float], previous: Sequence[bool],
+           epsilon: float | Sequence[float], *, floor: float | Sequence[float] = 1.0,
            exact: bool = False, fired: frozenset = frozenset(),
            clear: Sequence[bool] | None = None) -> tuple[bool, ...]:
     """The relations' values at an event, from their sides ``raw`` (``lhs_0, rhs_0, lhs_1, ...``).
@@ -55,15 +56,24 @@ def decide(kinds: Sequence[Kind], raw: Sequence[float], previous: Sequence[bool]
        limit, which confirms the guess.
     3. With ``exact``, for a time event, for a relation in ``fired``, or for
        exactly equal sides: ``g`` itself decides.
-    4. Otherwise ``g`` is moved by the margin ``epsilon * max(1, |lhs|, |rhs|)``
-       towards the relation's previous value (hysteresis).
+    4. Otherwise ``g`` is moved by the margin ``epsilon * max(floor, |lhs|, |rhs|)``
+       towards the relation's previous value (hysteresis); ``epsilon`` and
+       ``floor`` are one number each, or one per relation (a relation free of
+       integration noise has a round-off margin relative to its sides alone:
+       floor 0).
 
     Then the relation holds when ``d*g > 0`` (strict) or ``d*g >= 0``.
     NaN sides make every comparison false, as in Python.
     """
     out = []
+    margins = epsilon if isinstance(epsilon, (list, tuple)) else None
+    floors = floor if isinstance(floor, (list, tuple)) else None
     for k, (d, strict, timed) in enumerate(kinds):
         lhs, rhs = raw[2 * k], raw[2 * k + 1]
+        if margins is not None:
+            epsilon = margins[k]
+        if floors is not None:
+            floor = floors[k]
         if timed and k in fired and abs(lhs - rhs) <= ROUND_OFF * max(1.0, abs(lhs), abs(rhs)):
             v = 0.0
         elif lhs == rhs and clear is not None and clear[k] and previous[k] and not exact:
@@ -72,13 +82,13 @@ def decide(kinds: Sequence[Kind], raw: Sequence[float], previous: Sequence[bool]
         elif exact or timed or k in fired or lhs == rhs:
             v = d * (lhs - rhs)
         else:
-            v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(1.0, abs(lhs), abs(rhs))))
+            v = d * ((lhs - rhs) + (d if previous[k] else -d) * (epsilon * max(floor, abs(lhs), abs(rhs))))
         out.append(v > 0 if strict else v >= 0)
     return tuple(out)
 
 
-def decide_many(kinds: Sequence[Kind], raw, previous: Sequence[bool], epsilon: float, *,
-                exact: bool = False, fired: frozenset = frozenset(),
+def decide_many(kinds: Sequence[Kind], raw, previous: Sequence[bool], epsilon: float | Sequence[float], *,
+                floor: float | Sequence[float] = 1.0, exact: bool = False, fired: frozenset = frozenset(),
                 clear: Sequence[bool] | None = None, arrays=None) -> tuple[bool, ...]:
     """:func:`decide` with numpy: the same rules, in the same order, on the same doubles.
 
@@ -107,7 +117,10 @@ def decide_many(kinds: Sequence[Kind], raw, previous: Sequence[bool], epsilon: f
         else:
             plain = timed | in_fired | (lhs == rhs)
             toward = np.where(previous, d, -d)
-            v = d * np.where(plain, g, g + toward * (epsilon * scale))
+            margin = np.asarray(epsilon, dtype=float) if isinstance(epsilon, (list, tuple)) else epsilon
+            bottom = np.asarray(floor, dtype=float) if isinstance(floor, (list, tuple)) else floor
+            sides = np.maximum(np.maximum(np.abs(lhs), np.abs(rhs)), bottom)
+            v = d * np.where(plain, g, g + toward * (margin * sides))
         v = np.where(at_root, 0.0, v)
         holds = np.where(strict, v > 0, v >= 0) | kept
     return tuple(holds.tolist())

@@ -141,3 +141,27 @@ def test_the_freewheel_never_turns_backwards(runs):
     """The one-way clutch blocks w_rel < 0: it is stuck or slides forward."""
     w = runs[False]["oneWayClutch.w_rel"]
     assert np.min(w) > -1e-8
+
+
+def test_two_forces_rising_together_engage_in_one_event(runs):
+    """The clutch's and the brake's normal forces rise from 0 on one sine (fn_max 10 and 2):
+    both engage in the first event after the start, as in Modelica tools (they used to
+    engage 3e-11 s apart, each when its force passed the crossing margin)."""
+    result = runs[False]
+    engaging = [e for e in result.events if ("clutch.locked", False, True) in e.changes]
+    assert engaging
+    first = engaging[0]
+    assert ("brake.locked", False, True) in first.changes
+    assert first.time < 1e-12
+
+
+def test_source_driven_relations_are_exact_and_state_driven_ones_are_not():
+    """Relation.is_exact (partition.exact_relations): sides computed from time and parameters
+    through explicit assignments only carry round-off, not the integrator's noise."""
+    from acausal import translate
+
+    relations = {r.text: r for r in translate(heat_losses(False)).partitioned.relations}
+    assert relations["clutch.fn <= 0"].is_exact and relations["brake.fn <= 0"].is_exact
+    assert relations["sine2.startTime > time"].is_exact          # a time event
+    assert not relations["clutch.w_relfric > 0"].is_exact        # a speed: a state
+    assert not relations["lossyGear.tau_eta >= 0"].is_exact      # a torque of the coupled drive

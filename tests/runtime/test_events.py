@@ -32,7 +32,7 @@ def _scalar_flips(raw, relations, watched):
     out = []
     for k in watched:
         lhs, rhs = raw[2 * k], raw[2 * k + 1]
-        eps = _EVALUATOR.epsilon * max(1.0, abs(lhs), abs(rhs))
+        eps = _RELATIONS[k].margin(lhs, rhs, _EVALUATOR.epsilon)
         if _RELATIONS[k].holds_with_hysteresis(lhs - rhs, relations[k], eps) != relations[k]:
             out.append(k)
     return tuple(out)

@@ -53,16 +53,21 @@ def relation_sets(draw):
     fired = frozenset(draw(st.sets(st.integers(0, n - 1))))
     clear = draw(st.one_of(st.none(), st.lists(st.booleans(), min_size=n, max_size=n)))
     exact = draw(st.booleans())
-    epsilon = draw(st.sampled_from([1e-10, 0.0, 1e-6]))
-    return kinds, raw, previous, fired, clear, exact, epsilon
+    if draw(st.booleans()):
+        epsilon = draw(st.sampled_from([1e-10, 0.0, 1e-6]))
+        floor = 1.0
+    else:  # per relation: the crossing margin, or round-off relative to the sides (exact relations)
+        pairs = draw(st.lists(st.sampled_from([(1e-10, 1.0), (1e-13, 0.0), (0.0, 1.0)]), min_size=n, max_size=n))
+        epsilon, floor = [p[0] for p in pairs], [p[1] for p in pairs]
+    return kinds, raw, previous, fired, clear, exact, epsilon, floor
 
 
 @settings(max_examples=400, deadline=None)
 @given(relation_sets())
 def test_scalar_and_numpy_decisions_agree(case):
-    kinds, raw, previous, fired, clear, exact, epsilon = case
-    scalar = decide(kinds, raw, previous, epsilon, exact=exact, fired=fired, clear=clear)
-    vector = decide_many(kinds, raw, previous, epsilon, exact=exact, fired=fired, clear=clear)
+    kinds, raw, previous, fired, clear, exact, epsilon, floor = case
+    scalar = decide(kinds, raw, previous, epsilon, floor=floor, exact=exact, fired=fired, clear=clear)
+    vector = decide_many(kinds, raw, previous, epsilon, floor=floor, exact=exact, fired=fired, clear=clear)
     assert scalar == vector
 
 

@@ -200,7 +200,7 @@ def _definition_flips(raw, relations, watched):
     out = []
     for k in watched:
         lhs, rhs = raw[2 * k], raw[2 * k + 1]
-        eps = _EVALUATOR.epsilon * max(1.0, abs(lhs), abs(rhs))
+        eps = _RELATIONS[k].margin(lhs, rhs, _EVALUATOR.epsilon)
         if _RELATIONS[k].holds_with_hysteresis(lhs - rhs, relations[k], eps) != relations[k]:
             out.append(k)
     return tuple(out)
@@ -264,7 +264,7 @@ def test_relation_values_equal_the_definition(data):
         if exact or k in fired or lhs == rhs:
             expected.append(rel.holds(lhs - rhs))
         else:
-            eps = _EVALUATOR.epsilon * max(1.0, abs(lhs), abs(rhs))
+            eps = rel.margin(lhs, rhs, _EVALUATOR.epsilon)
             expected.append(rel.holds_with_hysteresis(lhs - rhs, previous[k], eps))
     got = _EVALUATOR.relation_values(_Fixed(np.array(raw)[:, None]), 0, (), previous, exact=exact,
                                      fired=fired)
