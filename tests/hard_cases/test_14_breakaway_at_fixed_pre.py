@@ -165,3 +165,31 @@ def test_source_driven_relations_are_exact_and_state_driven_ones_are_not():
     assert relations["sine2.startTime > time"].is_exact          # a time event
     assert not relations["clutch.w_relfric > 0"].is_exact        # a speed: a state
     assert not relations["lossyGear.tau_eta >= 0"].is_exact      # a torque of the coupled drive
+
+
+def test_a_brake_engaged_on_a_turning_shaft_slides_at_once():
+    """The normal force ramps up from 0 at t = 0 on a shaft turning at 10 rad/s: Free ->
+    Forward in one event right after the start (not through Stuck and startForward), then
+    the closed-form deceleration J dw/dt = -mu*fn_max*ramp(t)."""
+    from acausal.library.blocks import Ramp
+    from acausal.library.rotational import Brake, Inertia
+
+    class Engage(Model):
+        experiment = Experiment(stop_time=1.0, interval=0.001)
+
+        def build(self):
+            self.inertia = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=10, fixed=True))
+            self.brake = Brake(fn_max=10, mu_pos=[[0, 0.5]])
+            self.ramp = Ramp(height=1, duration=0.5)
+            self.connect(self.inertia.flange_b, self.brake.flange_a)
+            self.connect(self.ramp.y, self.brake.f_normalized)
+
+    result = simulate(Engage(), rtol=1e-10, atol=1e-10)
+    assert result.success, result.message
+    modes = [(e.time, c) for e in result.events for c in e.changes if c[0] == "brake.mode"]
+    assert [c for _, c in modes] == [("brake.mode", 2, 1)]
+    assert modes[0][0] < 1e-12
+    assert not any(("brake.locked", False, True) in e.changes for e in result.events)
+    t = result.time
+    w = np.where(t < 0.5, 10 - 5 * t ** 2, 8.75 - 5 * (t - 0.5))
+    assert np.max(np.abs(result["inertia.w"] - w)) < 1e-7
