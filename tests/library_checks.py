@@ -208,3 +208,23 @@ def assert_in_the_tube(model_class, result=None):
     comparison = compare_signals(reference, result.time, result.columns)
     assert comparison.passed, comparison.table()
     return result
+
+
+def assert_same_run(model_class, twin_class, names) -> None:
+    """``twin_class`` (a table read another way) gives ``model_class``'s result: the same time
+    points, the ``names`` equal to 1e-12, and so it lies in ``model_class``'s reference tube
+    too (when the reference is there)."""
+    import numpy as np
+
+    from acausal import simulate
+    from acausal.tools.compare import compare_signals
+
+    first, twin = simulate(model_class()), simulate(twin_class())
+    assert first.success and twin.success, (first.message, twin.message)
+    np.testing.assert_array_equal(twin.time, first.time)
+    for name in names:
+        np.testing.assert_allclose(twin.columns[name], first.columns[name], rtol=0, atol=1e-12, err_msg=name)
+    reference = reference_or_skip(model_class.modelica_class, required=False)
+    if reference is not None:
+        comparison = compare_signals(reference, twin.time, twin.columns)
+        assert comparison.passed, comparison.table()

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from library_checks import assert_in_the_tube, msl_resources, reference_or_skip
+from library_checks import assert_in_the_tube, assert_same_run, msl_resources, reference_or_skip
 
 from acausal import Eq, Experiment, Model, simulate, tablefiles, time
 from acausal.library.blocks import CombiTable2Ds, CombiTable2Dv, Ramp, Smoothness
@@ -223,7 +223,7 @@ def _name(model_class) -> str:
 
 
 @pytest.mark.parametrize("model_class", WITH_REFERENCE, ids=_name)
-def test_matchesreference_or_skip(model_class):
+def test_matches_reference(model_class):
     """Every compared signal of the reference lies in the tube."""
     assert_in_the_tube(model_class)
 
@@ -231,16 +231,7 @@ def test_matchesreference_or_skip(model_class):
 def test_mat_v73_gives_the_mat_v4_result():
     """Test13 (MAT v7.3, HDF5) has no reference: its result is Test10's (MAT v4, the same matrix)."""
     pytest.importorskip("h5py", reason="MAT v7.3 files need h5py (pip install acausal[tables])")
-    v4, v73 = simulate(Test10()), simulate(Test13())
-    assert v4.success and v73.success, (v4.message, v73.message)
-    np.testing.assert_array_equal(v73.time, v4.time)
-    for name in ("t_new.y", "d_t_new.y"):
-        np.testing.assert_allclose(v73.columns[name], v4.columns[name], rtol=0, atol=1e-12, err_msg=name)
-    # and so it lies in the tube of Test10's reference too
-    reference = reference_or_skip(Test10.modelica_class, required=False)
-    if reference is not None:
-        comparison = compare_signals(reference, v73.time, v73.columns)
-        assert comparison.passed, comparison.table()
+    assert_same_run(Test10, Test13, ("t_new.y", "d_t_new.y"))
 
 
 def test_usertab_table_is_the_one_of_usertab_h():
