@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import keyword
 import re
+import weakref
 from bisect import bisect_right
 from typing import Any, Callable
 
@@ -380,6 +381,18 @@ class TableFunction(sp.Function):
     def __reduce_ex__(self, protocol):
         return _apply_table, (self.rebuild, self.orders, self.args)
 
+    @classmethod
+    def related(cls) -> tuple[type, ...]:
+        """The classes of this table's derivatives up to the third order (what index
+        reduction may make of it; the compile cache finds them by name)."""
+        if cls.shape == "next":
+            return ()
+        if cls.shape == "2d":
+            orders = [(a, b) for a in range(4) for b in range(4) if 0 < a + b <= 3]
+        else:
+            orders = [(k,) for k in range(1, 4)]
+        return tuple(_table_class(cls.rebuild, o) for o in orders)
+
 
 def _apply_table(rebuild: tuple, orders: tuple, args: tuple) -> sp.Expr:
     """A table application (how one is unpickled)."""
@@ -390,15 +403,16 @@ def _apply_table(rebuild: tuple, orders: tuple, args: tuple) -> sp.Expr:
 _TABLE_CLASSES: dict[tuple, type] = {}
 
 
-#: id(table) -> (table, digest): a table's digest is computed once
-_DIGESTS: dict[int, tuple[Any, str]] = {}
+#: table -> digest: a table's digest is computed once (weakly held: a model flattened again
+#: and again, as in a sweep, makes new table objects of the same data)
+_DIGESTS: "weakref.WeakKeyDictionary[Any, str]" = weakref.WeakKeyDictionary()
 
 
 def _digest(table) -> str:
     """A short text that changes with every number and option of ``table``."""
-    found = _DIGESTS.get(id(table))
-    if found is not None and found[0] is table:
-        return found[1]
+    found = _DIGESTS.get(table)
+    if found is not None:
+        return found
     import hashlib
 
     digest = hashlib.sha256(np.ascontiguousarray(table.data, dtype=float).tobytes())
@@ -406,7 +420,7 @@ def _digest(table) -> str:
                getattr(table, "extrapolation", None), getattr(table, "time_events", None), table.data.shape]
     digest.update(repr([int(o) if isinstance(o, int) else o for o in options]).encode())
     text = digest.hexdigest()[:16]
-    _DIGESTS[id(table)] = (table, text)
+    _DIGESTS[table] = text
     return text
 
 

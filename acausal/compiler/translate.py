@@ -522,16 +522,19 @@ class Translation:
         return self._disk or None
 
     def _table_functions(self) -> dict | None:
-        """Table functions of the equations by class name (None if two share a name)."""
+        """Table functions of the equations by class name (None if two share a name), with
+        the functions their derivatives are (a class's ``related()``: index reduction may
+        call them in generated code, though no flat equation does)."""
         found: dict[str, Any] = {}
         for eq in (*self.flat.equations, *self.flat.initial_equations):
             for f in eq.residual.atoms(sp.Function):
                 impl = getattr(type(f), "_imp_", None)
                 if impl is None:
                     continue
-                name = type(f).__name__
-                if found.setdefault(name, impl) is not impl:
-                    return None
+                related = getattr(type(f), "related", None)
+                for cls in (type(f), *(related() if related is not None else ())):
+                    if found.setdefault(cls.__name__, cls._imp_) is not cls._imp_:
+                        return None
         return found
 
     def _functions_payload(self, source: str) -> dict | None:

@@ -307,3 +307,25 @@ def test_the_command_line_can_turn_the_disk_cache_off(folder, tmp_path):
     forget_translations()
     assert main(["simulate", "examples/first.py", "--out", str(out)]) == 0
     assert entries(folder)
+
+
+def test_table_models_load_their_code_from_the_cache_and_travel_in_bundles(folder):
+    """A model of table blocks (time table with its held next event, 1-D and 2-D tables): the
+    second translation loads every system from the cache, a bundle rebuilds the translation in
+    a pickled round trip, and all three runs give the same result."""
+    import pickle
+
+    from acausal.compiler.translate import Translation
+    from examples.tables_combi_table_2ds import Test1 as Table2D
+    from examples.tables_combi_time_table import Test1 as PeriodicJumps
+
+    for make in (PeriodicJumps, Table2D):
+        cold_translation, cold = run(make)
+        assert entries(folder)
+        forget_translations()
+        warm_translation, warm = run(make)
+        assert all(s.passes[0][0] == "load" for s in warm_translation.systems.values())
+        assert_same(cold, warm)
+        bundle = pickle.loads(pickle.dumps(cold_translation.export()))
+        travelled = simulate(Translation.from_bundle(bundle))
+        assert_same(cold, travelled)
