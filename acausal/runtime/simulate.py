@@ -846,18 +846,25 @@ class _Run:
     def _result(self, t_setup: float, message: str, error, status: int = -1) -> SimulationResult:
         translation = self.translation
         times, columns, bad = self.recorder.columns(translation)
-        if bad is not None and error is None:
-            # an output that is not finite stops the run there: the rows after it go
+        if bad is not None:
+            # An output that is not finite stops the run there, whatever ended it and whatever
+            # the method: the rows after the first such row go.  Where the run went on past
+            # it and then failed for another reason, the output is the first failure.
             row, names, reason = bad
             keep = row + 1
+            went_on = keep < len(times)
             times = times[:keep]
             columns = {n: c[:keep] for n, c in columns.items()}
-            error = SolverError(f"at t = {times[-1]:.12g} {', '.join(names[:8])} "
-                                f"{'is' if len(names) == 1 else 'are'} not finite ({reason})",
-                                hint="the equations computing it leave their domain here (a square "
-                                     "root or logarithm of a negative value, a division by zero)",
-                                components=tuple(dict.fromkeys(n.rpartition('.')[0] for n in names)))
-            message = str(error)
+            if error is None or went_on:
+                later = "" if error is None else f" (the run went on and then stopped: {error.message})"
+                error = SolverError(f"at t = {times[-1]:.12g} {', '.join(names[:8])} "
+                                    f"{'is' if len(names) == 1 else 'are'} not finite ({reason}){later}",
+                                    hint="the equations computing it leave their domain here (a square "
+                                         "root or logarithm of a negative value, a division by zero, "
+                                         "an overflow)",
+                                    components=tuple(dict.fromkeys(n.rpartition('.')[0] for n in names)))
+                message = str(error)
+                status = -1
         stats = {
             "steps": self.steps,
             "rhs_evaluations": self.nfev,

@@ -408,3 +408,30 @@ def test_a_clutch_with_a_nan_normal_force_is_refused_not_hung():
     assert done.returncode == 0, done.stderr
     lines = done.stdout.splitlines()
     assert len(lines) == 2 and all(line.startswith("refused") and "fn_max" in line for line in lines)
+
+
+class OverflowThenBlowUp(Model):
+    """An output that overflows from t = 0.142 on (exp(5000 t)), while the state it does not
+    feed blows up at t = 1 (x' = x^2, x(0) = 1): the run must not keep the rows in between."""
+
+    experiment = Experiment(stop_time=2.0, interval=0.01)
+    x = Variable(start=1.0, fixed=True)
+    y = Variable()
+
+    def equations(self):
+        return [Eq(der(self.x), self.x ** 2), Eq(self.y, sp.exp(5000 * time))]
+
+
+@pytest.mark.parametrize("method", ["RK45", "DOP853", "Radau", "BDF", "LSODA", "Euler", "RK4"])
+def test_a_non_finite_output_ends_the_kept_rows_whatever_ends_the_run(method):
+    """Issue 23, item 6: the check of the outputs used to be skipped when the run later failed
+    for another reason, so rows with y = inf from 0.142 to the solver's failure near 1 were kept."""
+    with np.errstate(all="ignore"):
+        result = simulate(OverflowThenBlowUp(), method=method, max_step=0.01)
+    assert result.status == -1
+    assert "y" in result.error.message and "not finite" in result.error.message
+    overflow = math.log(np.finfo(float).max) / 5000          # 0.14196...
+    assert overflow <= result.time[-1] <= overflow + 0.01 + 1e-9
+    # every row but the last (the first non-finite one, where the run is cut) is finite
+    assert np.isfinite(result["y"][:-1]).all() and np.isfinite(result["x"]).all()
+    np.testing.assert_allclose(result["x"], 1 / (1 - result.time), rtol=1e-2)
