@@ -151,8 +151,12 @@ _BUNDLED_HINT = (
 
 CheckAt = Literal["result", "reference", "both"]
 
-#: Largest reference CSV file read, in bytes (of a ``.csv.gz``: decompressed).
-_MAX_CSV_BYTES = 512 * 2**20
+#: Largest reference CSV file read, in bytes (of a ``.csv.gz``: decompressed).  The largest
+#: MAP-LIB reference is 3.4 MB; at this cap the numbers of the worst file (one-character
+#: cells, 4x the text as float64) stay within 1 GiB.
+_MAX_CSV_BYTES = 256 * 2**20
+#: Lines of a reference CSV file converted to numbers at a time (the text held at once).
+_BLOCK_ROWS = 4096
 #: Largest ``comparisonSignals.txt`` or ``creation.txt`` read, in bytes.
 _MAX_TEXT_BYTES = 2**20
 #: Longest line of a reference CSV file, in bytes (a MAP-LIB line holds a few hundred).
@@ -367,16 +371,51 @@ def _read_csv(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     regular file (a symbolic link to one is fine) of UTF-8 text, at most
     ``_MAX_CSV_BYTES`` long (decompressed) with lines of at most
     ``_MAX_LINE_BYTES``.
+
+    The numbers are converted block by block as the lines stream in (a block
+    of ``_BLOCK_ROWS`` lines as text at a time), and kept per column: the
+    memory held is that of the numbers (8 bytes each) plus one block, never
+    the text of the whole file (a list of the text cells took 32 times the
+    decompressed size).
     """
     compressed = path.name.endswith(".gz")
-    lines = []
+    names: list[str] | None = None
+    pieces: list[list[np.ndarray]] = []   # per column, the blocks converted so far
+    block: list[list[str]] = []
+    block_lines: list[int] = []
+    first_lines: list[int] = []           # the line number of the first row of each block
+    rows = 0
+
+    def convert() -> None:
+        nonlocal rows
+        data = _parse_numbers(path, names, list(zip(block_lines, block)))
+        for column, values in zip(pieces, data.T):
+            column.append(np.array(values))  # a copy: the block's array goes
+        first_lines.append(block_lines[0])
+        rows += len(block)
+        block.clear()
+        block_lines.clear()
+
     with _open_regular(path, _MAX_CSV_BYTES) as raw:
         try:
             with (gzip.GzipFile(fileobj=raw, mode="rb") if compressed else raw) as stream:
                 reader = csv.reader(_csv_lines(path, stream, compressed))
                 for row in reader:
-                    if row and not row[0].lstrip().startswith("#") and any(cell.strip() for cell in row):
-                        lines.append((reader.line_num, row))
+                    if not row or row[0].lstrip().startswith("#") or not any(cell.strip() for cell in row):
+                        continue
+                    if names is None:
+                        names = _column_names(path, reader.line_num, row)
+                        pieces = [[] for _ in names]
+                        continue
+                    if len(row) != len(names):
+                        raise ReferenceDataError(
+                            f"{path}, line {reader.line_num}: {len(row)} values for {len(names)} columns",
+                            hint="every line must hold one value per column; the file may be truncated",
+                        )
+                    block.append(row)
+                    block_lines.append(reader.line_num)
+                    if len(block) == _BLOCK_ROWS:
+                        convert()
         except csv.Error as error:
             raise ReferenceDataError(
                 f"{path}, line {reader.line_num}: {error}",
@@ -389,23 +428,62 @@ def _read_csv(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
             ) from None
         except OSError as error:
             raise ReferenceDataError(f"{path} cannot be read: {error}", hint=_SOURCE_HINT) from None
-    if not lines:
+    if names is None:
         raise ReferenceDataError(f"{path} is empty", hint="the file should start with a header line")
+    if block:
+        convert()
+    if rows < 2:
+        raise ReferenceDataError(
+            f"{path} has {rows} data line(s); a reference curve needs at least 2",
+            hint="the file may be truncated; download it again",
+        )
 
-    header_line, header = lines[0]
+    def line_of(index: int) -> int:
+        """The file's line number of data row ``index`` (rows of a block are consecutive lines
+        up to blank and comment lines: exact for the first of a block, else the block's)."""
+        k = index // _BLOCK_ROWS
+        return first_lines[k] + (index - k * _BLOCK_ROWS)
+
+    columns = {}
+    for name, column in zip(names, pieces):
+        values = np.concatenate(column) if len(column) > 1 else column[0]
+        column.clear()  # the blocks go as the column is built
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise ReferenceDataError(
+                f"{path}, line {line_of(int(bad[0]))}: {name} is {values[bad[0]]}",
+                hint="reference values must be finite numbers",
+            )
+        values.flags.writeable = False
+        columns[name] = values
+
+    time = columns.pop("time")
+    backwards = np.flatnonzero(np.diff(time) < 0)
+    if backwards.size:
+        i = int(backwards[0])
+        raise ReferenceDataError(
+            f"{path}: time goes backwards from {time[i]!r} (line {line_of(i)}) "
+            f"to {time[i + 1]!r} (line {line_of(i + 1)})",
+            hint="reference time must be non-decreasing (events appear as two equal times)",
+        )
+    return time, columns
+
+
+def _column_names(path: Path, line: int, header: list[str]) -> list[str]:
+    """The column names of a reference CSV's header line, checked (``time`` among them)."""
     names = [cell.strip().strip("'\"") for cell in header]
     spelled = [name for name in names if name.lower() == "time"]
     if "time" not in names and len(spelled) == 1:
         names[names.index(spelled[0])] = "time"  # newer Dymola versions write "Time"
     if "" in names:
         raise ReferenceDataError(
-            f"{path}, line {header_line}: column {names.index('') + 1} has no name",
+            f"{path}, line {line}: column {names.index('') + 1} has no name",
             hint="the first line must name every column, e.g. \"time\",\"inertia1.w\"",
         )
     duplicates = sorted({name for name in names if names.count(name) > 1})
     if duplicates:
         raise ReferenceDataError(
-            f"{path}, line {header_line}: column name(s) {', '.join(duplicates)} appear twice",
+            f"{path}, line {line}: column name(s) {', '.join(duplicates)} appear twice",
             hint="check the delimiter; csv-compare files are comma separated",
         )
     if "time" not in names:
@@ -413,47 +491,7 @@ def _read_csv(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
             f"{path} has no 'time' column (columns: {', '.join(names[:5])}{', ...' if len(names) > 5 else ''})",
             hint="the first line must name the columns, starting with \"time\"",
         )
-
-    rows = lines[1:]
-    if len(rows) < 2:
-        raise ReferenceDataError(
-            f"{path} has {len(rows)} data line(s); a reference curve needs at least 2",
-            hint="the file may be truncated; download it again",
-        )
-    for number, row in rows:
-        if len(row) != len(names):
-            raise ReferenceDataError(
-                f"{path}, line {number}: {len(row)} values for {len(names)} columns",
-                hint="every line must hold one value per column; the file may be truncated",
-            )
-
-    data = _parse_numbers(path, names, rows)
-    if not np.all(np.isfinite(data)):
-        line_index, column = np.argwhere(~np.isfinite(data))[0]
-        raise ReferenceDataError(
-            f"{path}, line {rows[line_index][0]}: {names[column]} is {data[line_index, column]}",
-            hint="reference values must be finite numbers",
-        )
-
-    time = data[:, names.index("time")]
-    backwards = np.flatnonzero(np.diff(time) < 0)
-    if backwards.size:
-        i = backwards[0]
-        raise ReferenceDataError(
-            f"{path}: time goes backwards from {time[i]!r} (line {rows[i][0]}) "
-            f"to {time[i + 1]!r} (line {rows[i + 1][0]})",
-            hint="reference time must be non-decreasing (events appear as two equal times)",
-        )
-
-    signals = {}
-    for column, name in enumerate(names):
-        values = np.ascontiguousarray(data[:, column])
-        values.flags.writeable = False
-        if name == "time":
-            time = values
-        else:
-            signals[name] = values
-    return time, signals
+    return names
 
 
 def _parse_numbers(path: Path, names: list[str], rows: list[tuple[int, list[str]]]) -> np.ndarray:
