@@ -13,3 +13,9 @@ if str(ROOT) not in sys.path:
 import os  # noqa: E402
 
 os.environ.setdefault("ACAUSAL_DISK_CACHE", "off")
+
+# The compile cache's secret key lives in the user's configuration folder: the tests that
+# turn the cache on get a folder of their own, not the real home's (which may be read-only).
+import tempfile  # noqa: E402
+
+os.environ.setdefault("XDG_CONFIG_HOME", tempfile.mkdtemp(prefix="acausal-tests-config-"))
