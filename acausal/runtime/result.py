@@ -12,6 +12,11 @@ mode's values), and reads and writes three formats:
 * :meth:`SimulationResult.to_mat` / :func:`read_mat`, the Dymola/OpenModelica
   result file (``dsres.mat``), described at :func:`read_mat`.
 
+Files are written whole or not at all (:func:`acausal.fileio.atomic_write`:
+a write that fails leaves the earlier file as it was), and read only when
+they are regular files below a size cap (:data:`MAX_CSV_BYTES`,
+:data:`MAX_MAT_BYTES`), checked without blocking on a FIFO.
+
 Plotting lives in the tools layer (:func:`acausal.tools.plotting.plot`);
 :meth:`SimulationResult.plot` calls the plotter registered with
 :func:`register_plotter`.
@@ -21,6 +26,7 @@ from __future__ import annotations
 
 import csv
 import html
+import io
 from dataclasses import dataclass, field
 from pathlib import Path
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -29,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import SimulationError, SimulationInterrupted
+from ..fileio import atomic_write, open_regular
 from ..names import parse
 
 if TYPE_CHECKING:  # only for annotations: the result does not need the compiler or pandas
@@ -45,6 +52,17 @@ KINDS = ("continuous", "discrete", "boolean", "integer", "parameter")
 
 #: The name, unit and description of the independent variable.
 TIME_NAME, TIME_UNIT = "time", "s"
+
+#: Largest CSV file :func:`read_csv` reads unless told otherwise (``max_bytes=``), in bytes.
+#: Parsing holds about three times the file in memory and reads some 30 MB/s, so 512 MiB
+#: (some 25 million values) is about 1.5 GB and 20 s: past that, the file given is far more
+#: likely a mistake (a disk image, a log, a link to the wrong place) than a result.  The
+#: reference results of ``acausal compare`` have the same cap.
+MAX_CSV_BYTES = 512 * 2**20
+#: Largest MAT file :func:`read_mat` reads unless told otherwise (``max_bytes=``), in bytes:
+#: 8 bytes a value, so 2 GiB is some 270 million values, a long run of a large model (Dymola
+#: writes such files); reading holds about twice the file in memory.
+MAX_MAT_BYTES = 2 * 2**30
 
 
 @dataclass(frozen=True)
@@ -533,12 +551,19 @@ class SimulationResult:
             each column's value) and a ``#model`` row.  Readers of the
             reference files (and ``pandas.read_csv(..., comment="#")``) skip
             them as comments; :func:`read_csv` reads them back.
+
+        Returns
+        -------
+        Path
+            ``path``.  The file is written whole or not at all: if writing
+            fails (an exception, a full disk, an interrupt), an earlier file
+            at ``path`` is left as it was (:func:`acausal.fileio.atomic_write`).
         """
         names = list(self.columns) if signals is None else list(signals)
         for n in names:
             self[n]  # clear KeyError for unknown names
-        path = Path(path)
-        with path.open("w", newline="") as handle:
+
+        def write(handle) -> None:
             writer = csv.writer(handle)
             writer.writerow(["time"] + names)
             if metadata:
@@ -551,7 +576,8 @@ class SimulationResult:
                                                   for n in names])
             for row in data:
                 writer.writerow([repr(float(v)) for v in row])
-        return path
+
+        return atomic_write(Path(path), write, "w", newline="")
 
     @classmethod
     def from_csv(cls, path: str | Path) -> "SimulationResult":
@@ -570,6 +596,11 @@ class SimulationResult:
         path : str or Path
         signals : sequence of str, optional
             Columns to write (default: all).
+
+        Returns
+        -------
+        Path
+            ``path``, written whole or not at all (as :meth:`to_csv`).
         """
         import scipy.io
 
@@ -594,8 +625,7 @@ class SimulationResult:
         data_1 = np.array([[time[0], time[-1]]] + [[float(self.columns[n][0])] * 2 for n in constants],
                           dtype=float)
         data_2 = np.vstack([time] + [np.asarray(self.columns[n], dtype=float) for n in trajectories])
-        path = Path(path)
-        scipy.io.savemat(str(path), {
+        matrices = {
             "Aclass": _char_rows(["Atrajectory", "1.1", "", "binTrans"]),
             # binTrans: one name (description) per column of the char matrix
             "name": np.ascontiguousarray(_char_rows(all_names).T),
@@ -603,8 +633,9 @@ class SimulationResult:
             "dataInfo": np.ascontiguousarray(np.array(info, dtype=np.int32).T),
             "data_1": data_1,
             "data_2": np.ascontiguousarray(data_2),
-        }, format="4", appendmat=False)
-        return path
+        }
+        return atomic_write(Path(path), lambda handle: scipy.io.savemat(handle, matrices, format="4"),
+                            "wb")
 
     @classmethod
     def from_mat(cls, path: str | Path) -> "SimulationResult":
@@ -633,7 +664,7 @@ def _count(n: int, noun: str) -> str:
 # Readers
 # ---------------------------------------------------------------------------
 
-def read_csv(path: str | Path) -> SimulationResult:
+def read_csv(path: str | Path, *, max_bytes: int | None = MAX_CSV_BYTES) -> SimulationResult:
     """Read a CSV written by :meth:`SimulationResult.to_csv` (or any file of its layout).
 
     The first line names the columns, one of which is ``time``; the
@@ -641,17 +672,37 @@ def read_csv(path: str | Path) -> SimulationResult:
     give the columns' metadata (Booleans and Integers then read back as
     bool and int); other lines starting with ``#`` are comments.
 
+    Parameters
+    ----------
+    path : str or Path
+        A regular file (a symbolic link to one is fine).
+    max_bytes : int or None
+        The largest file read, :data:`MAX_CSV_BYTES` (512 MiB) unless given;
+        None reads any size.
+
     Returns
     -------
     SimulationResult
         With ``message`` naming the file and no :attr:`~SimulationResult.events`
         (event instants are still found by their repeated times).
+
+    Raises
+    ------
+    OSError
+        For a file that cannot be read, that is not a regular file (a FIFO
+        or a device is refused at once, without waiting for it), or that is
+        larger than ``max_bytes`` (the message names the file, its size and
+        the cap); see :func:`acausal.fileio.open_regular`.
+    ValueError
+        For content that is not a result of this layout.
     """
     path = Path(path)
     meta: dict[str, list[str]] = {}
     header: list[str] | None = None
     rows: list[list[float]] = []
-    with path.open(newline="") as handle:
+    raw = open_regular(path, max_bytes, hint="read_csv(path, max_bytes=...) reads a larger one")
+    # the text as open() would decode it (the locale's encoding, as to_csv writes it)
+    with io.TextIOWrapper(raw, newline="") as handle:
         for line, row in enumerate(csv.reader(handle), start=1):
             if not row or not any(cell.strip() for cell in row):
                 continue
@@ -718,7 +769,7 @@ def _parse_mat_description(text: str) -> tuple[str, str]:
     return text, ""
 
 
-def read_mat(path: str | Path) -> SimulationResult:
+def read_mat(path: str | Path, *, max_bytes: int | None = MAX_MAT_BYTES) -> SimulationResult:
     """Read a Dymola/OpenModelica result file (``dsres.mat`` layout, MAT v4).
 
     The layout, as Dymola and OpenModelica write it (format 1.1):
@@ -746,17 +797,34 @@ def read_mat(path: str | Path) -> SimulationResult:
 
     Format 1.0 (``names`` and one ``data`` matrix) is read too.
 
+    Parameters
+    ----------
+    path : str or Path
+        A regular file (a symbolic link to one is fine).
+    max_bytes : int or None
+        The largest file read, :data:`MAX_MAT_BYTES` (2 GiB) unless given;
+        None reads any size.
+
     Returns
     -------
     SimulationResult
         Parameters as constant columns of kind ``'parameter'``, units
         parsed from the descriptions, no events (event instants are found by
         their repeated times).
+
+    Raises
+    ------
+    OSError
+        For a file that cannot be read, is not a regular file or is larger
+        than ``max_bytes``, as :func:`read_csv`.
+    ValueError
+        For a file that is not a Modelica result file.
     """
     import scipy.io
 
     path = Path(path)
-    mat = scipy.io.loadmat(str(path), chars_as_strings=False, appendmat=False)
+    with open_regular(path, max_bytes, hint="read_mat(path, max_bytes=...) reads a larger one") as handle:
+        mat = scipy.io.loadmat(handle, chars_as_strings=False)
     if "Aclass" not in mat:
         raise ValueError(f"{path} is not a Modelica result file: it has no Aclass matrix")
     aclass = _texts(mat["Aclass"])

@@ -14,10 +14,19 @@ file defines) or ``FILE.py:ClassName``; it is instantiated without
 arguments.
 
 Exit status: 0 on success; 1 when a simulation fails or a comparison does
-not pass (or a result cannot be written after the run); 2 for usage errors
+not pass (or a result cannot be written after the run), a run stopped by
+its budget (``--timeout``, ``--max-steps``) included; 2 for usage errors
 (an output path that cannot be written is one, found before simulating) and
-for models that cannot be loaded or translated; 130 when interrupted
-(Ctrl-C): ``simulate`` still writes the result computed up to then.
+for models that cannot be loaded or translated (a model file that calls
+``sys.exit()`` while imported is one); 130 when interrupted (Ctrl-C, SIGINT)
+and 143 when terminated (SIGTERM, as ``timeout``, systemd, SLURM and CI
+runners send): ``simulate`` still writes the result computed up to then;
+141 when the reader of the output has gone (``acausal list | head -1``), as
+for a program that SIGPIPE ends.
+
+Files are written whole or not at all (:func:`acausal.fileio.atomic_write`):
+a result that cannot be written leaves an earlier file of that name as it
+was.
 """
 
 from __future__ import annotations
@@ -28,13 +37,15 @@ import importlib.util
 import math
 import os
 import re
+import signal
 import sys
+import threading
 import time
 import traceback
 from pathlib import Path
 from typing import Sequence
 
-from ..errors import AcausalError
+from ..errors import AcausalError, SolverError
 from ..language import Model
 from ..runtime.simulate import METHODS
 from .collector import GC_THRESHOLD
@@ -57,7 +68,7 @@ def _instantiate(cls: type) -> Model:
         raise
     except TypeError as exc:
         raise CommandError(f"cannot create {cls.__name__}() without arguments: {exc}") from exc
-    except Exception as exc:  # noqa: BLE001 - any failure of the user's __init__
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - any failure of the user's __init__
         raise CommandError(f"cannot create {cls.__name__}(): {_describe_failure(exc, cls)}") from exc
 
 
@@ -66,13 +77,14 @@ def _model_code(cls: type, function, *args, **kwargs):
 
     An exception of that code that is not an acausal error becomes a one-line
     :class:`CommandError` (exit status 2) naming the class, the exception and
-    where in the user's code it was raised.
+    where in the user's code it was raised; so does a ``sys.exit()`` there,
+    which would otherwise end the command silently.
     """
     try:
         return function(*args, **kwargs)
     except AcausalError:
         raise
-    except Exception as exc:  # noqa: BLE001 - any failure of the user's model code
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - any failure of the user's model code
         if _user_frame(exc, cls) is None:
             raise  # not raised in the model's code: an internal error keeps its traceback
         raise CommandError(f"cannot translate {cls.__name__}: {_describe_failure(exc, cls)}") from exc
@@ -214,6 +226,77 @@ def _end_time(result) -> str:
     return f"t = {float(times[-1]):.6g}" if len(times) else "the start"
 
 
+def _spent_budget(result, args) -> str | None:
+    """The option whose budget stopped the run, as given (``--max-steps 50``); None if none did.
+
+    ``simulate()`` stops a run over budget with a SolverError whose message
+    says which budget it used up ("... used its budget of 50 steps", "...
+    used its time budget of 1 s").
+    """
+    if getattr(result, "success", True) or not isinstance(getattr(result, "error", None), SolverError):
+        return None
+    message = str(result.message)
+    if args.max_steps is not None and f"its budget of {args.max_steps} steps" in message:
+        return f"--max-steps {args.max_steps}"
+    if args.timeout is not None and "its time budget" in message:
+        return f"--timeout {args.timeout:g}"
+    return None
+
+
+# ---------------------------------------------------------------------------
+# Signals: SIGTERM is Ctrl-C
+# ---------------------------------------------------------------------------
+
+
+class _Stop:
+    """While a command runs, SIGTERM stops it as Ctrl-C does; remembers which of the two did.
+
+    ``timeout``, systemd, SLURM and CI runners end a process with SIGTERM,
+    whose default action kills it on the spot: a run's partial result would
+    be lost.  Inside this context SIGTERM raises :class:`KeyboardInterrupt`
+    (as SIGINT does), so that the commands keep what was computed on the
+    path they take for Ctrl-C; :meth:`status` then turns their 130 into 143
+    (128 + SIGTERM).  The handler is installed only in the main thread and
+    only over the default action (a handler of an embedding program, or
+    SIGTERM ignored by the parent, stays), and the earlier one is restored
+    on leaving.
+    """
+
+    def __init__(self) -> None:
+        self.terminated = False
+        self._previous = None
+
+    def __enter__(self) -> "_Stop":
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGTERM) == signal.SIG_DFL):
+            self._previous = signal.signal(signal.SIGTERM, self._handle)
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        if self._previous is not None:
+            signal.signal(signal.SIGTERM, self._previous)
+            self._previous = None
+
+    def _handle(self, signum, frame) -> None:
+        self.terminated = True
+        raise KeyboardInterrupt
+
+    @property
+    def word(self) -> str:
+        """How the messages say the command was stopped."""
+        return "terminated (SIGTERM)" if self.terminated else "interrupted"
+
+    def status(self, status: int) -> int:
+        """The exit status: 143 instead of 130 when SIGTERM stopped the command."""
+        return 143 if status == 130 and self.terminated else status
+
+
+def _stopped(args) -> str:
+    """``interrupted`` (Ctrl-C) or ``terminated (SIGTERM)``, for the messages of a command."""
+    stop = getattr(args, "stop", None)
+    return stop.word if stop is not None else "interrupted"
+
+
 # ---------------------------------------------------------------------------
 # Argument parsing
 # ---------------------------------------------------------------------------
@@ -237,6 +320,25 @@ def _finite_float(text: str) -> float:
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be finite, not {text}")
     return value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {text}")
+    return value
+
+
+def _add_budgets(command: argparse.ArgumentParser, each: str) -> None:
+    """``--timeout`` and ``--max-steps``, passed to ``simulate()``."""
+    command.add_argument("--timeout", type=_positive_float, metavar="SECONDS",
+                         help=f"stop {each} after this many seconds of wall-clock time (the "
+                              f"translation before it not counted); it fails, status 1")
+    command.add_argument("--max-steps", type=_positive_int, metavar="N",
+                         help=f"stop {each} after N integrator steps; it fails, status 1")
 
 
 def _method(text: str) -> str:
@@ -279,6 +381,7 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--param", metavar="NAME=VALUE", action="append", default=[],
                      help="a parameter's value for this run (repeatable), e.g. component.parameter=2.5; "
                           "a numeric one reuses the compiled systems, a structural one translates anew")
+    _add_budgets(sim, "the run (the CSV holds what it computed)")
     sim.add_argument("--no-disk-cache", action="store_true",
                      help="compile everything: neither load nor store compiled systems on disk "
                           "(as ACAUSAL_DISK_CACHE=off)")
@@ -304,6 +407,7 @@ def _parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--rtol", type=_positive_float, metavar="R",
                       help=f"relative tolerance (default {COMPARE_RTOL:g}, or the experiment's "
                            f"if tighter)")
+    _add_budgets(cmp_, "each model's run")
     cmp_.add_argument("--no-disk-cache", action="store_true",
                       help="compile everything: neither load nor store compiled systems on disk "
                            "(as ACAUSAL_DISK_CACHE=off)")
@@ -401,28 +505,36 @@ def _cmd_simulate(args) -> int:
     try:
         result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
                            interval=args.interval, method=args.method, rtol=args.rtol,
-                           atol=args.atol, outputs=signals, parameters=_parameters(args.param) or None)
+                           atol=args.atol, outputs=signals, parameters=_parameters(args.param) or None,
+                           max_steps=args.max_steps, timeout=args.timeout)
     except KeyboardInterrupt as exc:
-        # Ctrl-C: simulate() may attach the result computed until then
+        # Ctrl-C or SIGTERM: simulate() may attach the result computed until then
         result = getattr(exc, "result", None)
         if result is None:
-            print("acausal simulate: interrupted; nothing written", file=sys.stderr)
+            print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
             return 130
+    earlier = out.exists()
     try:
         if out.parent != Path(""):
             out.parent.mkdir(parents=True, exist_ok=True)
-        result.to_csv(out, signals)
+        result.to_csv(out, signals)  # whole or not at all: a failure keeps the earlier file
     except OSError as exc:
         print(result.summary())
+        kept = f" ({out} is as it was before)" if earlier and out.is_file() else ""
         print(f"acausal simulate: error: cannot write {out}: {exc.strerror or exc}; "
-              f"the result was not saved", file=sys.stderr)
+              f"the result was not saved{kept}", file=sys.stderr)
         return 1
     print(result.summary())
     print(f"wrote {out}")
     if _interrupted(result):
-        print(f"acausal simulate: interrupted at {_end_time(result)}; {out} holds the result "
+        print(f"acausal simulate: {_stopped(args)} at {_end_time(result)}; {out} holds the result "
               f"up to then", file=sys.stderr)
         return 130
+    budget = _spent_budget(result, args)
+    if budget is not None:
+        print(f"error: {budget} stopped the simulation of {cls.__name__} at {_end_time(result)}: "
+              f"{result.message}\n  ({out} holds the result up to then)", file=sys.stderr)
+        return 1
     if not result.success:
         print(f"error: the simulation of {cls.__name__} failed: {result.message}\n"
               f"  (the CSV holds the result up to the failure)", file=sys.stderr)
@@ -462,7 +574,7 @@ def _cmd_compare(args) -> int:
             print(f"acausal compare: error: {kind}{exc}", file=sys.stderr)
             statuses.append(2 if isinstance(exc, (CommandError, ValueError)) else 1)
         except KeyboardInterrupt:
-            print(f"acausal compare: interrupted while comparing {model}", file=sys.stderr)
+            print(f"acausal compare: {_stopped(args)} while comparing {model}", file=sys.stderr)
             statuses.append(130)
         if statuses[-1] == 130:
             break
@@ -470,7 +582,7 @@ def _cmd_compare(args) -> int:
         passed = sum(s == 0 for s in statuses)
         left = len(args.models) - len(statuses)
         print(f"== {passed} of {len(args.models)} models match their reference results"
-              + (f" (interrupted; {left} not compared)" if left else ""))
+              + (f" ({_stopped(args)}; {left} not compared)" if left else ""))
     return 130 if 130 in statuses else max(statuses)
 
 
@@ -490,14 +602,15 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
         tolerance = getattr(experiment, "tolerance", None)
         rtol = min(COMPARE_RTOL, tolerance) if tolerance else COMPARE_RTOL
     try:
-        result = _simulate(model, method=args.method, rtol=rtol)
+        result = _simulate(model, method=args.method, rtol=rtol, max_steps=args.max_steps,
+                           timeout=args.timeout)
     except KeyboardInterrupt as exc:
-        result = getattr(exc, "result", None)  # Ctrl-C, perhaps with the result until then
+        result = getattr(exc, "result", None)  # Ctrl-C or SIGTERM, perhaps with the result until then
         if result is None:
             raise
     print(result.summary())
     if _interrupted(result):
-        print(f"error: the simulation of {cls.__name__} was interrupted at {_end_time(result)}; "
+        print(f"error: the simulation of {cls.__name__} was {_stopped(args)} at {_end_time(result)}; "
               f"not compared", file=sys.stderr)
         return 130
     info = signal_info(model, reference.compared)  # units, kinds and value names of the signals
@@ -512,12 +625,18 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
                                         folder / f"{_file_safe(cls.__name__)}.png", info=info,
                                         per_signal=args.plot_per_signal):
                 print(f"wrote {path}")
+        except BrokenPipeError:
+            raise  # the reader of the output has gone (see run()), not a plot that failed
         except OSError as exc:
             print(f"error: cannot write the plots into {folder}: {exc.strerror or exc}",
                   file=sys.stderr)
             plotted = False
     ok = comparison.passed and result.success and plotted
-    if not result.success:
+    budget = _spent_budget(result, args)
+    if budget is not None:
+        print(f"error: {budget} stopped the simulation of {cls.__name__} at {_end_time(result)}: "
+              f"{result.message}", file=sys.stderr)
+    elif not result.success:
         print(f"error: the simulation of {cls.__name__} failed: {result.message}", file=sys.stderr)
     elif not comparison.passed:
         failed = ", ".join(s.name for s in comparison.failures)
@@ -576,9 +695,28 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        0 success; 1 failed simulation or comparison; 2 usage or model error.
+        0 success; 1 failed simulation or comparison; 2 usage or model error;
+        130 interrupted (Ctrl-C); 143 terminated (SIGTERM).
     """
     argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "sweep":
+        # its process pool and Dask cluster have their own handling of signals (acausal.tools.sweep)
+        from .sweep import main_sweep
+
+        return main_sweep(argv[1:])
+    with _Stop() as stop:
+        try:
+            status = _command(argv, stop)
+        except KeyboardInterrupt:
+            # Ctrl-C or SIGTERM where the command does not catch it (bench, show, list, check)
+            print(f"acausal {argv[0]}: {stop.word}" if argv else f"acausal: {stop.word}",
+                  file=sys.stderr)
+            status = 130
+    return stop.status(status)
+
+
+def _command(argv: list[str], stop: _Stop) -> int:
+    """Run the command ``argv`` names; returns the exit status (130 when interrupted)."""
     if argv and argv[0] == "bench":
         from .bench import main as bench_main
 
@@ -591,10 +729,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .check import main_check
 
         return main_check(argv[1:])
-    if argv and argv[0] == "sweep":
-        from .sweep import main_sweep
-
-        return main_sweep(argv[1:])
     parser = _parser()
     try:
         args = parser.parse_args(argv)
@@ -603,6 +737,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
+    args.stop = stop  # how the messages say the command was stopped
     disk_cache = os.environ.get("ACAUSAL_DISK_CACHE")
     if getattr(args, "no_disk_cache", False):
         os.environ["ACAUSAL_DISK_CACHE"] = "off"
@@ -615,7 +750,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"acausal {args.command}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 2 if isinstance(exc, ValueError) else 1
     except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
+        print(f"acausal {args.command}: {stop.word}", file=sys.stderr)
         return 130
     finally:
         if disk_cache is None:
@@ -638,12 +773,43 @@ def run() -> None:
     """
     gc.set_threshold(*GC_THRESHOLD)
     try:
-        status = main()
+        try:
+            status = main()
+        finally:
+            sys.stdout.flush()
+    except BrokenPipeError:
+        status = _reader_gone()
     finally:
-        sys.stdout.flush()
         gc.collect()
         gc.freeze()
     sys.exit(status)
+
+
+#: The exit status when the reader of the output has gone: 128 + SIGPIPE, what a shell reports
+#: for ``cat``, ``grep`` or ``seq`` ended by SIGPIPE in ``... | head -1``.
+CLOSED_PIPE_STATUS = 141
+
+
+def _reader_gone() -> int:
+    """End quietly when the reader of standard output has closed it (``acausal list | head -1``).
+
+    Python ignores SIGPIPE, so a write to a closed pipe raises BrokenPipeError
+    instead of ending the process as it ends ``cat``.  Restoring SIGPIPE's
+    default action would kill the process in any write to a pipe or socket,
+    the sweep's workers included, so the error is caught here instead: the
+    output still buffered is sent to ``os.devnull`` (flushing it at exit would
+    raise again, with a message), and the status is the one a shell reports for
+    a program SIGPIPE ended.  Without ``set -o pipefail`` a pipeline's status
+    is the last program's; with it, an output cut short shows, as for ``cat``.
+    Whatever the command wrote to files (``simulate --out``) is written:
+    commands print their summary after writing.
+    """
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, sys.stdout.fileno())
+    finally:
+        os.close(devnull)
+    return CLOSED_PIPE_STATUS
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -57,10 +57,24 @@ def _import_file(path: Path, filename: str):
         raise
     except BaseException as exc:  # noqa: BLE001 - any failure of the user's file
         sys.modules.pop(name, None)
-        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+        if isinstance(exc, KeyboardInterrupt):
             raise
+        if isinstance(exc, SystemExit):
+            # a script's sys.exit() would end the command, with status 0 for sys.exit(0), and
+            # nothing written: the command did not do what was asked, which is an error
+            raise CommandError(_exit_message(exc, path, filename)) from None
         raise CommandError(f"cannot import {filename}: {_describe_exception(exc, path)}") from exc
     return module
+
+
+def _exit_message(exc: SystemExit, path: Path, filename: str) -> str:
+    """``x.py called sys.exit(0) while being imported (line 7); ...``: what to change."""
+    call = "sys.exit()" if exc.code is None else f"sys.exit({exc.code!r})"
+    line = _user_line(exc, path)
+    where = f" (line {line})" if line is not None else ""
+    return (f"{filename} called {call} while being imported{where}; a model file is imported to "
+            f"find its models, so code that runs a program belongs under "
+            f"'if __name__ == \"__main__\":'")
 
 
 def _models_defined(module) -> list[type]:
@@ -94,8 +108,9 @@ def load_model_class(spec: str) -> type:
     Raises
     ------
     CommandError
-        If the file is missing or cannot be imported, or the class is not
-        there or not a Model; the message lists the models the file defines.
+        If the file is missing or cannot be imported (an exception, or
+        ``sys.exit()`` while it is imported), or the class is not there or
+        not a Model; the message lists the models the file defines.
     """
     filename, wanted = _split_spec(spec)
     path = Path(filename)
@@ -130,8 +145,14 @@ def _describe_exception(exc: BaseException, path: Path) -> str:
     text = f"{type(exc).__name__}: {exc}"
     if isinstance(exc, SyntaxError):
         return text
+    line = _user_line(exc, path)
+    if line is not None:
+        text += f" (line {line})"
+    return text
+
+
+def _user_line(exc: BaseException, path: Path) -> int | None:
+    """The line of the file ``path`` where ``exc`` was raised (its innermost frame there)."""
     frames = [f for f in traceback.extract_tb(exc.__traceback__)
               if Path(f.filename).resolve() == path]
-    if frames:
-        text += f" (line {frames[-1].lineno})"
-    return text
+    return frames[-1].lineno if frames else None

@@ -38,6 +38,7 @@ from typing import Any, Iterable, Sequence
 
 from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
 from ..compiler.translate import ModeSystem, Translation
+from ..fileio import atomic_write
 from ..names import parse
 
 __all__ = ["StateNamer", "anchor_id", "incidence_svg", "origin_label", "solution_kind", "state_file_stems",
@@ -482,7 +483,8 @@ def write_page(translation: Translation, main: ModeSystem, out_dir: str | Path, 
     Returns
     -------
     Path
-        The page written.
+        The page written (whole or not at all: a failed write leaves an
+        earlier page as it was).
     """
     texts = _Texts()
     context = _Context(translation, main, texts, StateNamer(translation), _main_targets(translation, main))
@@ -546,9 +548,9 @@ def write_page(translation: Translation, main: ModeSystem, out_dir: str | Path, 
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    path = out / "index.html"
-    path.write_text(page.text(), encoding="utf-8")
-    return path
+    # whole or not at all: a page that cannot be written leaves the earlier one as it was
+    markup = page.text()
+    return atomic_write(out / "index.html", lambda handle: handle.write(markup), "w", encoding="utf-8")
 
 
 def _flat_section(page: _Page, c: _Context, link: _Linker) -> None:

@@ -82,7 +82,7 @@ def read_page(text: str) -> PageReader:
 def clutches(tmp_path_factory):
     """CoupledClutches explained with its page and pictures, and a run of the same model."""
     out = tmp_path_factory.mktemp("clutches")
-    translation = translate(CoupledClutches())
+    translation = translate(CoupledClutches(), cache=False)  # its own: no states visited by other tests
     explanation = explain(translation, out_dir=out / "pictures", html=out / "page")
     return explanation, translation, simulate(CoupledClutches())
 
