@@ -25,20 +25,36 @@ machine), any :class:`concurrent.futures.Executor`, a ``dask.distributed``
 acausal[dask]``), or ``"serial"`` (in this process).  Runs travel in chunks,
 several parameter sets per task, so that the per-task overhead is paid once
 per chunk.
+
+What survives: a worker process that dies (the OOM killer, a signal) breaks a
+process pool and fails every task on it; the pool is replaced and the runs
+that had not come back are sent again, and a run that kills its worker twice
+(the second time alone) is a failed row, ``error_type`` ``'WorkerDied'``.  A
+task that raises (on Dask too, where a worker lost too often is
+``KilledWorker``) has its runs retried one by one, and a run whose task
+raises again is a failed row.  ``timeout=`` and ``max_steps=`` bound every
+run.  Ctrl-C stops the workers and raises :class:`SweepInterrupted`, which
+carries the runs that finished.
 """
 
 from __future__ import annotations
 
 import argparse
+import collections
 import concurrent.futures
 import dataclasses
 import itertools
 import math
 import os
+import shutil
+import signal
 import sys
+import tempfile
+import threading
 import time as _time
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
@@ -46,13 +62,13 @@ from ..compiler.flatten import FlatModel, FlatParameter, _Flattener
 from ..compiler.initial import InitialSystem
 from ..compiler.modes import ModeSystem
 from ..compiler.translate import Translation, TranslationBundle, translate
-from ..errors import AcausalError, SettingError
+from ..errors import AcausalError, SettingError, SimulationInterrupted
 from ..language import Component
 from ..runtime.result import SimulationResult
 from ..runtime.simulate import TerminalProgress, progress_reporter, simulate
 from .modelfile import CommandError, load_model_class
 
-__all__ = ["sweep", "SweepResult", "RunOutcome", "parameter_sets", "main_sweep"]
+__all__ = ["sweep", "SweepResult", "RunOutcome", "SweepInterrupted", "parameter_sets", "main_sweep"]
 
 
 # -- the parameter sets ---------------------------------------------------------------------------
@@ -166,7 +182,8 @@ class RunOutcome:
     message : str
         The result's message, or the error's.
     error_type : str
-        The class of the error that stopped the run ('' for none).
+        The class of the error that stopped the run ('' for none);
+        ``'WorkerDied'`` for a run whose worker process died under it twice.
     result : SimulationResult or None
         Its time and the output columns (None when it raised before
         computing anything); the error object itself stays in the worker.
@@ -237,12 +254,44 @@ def _run_one(bundle: TranslationBundle, spec: _RunSpec, outputs, options: dict) 
                       translation._disk is False)
 
 
-def _run_chunk(bundle: TranslationBundle, specs: Sequence[_RunSpec], outputs, options: dict) -> list[RunOutcome]:
-    """A task: several runs in one worker (module level, so that spawned processes find it)."""
-    return [_run_one(bundle, spec, outputs, options) for spec in specs]
+def _run_chunk(bundle: TranslationBundle, specs: Sequence[_RunSpec], outputs, options: dict,
+               ledger: str | None = None) -> list[RunOutcome]:
+    """A task: several runs in one worker (module level, so that spawned processes find it).
+
+    With a ``ledger`` folder (see :class:`_Ledger`), each run is noted there
+    while it is in progress.
+    """
+    outcomes = []
+    for spec in specs:
+        if ledger is not None:
+            _Ledger.note(ledger, spec.index)
+        outcomes.append(_run_one(bundle, spec, outputs, options))
+        if ledger is not None:
+            _Ledger.note(ledger, None)
+    return outcomes
+
+
+def _worker_init() -> None:
+    """The start of every worker process of a pool made here.
+
+    Ctrl-C in a terminal reaches every process of the foreground group, but
+    it is the parent's to handle (it stops the workers and keeps what they
+    finished): the workers ignore SIGINT.  A forked worker inherits the
+    SIGTERM handler of ``acausal sweep``; it gets the default action back, so
+    that terminating it ends it.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 # -- executors ------------------------------------------------------------------------------------
+
+#: ``error_type`` of a run whose worker process died under it
+WORKER_DIED = "WorkerDied"
+#: seconds a terminated worker process gets to end before it is killed
+_STOP_GRACE = 5.0
+#: pool breakages with no run in progress after which the runs still to do are given up
+_DEATHS_OUTSIDE_RUNS = 3
 
 
 def _is_dask_client(executor: Any) -> bool:
@@ -250,55 +299,356 @@ def _is_dask_client(executor: Any) -> bool:
     return type(executor).__name__ == "Client" and hasattr(executor, "submit") and hasattr(executor, "gather")
 
 
+def _died(spec: _RunSpec, how: str) -> RunOutcome:
+    """The row of a run given up because its worker process died (``how``: when, and what followed)."""
+    return RunOutcome(spec.index, spec.values, -1,
+                      f"the worker process died (e.g. killed by the OOM killer or a signal) {how}",
+                      WORKER_DIED, None, 0.0)
+
+
+def _task_failed(chunk: list[_RunSpec], exc: Exception) -> tuple[list[list[_RunSpec]], list[RunOutcome]]:
+    """What follows a task that raised: ``(chunks to send again, rows of failed runs)``.
+
+    A run's own errors are rows already (:func:`_run_one`); what reaches here
+    is the task's (a result that does not pickle, a Dask worker lost while
+    running it).  It may be one run's doing, so a chunk's runs are sent
+    again one by one and its neighbours are not failed with it; a single run
+    is a failed row with the error.
+    """
+    if len(chunk) > 1:
+        return [[spec] for spec in chunk], []
+    spec = chunk[0]
+    if type(exc).__name__ == "KilledWorker":  # Dask retried it on other workers, and they died too
+        return [], [_died(spec, "while running it, on each Dask worker that tried it (KilledWorker); "
+                                "the other runs went on")]
+    return [], [RunOutcome(spec.index, spec.values, -1, str(exc) or type(exc).__name__, type(exc).__name__,
+                           None, 0.0)]
+
+
+class _Ledger:
+    """Which runs the workers are doing: a folder with a file per worker process (and thread).
+
+    A worker writes the index of the run it starts at the beginning of its
+    file, opened once, and blanks it when the run ends: two ``pwrite`` calls
+    per run (creating and removing a file per run instead made each run of a
+    small model 0.1 ms slower).  A process pool whose worker dies fails every
+    task it holds without saying which one was running where; once its
+    processes are gone, the files name the runs that were in progress, in
+    the process that died and in those the pool terminated after it.
+    """
+
+    #: in a worker: (folder, process, thread) -> descriptor of its file, for the current sweep's folder
+    _files: dict[tuple[str, int, int], int] = {}
+    _WIDTH = 20
+
+    def __init__(self) -> None:
+        self.folder = tempfile.mkdtemp(prefix="acausal-sweep-")
+
+    @classmethod
+    def note(cls, folder: str, index: int | None) -> None:
+        """In a worker: run ``index`` starts (None: the run ended)."""
+        key = (folder, os.getpid(), threading.get_ident())
+        try:
+            fd = cls._files.get(key)
+            if fd is None:
+                for old in [k for k in cls._files if k[0] != folder]:  # one sweep at a time per process
+                    os.close(cls._files.pop(old))
+                fd = cls._files[key] = os.open(os.path.join(folder, f"{key[1]}-{key[2]}"),
+                                               os.O_WRONLY | os.O_CREAT, 0o600)
+            os.pwrite(fd, (b"" if index is None else str(index).encode()).rjust(cls._WIDTH), 0)
+        except OSError:  # the ledger only guides retries; the run goes on without it
+            pass
+
+    def in_progress(self) -> set[int]:
+        """The runs the files say were in progress (read once the pool's processes are gone).
+
+        The files go: their processes are gone, and a run in progress in one
+        is dealt with now.
+        """
+        found = set()
+        for name in os.listdir(self.folder):
+            path = os.path.join(self.folder, name)
+            try:
+                with open(path, "rb") as file:
+                    text = file.read().strip()
+                os.remove(path)
+            except OSError:
+                continue
+            if text.isdigit():
+                found.add(int(text))
+        return found
+
+    def remove(self) -> None:
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _process_pool(workers: int, context=None) -> concurrent.futures.ProcessPoolExecutor:
+    """A process pool of ``workers`` made here (its workers leave Ctrl-C to the parent)."""
+    return concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                                                  initializer=_worker_init)
+
+
+def _terminate(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """End a process pool made here now, the runs in progress included.
+
+    ``shutdown()`` waits for the running tasks, which may take minutes; their
+    processes are terminated first (killed if they do not end within
+    :data:`_STOP_GRACE` seconds), and the pool then fails every task it
+    holds, as after any death.  No future is cancelled here: the pool would
+    then try to fail a cancelled one, and its thread dies with an
+    ``InvalidStateError`` (Python 3.11).  The standard library has
+    ``terminate_workers()`` only from Python 3.14 on; before, ``_processes``
+    is the one handle on the workers.
+    """
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(_STOP_GRACE)
+        if process.is_alive():
+            process.kill()
+            process.join()
+    pool.shutdown(wait=True)
+
+
 class _Serial:
     """Runs tasks in this process, in order."""
 
-    def map_chunks(self, bundle, chunks, outputs, options):
+    def map_chunks(self, bundle, chunks, outputs, options) -> Iterator[list[RunOutcome]]:
         for chunk in chunks:
             yield _run_chunk(bundle, chunk, outputs, options)
 
+    def stop(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
 
 class _Pool:
-    """A :class:`concurrent.futures.Executor`: tasks submitted at once, gathered as they finish."""
+    """A :class:`concurrent.futures.Executor`: tasks submitted at once, gathered as they finish.
 
-    def __init__(self, executor: concurrent.futures.Executor) -> None:
+    A process pool survives the death of its workers.  A worker process that
+    dies (the OOM killer, a signal, a crash in compiled code) breaks a
+    :class:`~concurrent.futures.ProcessPoolExecutor`: it terminates its other
+    workers and fails every task it holds.  The runs that were in progress
+    then (the :class:`_Ledger` names them) are *suspects*.  The pool is
+    replaced by a new one of the same size, in which each suspect runs again
+    *alone*: a death then is surely its own, the second, and the run is a
+    failed row (:data:`WORKER_DIED`).  The other runs of a chunk that held a
+    suspect are sent again one by one, the chunks that had not started as
+    they were, and the sweep goes on.  Results already gathered are kept
+    throughout.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor
+    owned : bool
+        Made here: shut down here, and its workers terminated on Ctrl-C.
+        A replacement pool is always made here (the user's own pool, once
+        broken, is only shut down: it cannot run anything any more).
+    """
+
+    def __init__(self, executor: concurrent.futures.Executor, owned: bool) -> None:
         self.executor = executor
+        self.made: list[concurrent.futures.ProcessPoolExecutor] = [executor] if owned else []
+        self.futures: dict[concurrent.futures.Future, list[_RunSpec]] = {}  #: in flight, with their chunk
+        self.ledger: _Ledger | None = None
+        self.alone: _RunSpec | None = None  #: the suspect running alone, if one is
+        self.deaths_outside_runs = 0
 
-    def map_chunks(self, bundle, chunks, outputs, options):
-        futures = [self.executor.submit(_run_chunk, bundle, chunk, outputs, options) for chunk in chunks]
+    def map_chunks(self, bundle, chunks, outputs, options) -> Iterator[list[RunOutcome]]:
+        self.ledger = ledger = _Ledger()
+        waiting = collections.deque(chunks)  # chunks to send
+        suspects: collections.deque[_RunSpec] = collections.deque()  # each to run again alone
+
+        def submit(chunk: list[_RunSpec]) -> None:
+            future = self.executor.submit(_run_chunk, bundle, chunk, outputs, options, ledger.folder)
+            self.futures[future] = chunk
+
         try:
-            for future in concurrent.futures.as_completed(futures):
-                yield future.result()
+            while waiting or suspects or self.futures:
+                lost: list[list[_RunSpec]] = []
+                broken = not self._send(waiting, suspects, submit)
+                if not broken:
+                    done, _ = concurrent.futures.wait(self.futures, return_when=concurrent.futures.FIRST_COMPLETED)
+                    for future in done:
+                        yield from self._gather(future, lost, waiting)
+                if broken or lost:
+                    # a worker died: the pool fails every task it holds, now or in a moment
+                    for future in concurrent.futures.wait(self.futures)[0]:
+                        yield from self._gather(future, lost, waiting)
+                    failed = self._after_death(lost, waiting, suspects)
+                    if failed:
+                        yield failed
         finally:
-            for future in futures:
+            ledger.remove()
+
+    def _send(self, waiting: collections.deque, suspects: collections.deque, submit) -> bool:
+        """Submit what may run now: the next suspect alone, or else every chunk waiting.
+
+        False if the pool is broken already (a worker died since the last
+        look); what was not sent stays in its queue.
+        """
+        try:
+            if suspects:
+                if not self.futures:  # nothing else in the pool while a suspect runs
+                    submit([suspects[0]])
+                    self.alone = suspects.popleft()
+            else:
+                while waiting:
+                    submit(waiting[0])
+                    waiting.popleft()
+        except BrokenProcessPool:
+            return False
+        return True
+
+    def _gather(self, future: concurrent.futures.Future, lost: list, waiting: collections.deque):
+        """The outcomes of a finished task; a task lost with its pool goes to ``lost``."""
+        chunk = self.futures.pop(future)
+        try:
+            outcomes = future.result()
+        except BrokenProcessPool:
+            lost.append(chunk)
+            return
+        except Exception as exc:  # noqa: BLE001 - the task's error becomes its runs' rows
+            retry, outcomes = _task_failed(chunk, exc)
+            waiting.extend(retry)
+        if chunk[0] is self.alone:
+            self.alone = None
+        if outcomes:
+            yield outcomes
+
+    def _after_death(self, lost: list[list[_RunSpec]], waiting: collections.deque,
+                     suspects: collections.deque) -> list[RunOutcome]:
+        """A worker died and took the tasks ``lost``: who is suspected, what is sent again.
+
+        Returns the rows of the runs given up.
+        """
+        self._replace()
+        lost_runs = {spec.index for chunk in lost for spec in chunk}
+        in_progress = self.ledger.in_progress() & lost_runs if self.ledger is not None else set()
+        if self.alone is not None:
+            # it ran alone: the death is its own, and its second
+            spec, self.alone = self.alone, None
+            return [_died(spec, "while running it, twice (the second time alone in its process); "
+                                "the other runs went on")]
+        if not in_progress:
+            # a worker died outside any run (reading a task, between runs): everything is
+            # sent again, a few times, so that a pool that cannot live does not loop for ever
+            self.deaths_outside_runs += 1
+            if self.deaths_outside_runs < _DEATHS_OUTSIDE_RUNS:
+                waiting.extend(lost)
+                return []
+            given_up = [spec for chunk in (*lost, *waiting) for spec in chunk] + list(suspects)
+            waiting.clear()
+            suspects.clear()
+            return [_died(spec, f"{self.deaths_outside_runs} times outside any run; the runs not done, this "
+                                f"one among them, were given up") for spec in given_up]
+        for chunk in lost:
+            held = [spec for spec in chunk if spec.index in in_progress]
+            if not held:  # not started (or finished, its result lost with the pool): as it was
+                waiting.append(chunk)
+                continue
+            suspects.extend(held)
+            waiting.extend([spec] for spec in chunk if spec.index not in in_progress)
+        return []
+
+    def _replace(self) -> None:
+        """A new process pool of the size of the broken one, once the broken one's processes are gone."""
+        old = self.executor
+        old.shutdown(wait=True)  # broken, it has terminated its workers: this waits until they end
+        workers = getattr(old, "_max_workers", None) or os.cpu_count() or 1
+        self.executor = _process_pool(workers, getattr(old, "_mp_context", None))
+        self.made.append(self.executor)
+
+    def stop(self) -> None:
+        """Ctrl-C: the workers of the pools made here are terminated.
+
+        In a pool given by the user, the tasks not started are cancelled and
+        the runs in progress finish there (ending them would break the
+        user's pool).
+        """
+        if self.executor not in self.made:
+            for future in self.futures:
                 future.cancel()
+        for pool in self.made:
+            _terminate(pool)
+        if self.ledger is not None:
+            self.ledger.remove()
+
+    def close(self) -> None:
+        for pool in self.made:
+            pool.shutdown(wait=True, cancel_futures=True)
+        if self.ledger is not None:
+            self.ledger.remove()
+
+
+def _shipped(bundle: TranslationBundle) -> TranslationBundle:
+    """The task that holds the bundle on a Dask worker (the runs' tasks depend on it)."""
+    return bundle
 
 
 class _Dask:
-    """A ``dask.distributed.Client``: the bundle is scattered to every worker once."""
+    """A ``dask.distributed.Client``: the bundle travels to each worker once, as a task's result.
 
-    def __init__(self, client) -> None:
+    Dask itself survives the loss of a worker (the task runs on another, and
+    ``KilledWorker`` after ``distributed.scheduler.allowed-failures``
+    deaths); a task that raises has its runs retried one by one, and fails
+    them one by one (:func:`_task_failed`), as the process pool does.
+    """
+
+    def __init__(self, client, owned: bool) -> None:
         self.client = client
+        self.owned = owned  #: connected here (to a scheduler address): closed here
+        self.futures: dict[str, tuple[Any, list[_RunSpec]]] = {}  #: in flight by key, with their chunk
 
-    def map_chunks(self, bundle, chunks, outputs, options):
+    def map_chunks(self, bundle, chunks, outputs, options) -> Iterator[list[RunOutcome]]:
         from dask.distributed import as_completed
 
-        shipped = self.client.scatter(bundle, broadcast=True)
-        futures = [self.client.submit(_run_chunk, shipped, chunk, outputs, options, pure=False) for chunk in chunks]
+        # a task, not scattered data: when every worker holding it dies, Dask computes it
+        # again, where scattered data would be lost and the tasks needing it cancelled
+        shipped = self.client.submit(_shipped, bundle, pure=False)
+
+        def submit(chunk: list[_RunSpec]):
+            future = self.client.submit(_run_chunk, shipped, chunk, outputs, options, pure=False)
+            self.futures[future.key] = (future, chunk)
+            return future
+
+        finished = as_completed([submit(chunk) for chunk in chunks])
         try:
-            for future in as_completed(futures):
-                yield future.result()
+            for future in finished:
+                _, chunk = self.futures.pop(future.key)
+                try:
+                    outcomes = future.result()
+                except Exception as exc:  # noqa: BLE001 - the task's error becomes its runs' rows
+                    retry, outcomes = _task_failed(chunk, exc)
+                    for again in retry:
+                        finished.add(submit(again))
+                if outcomes:
+                    yield outcomes
         finally:
-            self.client.cancel(futures)
+            self.stop()
+
+    def stop(self) -> None:
+        """Tasks not finished are cancelled; one running on a worker ends with its run."""
+        if self.futures:
+            self.client.cancel([future for future, _ in self.futures.values()])
+            self.futures.clear()
+
+    def close(self) -> None:
+        self.stop()
+        if self.owned:
+            self.client.close()
 
 
 def _executor_for(executor, workers: int | None):
-    """``(runner, close)`` for the ``executor`` argument of :func:`sweep`."""
+    """The runner (``map_chunks``, ``stop``, ``close``) for the ``executor`` argument of :func:`sweep`."""
     if executor == "serial":
-        return _Serial(), lambda: None
+        return _Serial()
     if executor is None:
-        pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1)
-        return _Pool(pool), lambda: pool.shutdown(wait=True, cancel_futures=True)
+        return _Pool(_process_pool(workers or os.cpu_count() or 1), owned=True)
     if isinstance(executor, str):
         if not executor.startswith(("tcp://", "tls://", "ucx://", "inproc://")):
             raise SettingError(f"unknown executor {executor!r}",
@@ -309,12 +659,11 @@ def _executor_for(executor, workers: int | None):
         except ImportError:
             raise SettingError("a scheduler address needs dask.distributed",
                                hint="pip install 'acausal[dask]'") from None
-        client = Client(executor)
-        return _Dask(client), client.close
+        return _Dask(Client(executor), owned=True)
     if _is_dask_client(executor):
-        return _Dask(executor), lambda: None
+        return _Dask(executor, owned=False)
     if isinstance(executor, concurrent.futures.Executor):
-        return _Pool(executor), lambda: None
+        return _Pool(executor, owned=False)
     raise SettingError(f"executor must be None, 'serial', a scheduler address, a dask Client or a "
                        f"concurrent.futures.Executor, not {type(executor).__name__}")
 
@@ -486,17 +835,65 @@ def _table(outcomes: Sequence[RunOutcome], names: Sequence[str], outputs: Sequen
             row[f"{name}:min"] = np.nan if empty else float(np.min(column))
             row[f"{name}:max"] = np.nan if empty else float(np.max(column))
         rows.append(row)
-    return pd.DataFrame(rows)
+    # the columns named, so that the table of an interrupted sweep with no run finished has them
+    columns = ["run", *names, "status", "message", "error_type", "events", "seconds",
+               *(f"{name}:{what}" for name in outputs for what in ("final", "min", "max"))]
+    return pd.DataFrame(rows, columns=columns)
 
 
 # -- the sweep ------------------------------------------------------------------------------------
+
+
+class SweepInterrupted(SimulationInterrupted):
+    """Ctrl-C during a sweep: the workers were stopped, and the runs that finished are kept.
+
+    A :class:`~acausal.errors.SimulationInterrupted`, hence a
+    :class:`KeyboardInterrupt` (so it still ends a script and is not caught by
+    ``except Exception``), as :func:`~acausal.runtime.simulate.simulate`
+    raises on Ctrl-C.
+
+    Attributes
+    ----------
+    result : SweepResult
+        The runs that finished before the interrupt, in sweep order (each
+        keeps its index: :attr:`SweepResult.runs` and the ``run`` column of
+        its table skip those that did not finish).
+    total : int
+        The runs the sweep had.
+    """
+
+    def __init__(self, message: str, hint: str | None = None, result: "SweepResult | None" = None,
+                 total: int = 0) -> None:
+        super().__init__(message, hint, result)
+        self.total = total
+
+    def with_result(self, result) -> "SweepInterrupted":
+        """The same interrupt carrying ``result``."""
+        new = SweepInterrupted(self.message, self.hint, result, self.total)
+        new.__cause__, new.__context__, new.__traceback__ = self.__cause__, self.__context__, self.__traceback__
+        return new
+
+
+def _check_budgets(timeout: float | None, max_steps: int | None) -> None:
+    """The budgets of every run, checked once here rather than failing every run."""
+    if timeout is not None:
+        try:
+            bad = math.isnan(float(timeout)) or float(timeout) <= 0
+        except (TypeError, ValueError):
+            bad = True
+        if bad:
+            raise SettingError(f"timeout = {timeout!r} must be a number of seconds > 0")
+    if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer))
+                                  or max_steps < 1):
+        raise SettingError(f"max_steps = {max_steps!r} must be an integer >= 1")
 
 
 def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence[Mapping[str, float]],
           outputs: Sequence[str] | None = None, *, executor: Any = None, samples: int | None = None,
           seed: int | None = None, progress: "bool | Callable[[int, int, RunOutcome], object] | None" = None,
           chunk_size: int | None = None, workers: int | None = None, sampling: str = "lhs",
-          pilot: int = 1, **simulate_options) -> SweepResult:
+          pilot: int = 1, timeout: float | None = None, max_steps: int | None = None,
+          **simulate_options) -> SweepResult:
     """Simulate ``model`` for many parameter sets, translated once.
 
     Parameters
@@ -531,15 +928,31 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
         Runs made here before the others are shipped (the first, then
         runs spread over the sweep): the discrete states they reach are
         compiled once, here, rather than in every worker that reaches them.
+    timeout : float, optional
+        Seconds of wall time each run may take, in the worker (see
+        :func:`~acausal.runtime.simulate.simulate`): a run over its budget
+        stops with a ``SolverError`` row saying where its time went, and
+        the others go on.
+    max_steps : int, optional
+        Integrator steps each run may take, likewise.
     **simulate_options
         Passed to :func:`~acausal.runtime.simulate.simulate` for every run
-        (``stop_time``, ``rtol``, ``timeout``, ...).
+        (``stop_time``, ``rtol``, ``method``, ...).
 
     Returns
     -------
     SweepResult
         Runs that fail are rows with their status and reason; the others
         are not affected.
+
+    Raises
+    ------
+    SettingError
+        For settings out of range, before anything runs.
+    SweepInterrupted
+        On Ctrl-C (a ``KeyboardInterrupt``): the workers of a pool made here
+        are terminated, the tasks not started are cancelled, and
+        ``exc.result`` is the :class:`SweepResult` of the runs that finished.
 
     Notes
     -----
@@ -548,6 +961,12 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
     compiled here and shipped; a state first reached by another run is
     compiled by the worker that reaches it, once per worker process (counted
     in :attr:`SweepResult.compiled_in_workers`).
+
+    A worker process of a process pool that dies (killed by the OOM killer
+    or a signal) costs the sweep no finished run: the pool is replaced and
+    the runs that had not come back are sent again; the runs that were in
+    progress then run again alone, and one that kills its worker a second
+    time is a failed row with ``error_type`` ``'WorkerDied'``.
     """
     t_start = _time.perf_counter()
     runs = parameter_sets(parameters, samples=samples, seed=seed, method=sampling)
@@ -558,85 +977,98 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
     for refused in ("parameters", "outputs", "cache", "progress"):
         if refused in options:
             raise SettingError(f"sweep() sets {refused}= itself")
+    _check_budgets(timeout, max_steps)
+    options.update({k: v for k, v in (("timeout", timeout), ("max_steps", max_steps)) if v is not None})
     redundant = options.pop("redundant_constraints", "relax")
-    # every run's values resolved here, without flattening equations: invalid ones fail
-    # now (as simulate() would raise), the others travel as plain numbers
-    specs: list[_RunSpec] = []
-    outcomes: dict[int, RunOutcome] = {}
-    first: int | None = None
-    resolved: dict[int, tuple] = {}
-    for index, values in enumerate(runs):
-        try:
-            resolved[index] = _flat_values(model, values)
-        except AcausalError as exc:
-            outcomes[index] = RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0)
-            continue
-        if first is None:
-            first = index
     total = len(runs)
     reporter = _progress(progress, type(model).__name__)
-    finished = 0
+    outcomes: dict[int, RunOutcome] = {}
 
     def report(outcome: RunOutcome) -> None:
-        nonlocal finished
-        finished += 1
+        outcomes[outcome.index] = outcome
         if reporter is not None:
-            reporter(finished, total, outcome)
+            reporter(len(outcomes), total, outcome)
 
-    for outcome in outcomes.values():
-        report(outcome)
-    bundle = None
-    if first is not None:
-        # this process's translation of the model is reused (a second sweep compiles
-        # nothing); what it compiles keeps its stages, which the bundle ships
-        translation = translate(model, outputs, parameters=runs[first], redundant_constraints=redundant,
-                                disk_cache=False)
-        bundle_flat = translation.flat
-        outcomes[first] = _run_here(translation, first, runs[first], outputs, options)
-        report(outcomes[first])
-        bundle = translation.export()
-        for index, (flat_parameters, variables) in resolved.items():
-            if index == first:
-                continue
-            by_name = {p.name: p.value for p in flat_parameters}
-            specs.append(_RunSpec(index, runs[index], tuple(by_name[p.name] for p in bundle_flat.parameters),
-                                  None if variables == bundle_flat.variables else variables))
-        if pilot > 1 and specs:
-            # more runs here, spread over the sweep: the discrete states they reach are
-            # compiled once, here, and shipped, instead of once in every worker
-            chosen = sorted(set(np.linspace(0, len(specs) - 1, min(pilot - 1, len(specs))).astype(int)))
-            for k in chosen:
-                outcome = _run_one(bundle, specs[k], outputs, options)
-                outcomes[outcome.index] = dataclasses.replace(outcome, compiled=0)
-                report(outcome)
-            bundle = bundle.extended(_worker_state(bundle)[1].payloads)
-            specs = [spec for k, spec in enumerate(specs) if k not in set(chosen)]
+    first: int | None = None
+    bundle: TranslationBundle | None = None
+    runner = None
     n_workers = None
-    if specs:
-        runner, close = _executor_for(executor, workers)
-        n_workers = _worker_count(executor, runner, workers)
-        size = chunk_size or max(1, math.ceil(len(specs) / (4 * (n_workers or 1))))
-        chunks = [specs[k:k + size] for k in range(0, len(specs), size)]
-        try:
+    try:
+        # every run's values resolved here, without flattening equations: invalid ones fail
+        # now (as simulate() would raise), the others travel as plain numbers
+        specs: list[_RunSpec] = []
+        resolved: dict[int, tuple] = {}
+        for index, values in enumerate(runs):
+            try:
+                resolved[index] = _flat_values(model, values)
+            except AcausalError as exc:
+                report(RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0))
+                continue
+            if first is None:
+                first = index
+        if first is not None:
+            # this process's translation of the model is reused (a second sweep compiles
+            # nothing); what it compiles keeps its stages, which the bundle ships
+            translation = translate(model, outputs, parameters=runs[first], redundant_constraints=redundant,
+                                    disk_cache=False)
+            bundle_flat = translation.flat
+            report(_run_here(translation, first, runs[first], outputs, options))
+            bundle = translation.export()
+            for index, (flat_parameters, variables) in resolved.items():
+                if index == first:
+                    continue
+                by_name = {p.name: p.value for p in flat_parameters}
+                specs.append(_RunSpec(index, runs[index], tuple(by_name[p.name] for p in bundle_flat.parameters),
+                                      None if variables == bundle_flat.variables else variables))
+            if pilot > 1 and specs:
+                # more runs here, spread over the sweep: the discrete states they reach are
+                # compiled once, here, and shipped, instead of once in every worker
+                chosen = sorted(set(np.linspace(0, len(specs) - 1, min(pilot - 1, len(specs))).astype(int)))
+                for k in chosen:
+                    report(dataclasses.replace(_run_one(bundle, specs[k], outputs, options), compiled=0))
+                bundle = bundle.extended(_worker_state(bundle)[1].payloads)
+                specs = [spec for k, spec in enumerate(specs) if k not in set(chosen)]
+        if specs:
+            runner = _executor_for(executor, workers)
+            n_workers = _worker_count(executor, runner, workers)
+            size = chunk_size or max(1, math.ceil(len(specs) / (4 * (n_workers or 1))))
+            chunks = [specs[k:k + size] for k in range(0, len(specs), size)]
             for chunk_outcomes in runner.map_chunks(bundle, chunks, outputs, options):
                 for outcome in chunk_outcomes:
-                    outcomes[outcome.index] = outcome
                     report(outcome)
-        finally:
-            close()
-            if isinstance(reporter, _Reporter):
-                reporter.close()
-    elif isinstance(reporter, _Reporter):
-        reporter.close()
-    ordered = tuple(outcomes[k] for k in range(total))
-    kept = _kept_outputs(ordered, outputs)
-    units = _units(ordered, bundle)
+            runner.close()  # here, so that an interrupt while it closes still keeps every run
+            runner = None
+        if isinstance(reporter, _Reporter):
+            reporter.close()
+        return _gathered(outcomes, names, outputs, bundle, first, t_start, n_workers)
+    except KeyboardInterrupt:
+        # Ctrl-C (or the SIGTERM of ``acausal sweep``): the workers stop now, what finished is kept
+        if runner is not None:
+            runner.stop()
+            runner = None
+        if isinstance(reporter, _Reporter):
+            reporter.close()
+        partial = _gathered(outcomes, names, outputs, bundle, first, t_start, n_workers)
+        raise SweepInterrupted(f"the sweep was interrupted: {len(outcomes)} of {total} runs finished",
+                               hint="exc.result holds the runs that finished", result=partial,
+                               total=total) from None
+    finally:
+        if runner is not None:  # another error: the tasks not started are dropped
+            runner.close()
+
+
+def _gathered(outcomes: Mapping[int, RunOutcome], names: Sequence[str], outputs: Sequence[str] | None,
+              bundle: TranslationBundle | None, first: int | None, t_start: float,
+              n_workers: int | None) -> SweepResult:
+    """The :class:`SweepResult` of the runs in ``outcomes`` (every run, or those that finished)."""
     import pandas as pd
 
+    ordered = tuple(outcomes[k] for k in sorted(outcomes))
+    kept = _kept_outputs(ordered, outputs)
     table = _table(ordered, names, kept)
     parameter_table = pd.DataFrame([{n: o.values.get(n, np.nan) for n in names} for o in ordered],
-                                   index=pd.Index(range(total), name="run"))
-    return SweepResult(parameter_table, table, tuple(kept), ordered, units,
+                                   index=pd.Index([o.index for o in ordered], name="run"), columns=list(names))
+    return SweepResult(parameter_table, table, tuple(kept), ordered, _units(ordered, bundle),
                        sum(o.compiled for o in ordered if o.index != first),
                        sum(o.translated for o in ordered), _time.perf_counter() - t_start, n_workers)
 
@@ -742,13 +1174,81 @@ def _parse_values(text: str, sampled: bool) -> tuple[str, list[float]]:
                            f"or with --samples NAME=low:high") from None
 
 
+class _StopSignals:
+    """SIGINT and SIGTERM as Ctrl-C while ``acausal sweep`` runs; the previous handlers after.
+
+    While armed, the first signal raises :class:`KeyboardInterrupt` in the
+    main thread, so that :func:`sweep` stops its workers and keeps what
+    finished.  Later signals, and any after :meth:`disarm` (the table is
+    being written), are only noted: the cleanup and the writing finish, and
+    the command then exits with the status of the first signal.
+    """
+
+    def __init__(self) -> None:
+        self.received: int | None = None
+        self.armed = True
+        self.previous: dict[int, Any] = {}
+
+    def __enter__(self) -> "_StopSignals":
+        if threading.current_thread() is threading.main_thread():  # handlers live in the main thread
+            for signum in (signal.SIGINT, signal.SIGTERM):
+                # a signal ignored stays ignored (``nohup``, a background job's SIGINT)
+                if signal.getsignal(signum) is not signal.SIG_IGN:
+                    self.previous[signum] = signal.signal(signum, self._handle)
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        for signum, handler in self.previous.items():
+            if handler is not None:  # None: set outside Python, and cannot be set back from here
+                signal.signal(signum, handler)
+
+    def _handle(self, signum: int, frame) -> None:
+        first = self.received is None
+        if first:
+            self.received = signum
+        if first and self.armed:
+            raise KeyboardInterrupt
+
+    def disarm(self) -> None:
+        self.armed = False
+
+    @property
+    def status(self) -> int:
+        """The exit status of a process ended by the signal received (130 for SIGINT, 143 for SIGTERM)."""
+        return 128 + int(self.received if self.received is not None else signal.SIGINT)
+
+    @property
+    def name(self) -> str:
+        return signal.Signals(self.received if self.received is not None else signal.SIGINT).name
+
+
+def _write_outputs(result: SweepResult, out: Path, outputs: Sequence[str]) -> tuple[list[str], list[str]]:
+    """Write ``runs.csv`` and each output's series and envelope into ``out``: ``(written, warnings)``."""
+    out.mkdir(parents=True, exist_ok=True)
+    result.table.to_csv(out / "runs.csv", index=False)
+    written, warnings = ["runs.csv"], []
+    for name in outputs:
+        safe = name.replace("/", "_")
+        try:
+            result.series(name).to_csv(out / f"series_{safe}.csv")
+            result.plot_envelope(name).savefig(out / f"envelope_{safe}.png", dpi=100)
+            written += [f"series_{safe}.csv", f"envelope_{safe}.png"]
+        except KeyError as exc:
+            warnings.append(exc.args[0])
+    return written, warnings
+
+
 def main_sweep(argv: list[str]) -> int:
     """``acausal sweep FILE.py[:Model] --param NAME=a:b:n ... --out DIR``.
 
     Writes ``DIR/runs.csv`` (:attr:`SweepResult.table`), and for each
     ``--output`` ``DIR/series_<name>.csv`` and ``DIR/envelope_<name>.png``;
     prints a summary.  Returns 0 when every run succeeded, 1 when some
-    failed, 2 for a usage error.
+    failed, 2 for a usage error.  SIGINT (Ctrl-C) and SIGTERM (sent by
+    ``timeout``, systemd, SLURM, a CI cancellation) stop the workers, the
+    runs that finished are written as above, one line on standard error
+    says how many and where, and the status is 130 for SIGINT, 143 for
+    SIGTERM.
     """
     parser = argparse.ArgumentParser(prog="acausal sweep", description="Simulate a model for many parameter sets.")
     parser.add_argument("model", help="FILE.py[:Model]")
@@ -761,34 +1261,38 @@ def main_sweep(argv: list[str]) -> int:
     parser.add_argument("--workers", type=int, help="processes of the local pool (default: the CPUs)")
     parser.add_argument("--chunk", type=int, help="runs per task")
     parser.add_argument("--stop-time", type=float, help="stop time of every run")
+    parser.add_argument("--timeout", type=float, metavar="SECONDS",
+                        help="wall time each run may take; a run over it fails, the others go on")
+    parser.add_argument("--max-steps", type=int, metavar="N", help="integrator steps each run may take")
     parser.add_argument("--out", required=True, help="folder for runs.csv, series and plots")
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0) and 2
-    try:
-        if not args.param:
-            raise SettingError("give at least one --param NAME=a:b:n")
-        grid = dict(_parse_values(p, args.samples is not None) for p in args.param)
-        model_class = load_model_class(args.model)
-        options = {} if args.stop_time is None else {"stop_time": args.stop_time}
-        result = sweep(model_class(), grid, args.output, executor=args.scheduler, samples=args.samples,
-                       seed=args.seed, chunk_size=args.chunk, workers=args.workers, **options)
-    except (AcausalError, CommandError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    result.table.to_csv(out / "runs.csv", index=False)
-    written = ["runs.csv"]
-    for name in args.output or ():
-        safe = name.replace("/", "_")
+    with _StopSignals() as signals:
         try:
-            result.series(name).to_csv(out / f"series_{safe}.csv")
-            result.plot_envelope(name).savefig(out / f"envelope_{safe}.png", dpi=100)
-            written += [f"series_{safe}.csv", f"envelope_{safe}.png"]
-        except KeyError as exc:
-            print(f"warning: {exc.args[0]}", file=sys.stderr)
+            if not args.param:
+                raise SettingError("give at least one --param NAME=a:b:n")
+            grid = dict(_parse_values(p, args.samples is not None) for p in args.param)
+            model_class = load_model_class(args.model)
+            options = {} if args.stop_time is None else {"stop_time": args.stop_time}
+            result = sweep(model_class(), grid, args.output, executor=args.scheduler, samples=args.samples,
+                           seed=args.seed, chunk_size=args.chunk, workers=args.workers, timeout=args.timeout,
+                           max_steps=args.max_steps, **options)
+        except (AcausalError, CommandError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt as exc:
+            signals.disarm()
+            return _interrupted(signals, getattr(exc, "result", None), getattr(exc, "total", None), out,
+                                args.output or ())
+        signals.disarm()
+        written, warnings = _write_outputs(result, out, args.output or ())
+        if signals.received is not None:  # it came while the table was written: all runs finished
+            return _interrupted(signals, result, len(result.runs), out, None)
+    for warning in warnings:
+        print(f"warning: {warning}", file=sys.stderr)
     failed = result.failed
     print(f"{len(result.runs)} runs of {model_class.__name__} in {result.seconds:.2f} s"
           f"{f' on {result.workers} workers' if result.workers else ''}: {len(result.runs) - len(failed)} "
@@ -808,3 +1312,23 @@ def main_sweep(argv: list[str]) -> int:
             print(f"  {name} at the end: min {values.min():.6g}, max {values.max():.6g}")
     print(f"wrote {', '.join(written)} to {out}")
     return 1 if failed else 0
+
+
+def _interrupted(signals: _StopSignals, result: SweepResult | None, total: int | None, out: Path,
+                 outputs: Sequence[str] | None) -> int:
+    """Write what an interrupted sweep finished (``outputs`` None: written already), say so in one
+    line, and return the signal's status."""
+    what = f"acausal sweep: interrupted ({signals.name})"
+    if result is None:  # before the sweep began (loading the model file)
+        print(f"{what} before any run; nothing written", file=sys.stderr)
+        return signals.status
+    try:
+        if outputs is not None:
+            _write_outputs(result, out, outputs)
+    except OSError as exc:
+        print(f"{what}: {len(result.runs)} of {total} runs finished, but {out} cannot be written: "
+              f"{exc.strerror or exc}", file=sys.stderr)
+        return signals.status
+    print(f"{what}: {len(result.runs)} of {total} runs finished; their table is {out / 'runs.csv'}",
+          file=sys.stderr)
+    return signals.status
