@@ -59,6 +59,9 @@ module (with ``examples/`` on ``sys.path``) and uses:
     the agreement required, and the words describing the floor.
 ``COMMAND_TARGETS``
     The examples whose ``acausal compare`` command is timed in a fresh process.
+``start_case()``
+    The state of ``parameter_case()``'s model whose start value the
+    *parameters* section changes at run time, and its values.
 ``soak_case()``
     ``(name, make)`` of the model the *soak* section simulates again and
     again in one process (``CoupledClutches``: several discrete states, so
@@ -478,6 +481,12 @@ def parameter_case() -> tuple:
 
     return ("CoupledClutches", example_factory("coupled_clutches", "CoupledClutches"), "clutch1.fn_max",
             (5.0, 10.0, 40.0, 80.0, 160.0))
+
+
+def start_case() -> tuple:
+    """``(state, values)``: a start value of ``parameter_case()``'s model changed between runs
+    (CoupledClutches' J1.w starts at 10 rad/s)."""
+    return "J1.w", (9.5, 10.5)
 
 
 def soak_case() -> tuple:

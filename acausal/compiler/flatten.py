@@ -24,7 +24,7 @@ import traceback
 import types
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -33,7 +33,7 @@ from sympy.core.function import AppliedUndef, UndefinedFunction
 from ..names import INITIAL_NAME, TERMINAL_NAME, der_name, parse, pre_name
 from .. import hybrid
 from ..hybrid import EVENT_FUNCTIONS, NoEvent, Reinit, Terminate, When
-from ..errors import AcausalError, ConnectionError_, EquationError, ModelDefinitionError, ParameterError
+from ..errors import AcausalError, ConnectorError, EquationError, ModelDefinitionError, ParameterError
 from ..language import (
     Boolean,
     BoundConnector,
@@ -68,6 +68,10 @@ __all__ = [
     "FlatModel",
     "flatten",
     "INITIAL",
+    "START",
+    "start_parameter",
+    "check_start_values",
+    "tunable_starts_of",
 ]
 
 #: The symbol ``initial()`` becomes after flattening.
@@ -75,6 +79,14 @@ INITIAL = sp.Symbol(INITIAL_NAME)
 
 #: The symbol ``terminal()`` becomes after flattening.
 TERMINAL = sp.Symbol(TERMINAL_NAME)
+
+#: The suffix of a tunable start value's parameter name: ``J1.w.start`` is the start of ``J1.w``.
+START = ".start"
+
+
+def start_parameter(variable: str) -> str:
+    """The name of the parameter that holds ``variable``'s tunable start value."""
+    return variable + START
 
 
 _ORDER_RELATIONS = (sp.StrictGreaterThan, sp.GreaterThan, sp.StrictLessThan, sp.LessThan)
@@ -145,6 +157,7 @@ class FlatParameter:
     unit: str
     component: str
     description: str = ""
+    display_unit: str = ""  #: Modelica's displayUnit, as declared ("" when none)
 
 
 @dataclass(frozen=True, slots=True)
@@ -165,6 +178,7 @@ class FlatVariable:
     #: constants (:func:`~acausal.language.value_names`); empty where there are none
     labels: tuple[tuple[int, str], ...] = ()
     description: str = ""  #: as declared
+    display_unit: str = ""  #: Modelica's displayUnit, as declared or modified ("" when none)
 
     @property
     def is_discrete(self) -> bool:
@@ -277,6 +291,10 @@ class FlatModel:
     functions: dict = field(default_factory=dict)
     hints: dict = field(default_factory=dict)
     hybrid: HybridPart = field(default_factory=HybridPart)
+    #: the variables whose start values are *tunable*: inputs of the generated code, read
+    #: from the parameter vector as the parameters ``<variable>.start``
+    #: (:attr:`start_parameters`), so that another value needs no new translation
+    tunable_starts: tuple[str, ...] = ()
 
     def hints_for(self, situation: str, components) -> tuple[str, ...]:
         """The distinct hints the ``components`` (dotted paths) declare for ``situation``.
@@ -303,6 +321,37 @@ class FlatModel:
     def parameter_values(self) -> dict[str, float]:
         return {p.name: p.value for p in self.parameters}
 
+    @property
+    def start_parameters(self) -> tuple[FlatParameter, ...]:
+        """The tunable start values as parameters ``<variable>.start`` (values: the variables' starts).
+
+        They are not among :attr:`parameters` (results, ``explain`` and the
+        unit check list the model's own parameters), but the translation
+        puts them after those in its parameter vector
+        (:class:`~acausal.compiler.translate.Translation`).
+        """
+        if not self.tunable_starts:
+            return ()
+        variables = self.variable_map
+        return tuple(FlatParameter(start_parameter(n), variables[n].start, variables[n].unit,
+                                   variables[n].component, f"start value of {n}")
+                     for n in self.tunable_starts)
+
+    def with_starts(self, starts: Mapping[str, float]) -> "FlatModel":
+        """This flat model with other tunable start values (``variable -> value``).
+
+        Raises
+        ------
+        ParameterError
+            For a name that is not a tunable start (see :func:`check_start_values`).
+        """
+        starts = check_start_values(self, starts)
+        if not starts:
+            return self
+        variables = tuple(dataclasses.replace(v, start=starts[v.name]) if v.name in starts else v
+                          for v in self.variables)
+        return dataclasses.replace(self, variables=variables)
+
     def summary(self) -> str:
         n_cont = sum(not v.is_discrete for v in self.variables)
         return (f"{self.name}: {n_cont} continuous and {len(self.variables) - n_cont} discrete "
@@ -321,7 +370,10 @@ def flatten(model: Component, parameters: dict[str, float] | None = None) -> Fla
     parameters : dict, optional
         New values of numeric (tunable) parameters by dotted name, in place
         of their modifiers or defaults; bindings that refer to them follow
-        (``J = 2*Jm``).
+        (``J = 2*Jm``).  A name ``<variable>.start`` is the variable's start
+        value, in place of its modifier or default; those of state
+        candidates and fixed variables are tunable
+        (:attr:`FlatModel.tunable_starts`).
 
     Raises
     ------
@@ -330,7 +382,9 @@ def flatten(model: Component, parameters: dict[str, float] | None = None) -> Fla
         inputs and unresolvable parameter bindings.
     ParameterError
         For a name in ``parameters`` that is not a numeric parameter (a
-        structural one selects equations and is set when the model is built).
+        structural one selects equations and is set when the model is built;
+        a variable's start value is named ``<variable>.start``), and for a
+        start value that is not a finite number or not tunable.
     """
     return _Flattener(model, parameters).run()
 
@@ -378,6 +432,10 @@ class _Flattener:
         self.hybrid_count = 0  #: hybrid items met (a component with some is built without template)
         self.origin: Origin | None = None  #: the equation being added
         self._mirrors: dict[str, sp.Symbol] = {}  #: discrete name -> its discrete Real mirror
+        #: start values given with the parameters (``J1.w.start``), by variable
+        self.start_overrides: dict[str, Any] = {}
+        #: the variables some equation differentiates (found by :meth:`_state_candidates`)
+        self.differentiated: set[str] = set()
 
     # -- declarations ---------------------------------------------------------
 
@@ -397,13 +455,16 @@ class _Flattener:
             self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
         self._hold_discrete_reals()
         self._state_candidates()
+        tunable = self._tunable_starts()
+        _check_start_names(self._model_name(), self.variables, tunable, self.start_overrides, self.parameters)
         model = self.model
         return FlatModel(
             name=type(model).__name__,
             modelica_class=getattr(model, "modelica_class", None),
             experiment=getattr(model, "experiment", Experiment()),
             parameters=tuple(FlatParameter(n, values[n], self.parameters[n][1],
-                                           self.parameters[n][2].path, self._description(n))
+                                           self.parameters[n][2].path, self._description(n),
+                                           self._description(n, "display_unit"))
                              for n in self.parameters if n not in self.unknown_parameters),
             structural_parameters=dict(self.structural),
             variables=tuple(self.variables.values()),
@@ -412,13 +473,34 @@ class _Flattener:
             initial_equations=tuple(self.initial_equations),
             hints={c.path: h for c in self.components if (h := component_hints(type(c)))},
             hybrid=HybridPart(tuple(self.reinits), tuple(self.asserts), tuple(self.terminations)),
+            tunable_starts=tunable,
         )
 
-    def _description(self, parameter: str) -> str:
-        """The declared description of ``parameter`` (a dotted name of this model)."""
+    def _model_name(self) -> str:
+        return type(self.model).__name__
+
+    def _tunable_starts(self) -> tuple[str, ...]:
+        """The variables whose start value initialization reads: those with ``fixed=True``
+        and the state candidates (differentiated in some equation), continuous or discrete
+        Reals, in declaration order.
+
+        Their start values become inputs of the generated initialization code
+        (parameters ``<name>.start``).  Others stay numbers of the flat model:
+        a Boolean's or an Integer's start selects the first discrete state,
+        and an algebraic variable's start is at most a first guess of a
+        Newton iteration, printed into the code.  Hidden variables (``$...``)
+        take the starts flattening gives them.
+        """
+        return tuple(name for name, v in self.variables.items()
+                     if v.kind in ("continuous", "discrete") and "$" not in name
+                     and (v.fixed or name in self.differentiated))
+
+    def _description(self, parameter: str, attribute: str = "description") -> str:
+        """The declared description (or another text ``attribute``, ``display_unit``) of
+        ``parameter`` (a dotted name of this model)."""
         component = self.parameters[parameter][2]
         key = parameter[len(component.path) + 1:] if component.path else parameter
-        return getattr(self._declarations(component).get(key), "description", "") or ""
+        return getattr(self._declarations(component).get(key), attribute, "") or ""
 
     def _declarations(self, component: Component) -> dict:
         """``component.declarations()``, computed once per class (it walks the class hierarchy)."""
@@ -444,7 +526,12 @@ class _Flattener:
                     self.unknown_parameters.append(path)
 
     def _apply_overrides(self) -> None:
-        """Put the values of ``parameters=`` in place of the bindings they replace."""
+        """Put the values of ``parameters=`` in place of the bindings they replace.
+
+        A name ``<variable>.start`` is a start value: it is set when the
+        variable is declared (:meth:`_add_variable`) and checked once the
+        model's equations tell which start values are tunable.
+        """
         for name, value in self.overrides.items():
             if name in self.structural:
                 raise ParameterError(
@@ -452,14 +539,39 @@ class _Flattener:
                     hint="set it where the component is created (e.g. Component(name=value)); "
                          "only numeric parameters can change between runs")
             if name not in self.parameters:
+                if name.endswith(START):
+                    self.start_overrides[name[:-len(START)]] = value
+                    continue
                 import difflib
 
+                if self._declares_variable(name):
+                    owner, _, member = name.rpartition(".")
+                    raise ParameterError(
+                        f"{self._model_name()} has no numeric parameter {name!r}: {name} is a variable",
+                        hint=f"a variable's start value is given at run time with start={{{name!r}: value}} "
+                             f"(--start {name}=VALUE on the command line, or the parameter "
+                             f"'{start_parameter(name)}'), or where its component is created, "
+                             f"e.g. {member}=dict(start=value)",
+                        components=(owner,))
                 close = difflib.get_close_matches(name, sorted(self.parameters), n=3)
-                raise ParameterError(f"{type(self.model).__name__} has no numeric parameter {name!r}",
+                raise ParameterError(f"{self._model_name()} has no numeric parameter {name!r}",
                                      hint=f"did you mean {', '.join(close)}?" if close else
                                      "parameters are named by their dotted path, e.g. component.parameter")
             _binding, unit, component = self.parameters[name]
             self.parameters[name] = (value, unit, component)
+
+    def _declares_variable(self, name: str) -> bool:
+        """Whether ``name`` is a variable some component declares (a connector's included),
+        known before the variables are made."""
+        by_path = {c.path: c for c in self.components}
+        owner, _, member = name.rpartition(".")
+        component = by_path.get(owner)
+        if component is not None and isinstance(self._declarations(component).get(member), Variable):
+            return True
+        holder, _, connector = owner.rpartition(".")
+        component = by_path.get(holder)
+        declaration = self._declarations(component).get(connector) if component is not None else None
+        return isinstance(declaration, Connector) and member in type(declaration).variables()
 
     def _resolve_parameters(self) -> dict[str, float]:
         """Evaluate every parameter binding to a number, following references."""
@@ -584,6 +696,8 @@ class _Flattener:
             binding, unit, owner = self.parameters[name]
             if owner is component:
                 guess = 0.0 if binding is None or isinstance(binding, sp.Basic) else float(binding)
+                if name in self.start_overrides:
+                    guess = _start_value(name, self.start_overrides[name])
                 self.variables[name] = FlatVariable(
                     name=name, kind="continuous", start=guess, fixed=False, nominal=1.0,
                     state_select=StateSelect.default, unit=unit, component=component.path)
@@ -607,7 +721,9 @@ class _Flattener:
             else "discrete" if getattr(decl, "discrete", False) else "continuous"
         nominal = attr("nominal")
         start = given_start = attr("start")
-        if kind in ("continuous", "discrete"):
+        if kind in ("continuous", "discrete") and path in self.start_overrides:
+            start = given_start = _start_value(path, self.start_overrides[path])
+        elif kind in ("continuous", "discrete"):
             start = self._number(start, f"{path}.start")
         _check_finite_attribute(path, "start", start, given_start, component, key)
         if kind in ("boolean", "integer"):
@@ -622,7 +738,7 @@ class _Flattener:
             unit=decl.unit, component=component.path, causality=decl.causality,
             role=getattr(decl, "connector_role", ""),
             labels=value_names(type(component), attr("min"), attr("max")) if kind == "integer" else (),
-            description=decl.description)
+            description=decl.description, display_unit=attr("display_unit") or "")
         self.variables[path] = variable
         if decl.causality:
             self.signal_declarations[path] = (decl, component)
@@ -1109,10 +1225,12 @@ class _Flattener:
         state selection weighs it with the others."""
         differentiated = {parse(s.name).base for eq in self.equations for s in eq.residual.free_symbols
                           if parse(s.name).kind == "derivative"}
+        self.differentiated = differentiated
         for name, variable in list(self.variables.items()):
             if (variable.kind != "continuous" or name in differentiated
                     or variable.state_select < StateSelect.prefer):
                 continue
+            differentiated.add(name)
             hidden = self._hidden_variable("der", "continuous", variable.component)
             self.variables[hidden.name] = dataclasses.replace(self.variables[hidden.name],
                                                               state_select=StateSelect.never)
@@ -1152,14 +1270,14 @@ class _Flattener:
                 if id(end.owner) not in in_model:
                     root = _root(end.owner)
                     name = type(root).__name__
-                    raise ConnectionError_(
+                    raise ConnectorError(
                         f"{statement}: that {name} is not part of the model (created, but never "
                         f"stored as an attribute)",
                         hint=f"store the {name} as an attribute and connect that: "
                              f"self.{name[:1].lower()}{name[1:]} = {name}(...)",
                         components=(owner.path,))
                 if not end.enabled:
-                    raise ConnectionError_(
+                    raise ConnectorError(
                         f"{statement}: connector {end.path} is disabled",
                         hint=f"enable it ({_condition(end)}) or remove the connection")
                 outside = end.owner is owner
@@ -1167,9 +1285,9 @@ class _Flattener:
             if isinstance(end, sp.Symbol) and end.name in self.signal_declarations:
                 return ("signal", end.name, False), end
             if isinstance(end, sp.Symbol) and end.name in self.variables:
-                raise ConnectionError_(f"{statement}: {end.name} is a variable, not a connector",
+                raise ConnectorError(f"{statement}: {end.name} is a variable, not a connector",
                                        hint="connect() joins connectors or signal inputs and outputs")
-            raise ConnectionError_(f"{statement}: {end!r} is not a connector of this model",
+            raise ConnectorError(f"{statement}: {end!r} is not a connector of this model",
                                    hint="connect connectors of components stored as attributes "
                                         "(self.name = ...); a disabled conditional connector cannot "
                                         "be connected")
@@ -1194,18 +1312,18 @@ class _Flattener:
                 ea, ba = element_of(a, component, statement)
                 eb, bb = element_of(b, component, statement)
                 if ea == eb:
-                    raise ConnectionError_(f"{statement}: connects {ea[1]} to itself",
+                    raise ConnectorError(f"{statement}: connects {ea[1]} to itself",
                                            hint="a connection joins two different connectors; "
                                                 "remove it or change one end",
                                            components=(component.path,))
                 if ea[0] != eb[0]:
-                    raise ConnectionError_(f"{statement}: cannot connect a signal to a physical connector")
+                    raise ConnectorError(f"{statement}: cannot connect a signal to a physical connector")
                 if ea[0] == "signal":
                     signal_edges.append((ea[1], eb[1], component, statement))
                     continue
                 fa, fb = type(ba.declaration).family, type(bb.declaration).family
                 if fa != fb:
-                    raise ConnectionError_(
+                    raise ConnectorError(
                         f"{statement}: {ba.path} is a {type(ba.declaration).__name__} ({fa}) but "
                         f"{bb.path} is a {type(bb.declaration).__name__} ({fb})",
                         hint="only connectors of the same kind can be connected")
@@ -1266,7 +1384,7 @@ class _Flattener:
                 # an input driven from inside its own component (hierarchical) is fine
                 if self._assigned_inside(name):
                     continue
-                raise ConnectionError_(f"input {name} of {type(component).__name__} is not connected",
+                raise ConnectorError(f"input {name} of {type(component).__name__} is not connected",
                                        hint=f"connect a signal source to {name}")
 
     def _formed(self, kind: tuple, symbols: list, build) -> sp.Basic:
@@ -1338,7 +1456,7 @@ class _Flattener:
             parent[find(a)] = find(b)
             va, vb = self.variables[a], self.variables[b]
             if (va.is_discrete or vb.is_discrete) and va.kind != vb.kind:
-                raise ConnectionError_(f"{statement}: a {va.kind} signal cannot be connected to a "
+                raise ConnectorError(f"{statement}: a {va.kind} signal cannot be connected to a "
                                        f"{vb.kind} one", hint="convert it with a block (e.g. "
                                                               "BooleanToReal) first")
         sets: dict[str, list[str]] = {}
@@ -1347,7 +1465,7 @@ class _Flattener:
         for members in sets.values():
             drivers = [m for m in members if m not in sink]
             if len(drivers) > 1:
-                raise ConnectionError_(f"{statements[drivers[1]]}: {' and '.join(drivers[:2])} both drive "
+                raise ConnectorError(f"{statements[drivers[1]]}: {' and '.join(drivers[:2])} both drive "
                                        f"one connection set (two outputs cannot be connected)",
                                        hint="connect an output to one or more inputs")
             if not drivers:
@@ -1451,6 +1569,127 @@ def _check_finite_attribute(path: str, attribute: str, value: Any, given: Any,
     raise ParameterError(f"{attribute} value of {path} is {value}{as_given}, not a finite number",
                          hint=f"give it a finite {attribute}: {example}",
                          components=(component.path,))
+
+
+def _start_value(variable: str, value: Any) -> float:
+    """A start value given at run time as a float: ParameterError for anything but a finite number."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(f"the start value of {variable} must be a number, not {value!r}",
+                             hint=f"e.g. start={{{variable!r}: 1.5}}", components=(variable.rpartition(".")[0],))
+    if not math.isfinite(value):
+        raise ParameterError(f"the start value of {variable} is {float(value)}, not a finite number",
+                             hint="start values must be finite numbers", components=(variable.rpartition(".")[0],))
+    return float(value)
+
+
+def check_start_values(flat: FlatModel, starts: Mapping[str, Any]) -> dict[str, float]:
+    """``starts`` (variable name -> value) checked against ``flat``'s tunable start values.
+
+    Returns
+    -------
+    dict
+        The values as floats.
+
+    Raises
+    ------
+    ParameterError
+        For a name that is not a variable of ``flat`` (with the names it may
+        mean), a variable whose start is not tunable
+        (:attr:`FlatModel.tunable_starts`: neither a state candidate nor
+        fixed, or a Boolean or Integer), and a value that is not a finite number.
+    """
+    _check_start_names(flat.name, flat.variable_map, flat.tunable_starts, starts,
+                       {p.name for p in flat.parameters})
+    return {name: _start_value(name, value) for name, value in starts.items()}
+
+
+def tunable_starts_of(flat: FlatModel, variables: Sequence[FlatVariable],
+                      overrides: Mapping[str, Any] = ()) -> tuple[tuple[float, ...], bool]:
+    """The tunable start values of another flattening of ``flat``'s model, without its equations.
+
+    Parameters
+    ----------
+    flat : FlatModel
+        The model as translated.
+    variables : sequence of FlatVariable
+        The declared variables of the model flattened for other values
+        (parameter values and start values, ``overrides``), e.g. by a sweep
+        that does not flatten every run's equations (hidden variables, which
+        only the equations make, are missing).
+    overrides : mapping
+        The values given for that flattening: their names ``<variable>.start``
+        are checked (:func:`check_start_values`).
+
+    Returns
+    -------
+    starts : tuple of float
+        The start values of ``flat.tunable_starts``, in that order.
+    other : bool
+        Whether ``variables`` differ from ``flat``'s in anything but those
+        start values (then the model has other attributes, and needs a
+        translation of its own).
+    """
+    check_start_values(flat, {name[:-len(START)]: value for name, value in dict(overrides).items()
+                              if name.endswith(START) and name not in flat.parameter_values})
+    known = flat.variable_map
+    tunable = set(flat.tunable_starts)
+    found: dict[str, float] = {}
+    other = False
+    for variable in variables:
+        mine = known.get(variable.name)
+        if variable == mine:
+            continue
+        if mine is None:
+            other = True
+        elif variable.name in tunable and dataclasses.replace(variable, start=mine.start) == mine:
+            found[variable.name] = variable.start
+        else:
+            other = True
+    return tuple(found.get(n, known[n].start) for n in flat.tunable_starts), other
+
+
+def _check_start_names(model: str, variables: Mapping[str, FlatVariable], tunable: Sequence[str],
+                       names, parameters) -> None:
+    """ParameterError for the first of ``names`` (variables) whose start value is not tunable."""
+    if not names:
+        return
+    tunable_set = set(tunable)
+    for name in names:
+        if name in tunable_set:
+            continue
+        owner = name.rpartition(".")[0]
+        variable = variables.get(name)
+        if variable is None or "$" in name:
+            import difflib
+
+            if name in parameters:
+                raise ParameterError(f"{name} is a parameter of {model}, not a variable: it has no start value",
+                                     hint=f"set its value with parameters={{{name!r}: value}} "
+                                          f"(--param {name}=VALUE)", components=(owner,))
+            close = difflib.get_close_matches(name, sorted(tunable_set), n=3) or \
+                difflib.get_close_matches(name, sorted(n for n in variables if "$" not in n), n=3)
+            raise ParameterError(f"{model} has no variable {name!r} whose start value could be set",
+                                 hint=f"did you mean {', '.join(close)}?" if close else
+                                 "start values are named by the variable's dotted path, e.g. component.variable",
+                                 components=(owner,))
+        member = name.rpartition(".")[2]
+        if variable.is_discrete:
+            why = (f"{name} is {'a Boolean' if variable.kind == 'boolean' else 'an Integer'}: its start "
+                   f"value decides the first discrete state")
+        else:
+            why = (f"{name} is neither fixed nor a state (no equation differentiates it): its start is at "
+                   f"most the first guess of an iteration, part of the translated model")
+        # the component's own tunable starts first, then the names closest to the one given
+        import difflib
+
+        nearby = [n for n in tunable if n.rpartition(".")[0] == owner]
+        nearby += [n for n in difflib.get_close_matches(name, sorted(tunable_set), n=4) if n not in nearby]
+        examples = ", ".join(nearby[:4] or sorted(tunable_set)[:4]) or "none"
+        raise ParameterError(f"the start value of {name} cannot be set at run time: {why}",
+                             hint=f"give it where the component is created, e.g. {member}=dict(start=value) "
+                                  f"(a new translation); the start values {model} takes at run time are "
+                                  f"those of its states and fixed variables, e.g. {examples}",
+                             components=(owner,))
 
 
 #: Folders whose frames are not the user's: the standard library, installed packages, the engine.

@@ -34,7 +34,7 @@ from .flatten import FlatEquation, FlatVariable
 from .partition import PartitionedModel
 from .structure import StructuralResult, _incidence, analyse, check_balance
 
-__all__ = ["ModeSystem", "PassLog", "compile_mode", "describe_key"]
+__all__ = ["ModeSystem", "PassLog", "RelaxedConstraints", "compile_mode", "describe_key"]
 
 
 def describe_key(selectors, key, relation_texts=None) -> str:
@@ -67,6 +67,48 @@ class PassLog:
         t0 = _time.perf_counter()
         yield
         self.entries.append((name, _time.perf_counter() - t0))
+
+
+@dataclass(frozen=True)
+class RelaxedConstraints:
+    """What was left out of a discrete state that constrains one motion twice.
+
+    Kept on its :class:`ModeSystem` (and in the persistent cache with it), so
+    that every run that integrates in that state says so, whether the system
+    was compiled in this process or loaded (see :meth:`message`).
+
+    Attributes
+    ----------
+    components : tuple of str
+        The components concerned: those whose equation was left out or
+        whose share was set to zero.
+    left_out : tuple of str
+        The equations left out, each as ``component (declaring class eq. k)``.
+    zeroed : tuple of str
+        The flow variables set to zero in their place.
+    """
+
+    components: tuple[str, ...]
+    left_out: tuple[str, ...]
+    zeroed: tuple[str, ...]
+
+    def message(self, model: str, state: str) -> str:
+        """The warning and note: components first, one fact per line."""
+        return "\n".join((
+            f"{', '.join(self.components)}: two equations constrain the same unknowns in a discrete "
+            f"state of {model}",
+            f"  left out: {'; '.join(self.left_out)}",
+            f"  set to 0: {', '.join(self.zeroed)} (the share the equations leave undetermined)",
+            f"  discrete state: {state}",
+            "  hint: translate(..., redundant_constraints='error') refuses such a state instead"))
+
+    def payload(self) -> list:
+        """As plain data, for the persistent cache."""
+        return [list(self.components), list(self.left_out), list(self.zeroed)]
+
+    @classmethod
+    def from_payload(cls, payload) -> "RelaxedConstraints | None":
+        return None if payload is None else cls(*(tuple(map(str, part)) for part in payload))
 
 
 #: ``(name, coefficient, source)``: ``name = coefficient * source``, or
@@ -109,6 +151,9 @@ class ModeSystem:
         Such a system has its code and functions only: ``equations`` is
         empty and the stages' outputs (``aliases`` ... ``algebraic``) are
         None; what needs them compiles the state anew.
+    relaxed : RelaxedConstraints or None
+        For a state that constrains one motion twice: what was left out to
+        make it solvable (None: nothing).
     """
 
     key: tuple
@@ -128,6 +173,7 @@ class ModeSystem:
     alias_plan: AliasPlan = field(default=(), repr=False)
     shares: tuple | None = None
     loaded_derivatives: tuple[str, ...] | None = None
+    relaxed: RelaxedConstraints | None = None
 
     @property
     def timings(self) -> dict[str, float]:

@@ -9,7 +9,10 @@ visited, its initialization problem by
 the :class:`Translation`, with the work they share in its
 :class:`~acausal.compiler.cache.ModelCache`.  Translations of models seen
 before in this process are reused when their flat models are the same
-(:func:`flat_signature`).
+(:func:`flat_signature`).  The generated code reads the numeric parameters
+and the tunable start values (``J1.w.start``: of the states and the fixed
+variables) from its parameter vector, so that a model that differs only in
+those values reuses the compiled systems (:meth:`Translation.rebound`).
 """
 
 from __future__ import annotations
@@ -23,7 +26,6 @@ import json
 import pickle
 import re
 import time as _time
-import warnings
 from collections import OrderedDict
 from types import SimpleNamespace
 from typing import Any, Iterable, Mapping
@@ -31,23 +33,25 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 import sympy as sp
 
-from ..errors import (InitializationError, ModelDefinitionError, RedundantConstraintWarning, SettingError, StructuralError,
+from ..errors import (InitializationError, ModelDefinitionError, SettingError, StructuralError,
                       StructurallySingularError)
 from ..language import Component, real_symbol, structural_names, with_structural
 from ..names import is_derivative, parse
 from ..tables import TableFunction, _table_class
+from .algebraic import NewtonSolve
 from .cache import ModelCache
 from .codegen import GeneratedCode, load_make
 from .diskcache import DiskCache, MemoryCache, cache_folder, disk_cache_enabled, model_key
 from .clusters import Cluster, Clustering, ComposedInitialSystem, ComposedSystem, compose, compose_initial, find_clusters
-from .flatten import FlatEquation, FlatModel, Origin, flatten
-from .initial import InitialSystem, check_fixed_constants, compile_initial_system
-from .modes import ModeSystem, PassLog, alias_plan, compile_mode, describe_key
+from .flatten import FlatEquation, FlatModel, FlatVariable, Origin, flatten, start_parameter
+from .initial import (InitialSystem, StartDependence, StartValues, bind_start_values, check_fixed_constants,
+                      compile_initial_system, newton_guesses)
+from .modes import ModeSystem, PassLog, RelaxedConstraints, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
 from .structure import _incidence, relax_redundant
 
 __all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "TranslationBundle", "translate",
-           "flat_signature", "describe_key"]
+           "flat_signature", "describe_key", "with_start_values"]
 
 #: A call of a table function in generated code (see ``codegen._Printer``).
 _CALLED_TABLE = re.compile(r"\b(_f_\w+)\(")
@@ -102,7 +106,8 @@ class Translation:
         self.redundant_constraints = redundant_constraints
         self.demand = demand
         self.partitioned = partitioned
-        self.cache = ModelCache.of(flat)
+        # the tunable start values are parameters of the generated code, after the model's own
+        self.cache = ModelCache.of(_with_start_parameters(flat))
         self.continuous = {n: v for n, v in flat.variable_map.items() if not v.is_discrete}
         self.systems: dict[tuple, ModeSystem] = {}
         self.initial_systems: dict[tuple, InitialSystem] = {}
@@ -110,6 +115,10 @@ class Translation:
         self.extras: dict = {}
         #: the translation this one reuses compiled systems from (other parameter values)
         self.rebound_from: Translation | None = None
+        #: what a run should know of how this translation was made (a system compiled anew
+        #: for start values given at run time); :func:`~acausal.runtime.simulate.simulate`
+        #: adds them to the result's notes
+        self.notes: list[str] = []
         self._by_equations: dict[tuple, ModeSystem] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
         if clustering is None and clusters and USE_CLUSTERS and partitioned.selectors:
@@ -148,6 +157,8 @@ class Translation:
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
+        """The names of the generated code's parameter vector: the model's numeric parameters,
+        then the tunable start values (``J1.w.start``)."""
         return self.cache.parameters.names
 
     @property
@@ -244,7 +255,7 @@ class Translation:
             # loaded from disk: rebinding needs its stages (compiled once, then every value rebinds)
             source = base._build_whole(key)
             base._store(base.systems, key, source)
-        if not self._guards_hold(source.algebraic):
+        if not self._guards_hold(source.algebraic) or not self._guesses_hold(source):
             return None
         return _bind_mode(source, self.cache.parameters)
 
@@ -253,6 +264,39 @@ class Translation:
             return False
         symbols = self.cache.parameters.symbols
         return all(not sp.sympify(g).xreplace(symbols).is_zero for g in algebraic.nonzero)
+
+    def _guesses_hold(self, source: ModeSystem) -> bool:
+        """Whether the first guesses of ``source``'s Newton iterations, start values its code
+        holds as numbers, are this translation's (else it is compiled anew, with a note)."""
+        if not self._other_starts() or not any(isinstance(step, NewtonSolve) for step in source.algebraic.steps):
+            return True
+        starts = StartValues(source.aliases.aliases, source.aliases.variables, self.continuous,
+                             self.cache.parameters.symbols)
+        for name, expression, value in newton_guesses(source.algebraic, starts):
+            if value != source.aliases.variables[name].start:
+                self._note_guess(name, expression, self._where("the system", source.description))
+                return False
+        return True
+
+    def _other_starts(self) -> bool:
+        """Whether this translation's tunable start values differ from :attr:`rebound_from`'s
+        (computed once: a sweep over parameters alone never looks at Newton guesses)."""
+        found = self.extras.get("other starts")
+        if found is None:
+            base = self.rebound_from.flat.variable_map
+            found = self.extras["other starts"] = any(
+                base[n].start != self.continuous[n].start for n in self.flat.tunable_starts)
+        return found
+
+    def _where(self, what: str, description: str) -> str:
+        """``what`` ('the system', ...) of the discrete state ``description``, in words."""
+        return f"{what} of discrete state {description}" if self.partitioned.is_hybrid else what
+
+    def _note_guess(self, name: str, expression: sp.Expr, where: str) -> None:
+        """Note that a start value given at run time made a system be compiled anew."""
+        given = ", ".join(sorted(s.name for s in expression.free_symbols))
+        self.notes.append(f"{given} is the first guess of a Newton iteration for {name} in {where}, which "
+                          f"its code holds as a number: that system was compiled anew for this start value")
 
     # -- building systems -----------------------------------------------------
 
@@ -338,10 +382,9 @@ class Translation:
                                   self.continuous, self.cache, self.demand)
         except StructuralError:
             return None
-        warnings.warn(f"{context}: two equations constrain the same unknowns; {relaxation}; the model "
-                      f"leaves that share undetermined (translate(..., redundant_constraints='error') "
-                      f"refuses such a state instead)", RedundantConstraintWarning, stacklevel=2)
-        return system
+        # not warned here: every run that integrates in this state says so (the
+        # runtime reads ``relaxed``), also when the system comes from the disk cache
+        return dataclasses.replace(system, relaxed=_relaxed_constraints(relaxation, self.continuous))
 
     # -- clusters ---------------------------------------------------------------
 
@@ -365,7 +408,10 @@ class Translation:
     def _cluster_cache(self, cluster: Cluster) -> ModelCache:
         found = self._cluster_caches.get(cluster.index)
         if found is None:
-            found = self._cluster_caches[cluster.index] = self.cache.for_cluster(cluster.parameters)
+            # the cluster's parameters and the tunable start values of its variables
+            starts = [start_parameter(n) for n in cluster.variables]
+            found = self._cluster_caches[cluster.index] = self.cache.for_cluster(
+                (*cluster.parameters, *(n for n in starts if n in self.cache.parameters.values)))
         return found
 
     def _cluster_demand(self, cluster: Cluster) -> frozenset[str] | None:
@@ -424,7 +470,7 @@ class Translation:
         if source.structure is None:  # loaded from disk: compiled once, then every value rebinds
             source = source_translation._build_part(cluster, key, source_translation._cluster_cache(cluster))
             source_translation._store(source_translation.parts, (cluster.index, cluster.project(key)), source)
-        if not self._guards_hold(source.algebraic):
+        if not self._guards_hold(source.algebraic) or not self._guesses_hold(source):
             return None
         return _bind_mode(source, cache.parameters)
 
@@ -446,11 +492,16 @@ class Translation:
         source = (source_translation._initial_part(cluster, key)
                   if source_translation is not None and source_translation.clustering is self.clustering
                   and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
+        if source is not None and source.algebraic is None:  # loaded from disk: compiled once (as modes)
+            source = source_translation._build_initial_part(cluster, key, source_translation._cluster_cache(cluster))
+            source_translation._store(source_translation.initial_parts, (cluster.index, subkey), source)
         if source is not None and self._guards_hold(source.algebraic):
-            return _bind_initial(source, mode, cache.parameters)
+            bound = self._bound_initial(source, mode, cache.parameters)
+            if bound is not None:
+                return bound
         context = f"initialization of {self.flat.name} [cluster {cluster.index + 1}: {mode.description}]"
         initial = [self.partitioned.initial_equations[i] for i in cluster.initial_equations]
-        return compile_initial_system(mode, self.specialise(key, initial), context, cache)
+        return compile_initial_system(mode, self.specialise(key, initial), context, cache, self.continuous)
 
     def _zero_suspects(self, exc: StructuralError) -> str:
         """Parameters that are zero and multiply an undetermined variable, in words ('' if none).
@@ -494,15 +545,31 @@ class Translation:
         if mode.structure is None:  # loaded from disk: its stages are needed here
             mode = self._build_whole(key)
             self._store(self.systems, key, mode)
-        source = (self.rebound_from.initial_system(key) if self.rebound_from is not None
+        base = self.rebound_from
+        source = (base.initial_system(key) if base is not None
                   and mode.passes[:1] and mode.passes[0][0] == "rebind" else None)
+        if source is not None and source.algebraic is None:
+            # loaded from disk: compiled once with its stages, then every value rebinds (as _rebind)
+            source = base._build_initial(key, base.system(key))
+            base._store(base.initial_systems, key, source)
         if source is not None and self._guards_hold(source.algebraic):
-            return _bind_initial(source, mode, self.cache.parameters)
+            bound = self._bound_initial(source, mode, self.cache.parameters)
+            if bound is not None:
+                return bound
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
         return compile_initial_system(mode, self.specialise(key, self.partitioned.initial_equations),
-                                      context, self.cache)
+                                      context, self.cache, self.continuous)
+
+    def _bound_initial(self, source: InitialSystem, mode: ModeSystem, parameters) -> InitialSystem | None:
+        """``source`` bound to ``parameters`` (None: its Newton guesses are other start values, noted)."""
+        bound = _bind_initial(source, mode, parameters)
+        if bound is None:
+            name, expression, _ = next(g for g in source.starts.guesses
+                                       if float(g[1].xreplace(parameters.symbols)) != g[2])
+            self._note_guess(name, expression, self._where("the initialization problem", mode.description))
+        return bound
 
     # -- the persistent cache -----------------------------------------------------
 
@@ -514,7 +581,10 @@ class Translation:
             self._disk = False
             if disk_cache_enabled():
                 tables = self._table_functions()
-                key = model_key(self.flat, self.demand, self.clustering is not None,
+                # the entries serve every tunable start value (their code reads them from the
+                # parameter vector; what it holds as numbers is checked on load: _fits,
+                # bind_start_values), so the key leaves them out
+                key = model_key(_without_tunable_starts(self.flat), self.demand, self.clustering is not None,
                                 self.redundant_constraints) if tables is not None else None
                 if key is not None:
                     self._disk = DiskCache(cache_folder(), key)
@@ -609,10 +679,22 @@ class Translation:
             return None
 
     def _save_mode(self, entry: str, system: ModeSystem, cache: ModelCache) -> None:
-        fields = _mode_fields(system)
+        # what other start values are checked against (the key leaves them out, see _disk_cache)
+        fields = {**_mode_fields(system), **self._guess_fields(system, cache),
+                  "fixed_constants": _fixed_constants_field(system.aliases)}
         if isinstance(self._disk, MemoryCache):  # kept for other parameter values (from_bundle)
             fields.update(_bound_fields(system.aliases, system.algebraic))
         self._save(entry, system, cache, fields)
+
+    def _guess_fields(self, system: ModeSystem, cache: ModelCache) -> dict:
+        """The start values ``system``'s code holds as Newton guesses, as text (checked by
+        :func:`_fits` for other start values)."""
+        if system.aliases is None or not any(isinstance(s, NewtonSolve) for s in system.algebraic.steps):
+            return {}
+        starts = StartValues(system.aliases.aliases, system.aliases.variables, self.continuous,
+                             cache.parameters.symbols)
+        guesses = newton_guesses(system.algebraic, starts)
+        return {"guesses": [[n, sp.srepr(e), system.aliases.variables[n].start] for n, e, _ in guesses]}
 
     def _load_mode(self, entry: str, cache: ModelCache) -> ModeSystem | None:
         def build(payload, code, functions, passes):
@@ -624,7 +706,8 @@ class Translation:
                 tuple(payload["key"]), payload["description"], (), None, None, None, None, code, passes,
                 *functions, tuple(payload["states"]), tuple(payload["unknowns"]), plan,
                 None if payload["shares"] is None else tuple(payload["shares"]),
-                loaded_derivatives=tuple(payload["derivatives"]))
+                loaded_derivatives=tuple(payload["derivatives"]),
+                relaxed=RelaxedConstraints.from_payload(payload.get("relaxed")))
         return self._load(entry, cache, build)
 
     def _save_initial(self, entry: str, system: InitialSystem, cache: ModelCache) -> None:
@@ -639,10 +722,13 @@ class Translation:
 
     def _load_initial(self, entry: str, cache: ModelCache) -> InitialSystem | None:
         def build(payload, code, functions, passes):
-            return InitialSystem(tuple(payload["key"]), (), tuple(payload["unknowns"]),
-                                 tuple((n, v) for n, v in payload["relaxed"]), None, None, code,
-                                 passes, functions[2],
-                                 tuple((n, v) for n, v in payload.get("from_start", ())))
+            system = InitialSystem(tuple(payload["key"]), (), tuple(payload["unknowns"]),
+                                   tuple((n, v) for n, v in payload["relaxed"]), None, None, code,
+                                   passes, functions[2],
+                                   tuple((n, v) for n, v in payload.get("from_start", ())),
+                                   StartDependence.from_payload(payload.get("starts"), _expression))
+            # a bundle's entry serves other start values too (None: a Newton guess differs)
+            return bind_start_values(system, cache.parameters.symbols)
         return self._load(entry, cache, build)
 
     # -- to other processes -------------------------------------------------------
@@ -672,7 +758,10 @@ class Translation:
         modes += [(f"part {i} {k!r}", s) for (i, k), s in self.parts.items()]
         for entry, system in modes:
             if isinstance(system, ModeSystem) and system.aliases is not None:
-                add(entry, system, {**_mode_fields(system), **_bound_fields(system.aliases, system.algebraic)})
+                cache = self._cluster_cache(self.clustering.clusters[int(entry.split()[1])]) \
+                    if entry.startswith("part ") else self.cache
+                add(entry, system, {**_mode_fields(system), **_bound_fields(system.aliases, system.algebraic),
+                                    **self._guess_fields(system, cache)})
         initials = [(f"initial {k!r}", s, self.systems.get(k)) for k, s in self.initial_systems.items()]
         initials += [(f"initial-part {i} {k!r}", s, self.parts.get((i, k)))
                      for (i, k), s in self.initial_parts.items()]
@@ -747,18 +836,32 @@ class Translation:
                 + sum(s.seconds for s in self.initial_parts.values()))
 
 
+def _relaxed_constraints(relaxation, variables: Mapping[str, FlatVariable]) -> RelaxedConstraints:
+    """A :class:`~acausal.compiler.structure.Relaxation` as the mode system keeps it."""
+    left_out = tuple(f"{e.origin.component or '(model)'} ({e.origin.declared_in} eq. {e.origin.index + 1})"
+                     for e in relaxation.dropped)
+    components = [e.origin.component or "(model)" for e in relaxation.dropped]
+    components += [(variables[name].component if name in variables else "") or "(model)"
+                   for name in relaxation.zeroed]
+    return RelaxedConstraints(tuple(dict.fromkeys(components)), left_out, tuple(relaxation.zeroed))
+
+
 def _mode_fields(system: ModeSystem) -> dict:
     """A mode system's metadata as the persistent cache stores it."""
     return {"description": system.description, "states": list(system.states),
             "unknowns": list(system.unknowns), "derivatives": list(system.derivative_names),
             "alias_plan": [list(a) for a in system.alias_plan],
-            "shares": None if system.shares is None else list(system.shares)}
+            "shares": None if system.shares is None else list(system.shares),
+            "relaxed": None if system.relaxed is None else system.relaxed.payload()}
 
 
 def _initial_fields(system: InitialSystem) -> dict:
     """An initialization system's metadata as the persistent cache stores it."""
-    return {"unknowns": list(system.unknowns), "relaxed": [list(r) for r in system.relaxed],
-            "from_start": [list(r) for r in system.from_start]}
+    fields = {"unknowns": list(system.unknowns), "relaxed": [list(r) for r in system.relaxed],
+              "from_start": [list(r) for r in system.from_start]}
+    if system.starts:
+        fields["starts"] = system.starts.payload()
+    return fields
 
 
 def _bound_fields(aliases, algebraic) -> dict:
@@ -767,8 +870,21 @@ def _bound_fields(aliases, algebraic) -> dict:
     solution divides by, and the fixed start values its mode makes constants."""
     return {"aliases": {n: sp.srepr(sp.sympify(e)) for n, e in aliases.aliases.items()},
             "nonzero": [sp.srepr(sp.sympify(g)) for g in algebraic.nonzero],
-            "fixed_constants": [[n, sp.srepr(sp.sympify(e)), float(start)]
-                                for n, e, start in aliases.fixed_constants]}
+            "fixed_constants": _fixed_constants_field(aliases)}
+
+
+def _fixed_constants_field(aliases) -> list:
+    """The fixed start values a mode makes constants, as text (checked by :func:`_fits`)."""
+    return [[n, sp.srepr(sp.sympify(e)), float(start)] for n, e, start in aliases.fixed_constants]
+
+
+def _without_tunable_starts(flat: FlatModel) -> FlatModel:
+    """``flat`` with its tunable start values set to 0: the same for every start value given."""
+    if not flat.tunable_starts:
+        return flat
+    tunable = set(flat.tunable_starts)
+    return dataclasses.replace(flat, variables=tuple(dataclasses.replace(v, start=0.0) if v.name in tunable
+                                                     else v for v in flat.variables))
 
 
 @functools.lru_cache(maxsize=65536)
@@ -806,6 +922,9 @@ def _fits(payload: dict, parameter_symbols) -> bool:
     """
     if any(_expression(g).xreplace(parameter_symbols).is_zero for g in payload.get("nonzero", ())):
         return False
+    # a Newton iteration's first guess, printed as a number, is a start value given otherwise now
+    if any(float(_expression(e).xreplace(parameter_symbols)) != value for _, e, value in payload.get("guesses", ())):
+        return False
     if payload.get("fixed_constants"):
         check_fixed_constants(SimpleNamespace(fixed_constants=[
             (n, _expression(e), start) for n, e, start in payload["fixed_constants"]]), parameter_symbols)
@@ -814,15 +933,33 @@ def _fits(payload: dict, parameter_symbols) -> bool:
 
 def _same_structure(base: FlatModel, partitioned: PartitionedModel, flat: FlatModel) -> bool:
     """Whether ``flat`` (``base`` with other parameter values) keeps the systems compiled for
-    ``base``: the same variables (start values are compiled into the initialization
-    systems), the same zero parameters (structural zeros) and the same values of the
-    parameters that relations of parameters alone compare."""
+    ``base``: the same variables but for their tunable start values (those that are not
+    are compiled into the code), the same zero parameters (structural zeros) and the same
+    values of the parameters that relations of parameters alone compare."""
     if flat is base:
         return True
     old, new = base.parameter_values, flat.parameter_values
-    return (flat.variables == base.variables and old.keys() == new.keys()
+    return (_same_variables(base, flat) and old.keys() == new.keys()
             and all((old[n] == 0) == (new[n] == 0) for n in old)
             and all(old[n] == new[n] for n in partitioned.evaluated_parameters))
+
+
+def _same_variables(base: FlatModel, flat: FlatModel) -> bool:
+    """Whether ``flat``'s variables are ``base``'s but for their tunable start values."""
+    if flat.variables == base.variables:
+        return True
+    if flat.tunable_starts != base.tunable_starts or len(flat.variables) != len(base.variables):
+        return False
+    tunable = set(base.tunable_starts)
+    return all(a == b or (a.name in tunable and dataclasses.replace(a, start=b.start) == b)
+               for a, b in zip(flat.variables, base.variables))
+
+
+def _with_start_parameters(flat: FlatModel) -> FlatModel:
+    """``flat`` with its tunable start values appended to its parameters: what the
+    translation's parameter table (the generated code's vector) is made of."""
+    starts = flat.start_parameters
+    return dataclasses.replace(flat, parameters=flat.parameters + starts) if starts else flat
 
 
 class _BundlePickler(pickle.Pickler):
@@ -911,12 +1048,16 @@ def _bind_mode(source: ModeSystem, parameters) -> ModeSystem:
                                alias_plan=plan, passes=(("rebind", _time.perf_counter() - t0),))
 
 
-def _bind_initial(source: InitialSystem, mode: ModeSystem, parameters) -> InitialSystem:
-    """``source``'s initialization problem bound to ``parameters``, its fixed constants checked."""
+def _bind_initial(source: InitialSystem, mode: ModeSystem, parameters) -> InitialSystem | None:
+    """``source``'s initialization problem bound to ``parameters`` (start values included), its
+    fixed constants checked; None when its code holds other start values as Newton guesses."""
     t0 = _time.perf_counter()
     check_fixed_constants(mode.aliases, parameters.symbols)
+    bound = bind_start_values(source, parameters.symbols)
+    if bound is None:
+        return None
     _, _, outputs = source.code.make(parameters.vector)
-    return dataclasses.replace(source, outputs=outputs, passes=(("rebind", _time.perf_counter() - t0),))
+    return dataclasses.replace(bound, outputs=outputs, passes=(("rebind", _time.perf_counter() - t0),))
 
 
 def _shared(twin: ModeSystem, key: tuple, description: str, context: str, passes: PassLog) -> ModeSystem:
@@ -950,15 +1091,19 @@ def flat_signature(flat: FlatModel, tunable: bool = False) -> tuple:
     follows from the residual).
 
     With ``tunable``, parameters count only by whether they are zero (a zero
-    is a structural zero): the signature of the *structure*, which the
-    compiled systems of one translation share across parameter values (see
+    is a structural zero) and tunable start values not at all (the code
+    reads them from the parameter vector, and no equation holds them): the
+    signature of the *structure*, which the compiled systems of one
+    translation share across parameter and start values (see
     :meth:`Translation.rebound`).
     """
-    return _parameter_part(flat, tunable) + (_Equations(flat),)
+    equations = _Equations(flat)
+    return _parameter_part(flat, tunable, equations) + (equations,)
 
 
-def _parameter_part(flat: FlatModel, tunable: bool) -> tuple:
-    return (tuple((p.name, p.value == 0 if tunable else p.value) for p in flat.parameters),)
+def _parameter_part(flat: FlatModel, tunable: bool, equations: "_Equations") -> tuple:
+    model = tuple((p.name, p.value == 0 if tunable else p.value) for p in flat.parameters)
+    return (model,) if tunable else (model, equations.starts)
 
 
 class _Equations:
@@ -969,16 +1114,29 @@ class _Equations:
     per dictionary lookup.
     """
 
-    __slots__ = ("parts", "_hash")
+    __slots__ = ("parts", "_hash", "starts")
 
     def __init__(self, flat: FlatModel) -> None:
         def origin(o) -> tuple:
             return (o.component, o.component_class, o.declared_in, o.index)
 
+        # tunable start values are parameters of the code, not part of the structure:
+        # kept apart (the exact signature has them), the variables counted without them
+        tunable = set(flat.tunable_starts)
+        starts = []
+        variables = []
+        for v in flat.variables:
+            if v.name in tunable:
+                starts.append(v.start)
+                variables.append(tuple(None if f.name == "start" else _freeze(getattr(v, f.name))
+                                       for f in dataclasses.fields(v)))
+            else:
+                variables.append(tuple(_freeze(getattr(v, f.name)) for f in dataclasses.fields(v)))
+        self.starts = tuple(starts)
         self.parts = (
             flat.name, flat.modelica_class, flat.experiment,
             _freeze(flat.structural_parameters),
-            tuple(tuple(_freeze(getattr(v, f.name)) for f in dataclasses.fields(v)) for v in flat.variables),
+            tuple(variables), flat.tunable_starts,
             tuple((eq.residual, origin(eq.origin)) for eq in flat.equations),
             tuple((eq.variable, eq.rhs, origin(eq.origin)) for eq in flat.discrete_equations),
             tuple((eq.residual, origin(eq.origin)) for eq in flat.initial_equations),
@@ -1008,9 +1166,39 @@ def _freeze(value):
     return (type(value).__name__, repr(value))
 
 
+def with_start_values(parameters: Mapping[str, float] | None,
+                      start: Mapping[str, float] | None) -> dict[str, float] | None:
+    """``parameters`` with the start values ``start`` (variable -> value) added as the
+    parameters ``<variable>.start``: what :func:`~acausal.compiler.flatten.flatten` takes.
+
+    Raises
+    ------
+    SettingError
+        For a start value given twice with different values (in ``start`` and
+        as a parameter ``<variable>.start``), or a name that is not a string.
+    """
+    if not start:
+        return dict(parameters) if parameters else None
+    if not isinstance(start, Mapping):
+        raise SettingError(f"start= takes a mapping of variable names to values, not {type(start).__name__}",
+                           hint="e.g. start={'component.x': 3.0}")
+    merged = dict(parameters or {})
+    for name, value in start.items():
+        if not isinstance(name, str):
+            raise SettingError(f"start= names variables by their dotted names, not {name!r}",
+                               hint="e.g. start={'component.x': 3.0}")
+        key = start_parameter(name)
+        if key in merged and merged[key] != value:
+            raise SettingError(f"the start value of {name} is given twice: start={{{name!r}: {value!r}}} and "
+                               f"parameters={{{key!r}: {merged[key]!r}}}", hint="give it once")
+        merged[key] = value
+    return merged
+
+
 def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True,
               parameters: Mapping[str, float] | None = None,
-              redundant_constraints: str = "relax", disk_cache: bool = True) -> Translation:
+              redundant_constraints: str = "relax", disk_cache: bool = True,
+              start: Mapping[str, float] | None = None) -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
     Parameters
@@ -1035,25 +1223,36 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         :func:`~acausal.compiler.flatten.flatten`); a structural one (it
         decides which equations or connectors exist) makes a new instance of
         the model's class with that value (:func:`~acausal.language.with_structural`),
-        translated anew.
+        translated anew.  A name ``<variable>.start`` is a start value (as
+        in ``start``).
     redundant_constraints : {'relax', 'error'}
         A discrete state in which two elements constrain the same motion
         (two stuck brakes on one rigid shaft) leaves the split of the holding
         force between them open.  'relax' (the default, what Modelica tools
         do) leaves one constraint out and sets one element's share to zero,
-        with a :class:`~acausal.errors.RedundantConstraintWarning`
-        (:func:`~acausal.compiler.structure.relax_redundant`); 'error' raises
+        (:func:`~acausal.compiler.structure.relax_redundant`; the system's
+        ``relaxed`` says what, and every run that integrates in that state
+        warns with a :class:`~acausal.errors.RedundantConstraintWarning` and
+        a note); 'error' raises
         the :class:`~acausal.errors.StructurallySingularError` instead.
     disk_cache : bool
         False: a translation made by this call neither loads from nor stores
         into the persistent compile cache, so that every system it compiles
         keeps its stages (what :meth:`Translation.export` ships).  Such
         translations are cached in this process apart from the others.
+    start : mapping, optional
+        Start values by variable name, e.g. ``{"J1.w": 3.0}``, in place of
+        those the model declares.  Those initialization reads (of state
+        candidates and fixed variables, :attr:`FlatModel.tunable_starts`)
+        are parameters of the generated code: like numeric parameters, other
+        values reuse the compiled systems.  The parameter ``J1.w.start`` is
+        the same value.
     """
     if redundant_constraints not in ("relax", "error"):
         raise SettingError(f"redundant_constraints must be 'relax' or 'error', not {redundant_constraints!r}",
                            hint="'relax' picks a split of the holding force as Modelica tools do")
     t0 = _time.perf_counter()
+    parameters = with_start_values(parameters, start)
     if parameters:
         # a structural parameter changes the equations: the model is rebuilt with it
         # (a new instance; the one given is not changed) and translated anew
@@ -1068,12 +1267,12 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
                            redundant_constraints=redundant_constraints)
     equations = _Equations(flat)
     # translations without the disk cache are kept apart: theirs keep every stage
-    key = (_parameter_part(flat, False), equations, demand, redundant_constraints, disk_cache)
+    key = (_parameter_part(flat, False, equations), equations, demand, redundant_constraints, disk_cache)
     found = _CACHE.get(key)
     if found is not None:
         _CACHE.move_to_end(key)
         return found
-    structure = (_parameter_part(flat, True), equations, demand, redundant_constraints, disk_cache)
+    structure = (_parameter_part(flat, True, equations), equations, demand, redundant_constraints, disk_cache)
     base = _STRUCTURES.get(structure)
     translation = base.rebound(flat, _time.perf_counter() - t0) if base is not None else None
     if translation is None:

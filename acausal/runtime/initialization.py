@@ -20,6 +20,13 @@ lists them with their values, and the result's notes say the same.
 
 As Dymola and OpenModelica do, one event iteration with ``initial()`` false
 follows (the MSL reference rows at the start time depend on it).
+
+Start values given at run time (``simulate(model, start=...)``) are the
+translation's: its flat model's variables carry them (the discrete start
+values and the guesses of relations read here), and the compiled problem
+reads those of states and fixed variables from its parameter vector, its
+``relaxed`` and ``from_start`` values evaluated for them
+(:func:`~acausal.compiler.initial.bind_start_values`).
 """
 
 from __future__ import annotations
@@ -165,6 +172,8 @@ def start_value_message(model: str, from_start: Sequence[tuple[str, float]],
                         aliases: Mapping[str, Sequence[str]] | None = None) -> str:
     """The warning (and note) naming the states initialised from their start values.
 
+    The first line names the components, then one line per state, then the hint.
+
     Parameters
     ----------
     model : str
@@ -180,12 +189,15 @@ def start_value_message(model: str, from_start: Sequence[tuple[str, float]],
         others = aliases.get(name) or ()
         return f"{name} (= {', '.join(others)})" if others else name
 
-    listed = ", ".join(f"{named(name)} = {value:g}" for name, value in from_start)
     count = len(from_start)
-    return (f"initialization of {model}: {count} state{'s' if count > 1 else ''} without fixed=True "
-            f"initialised from {'their' if count > 1 else 'its'} start value{'s' if count > 1 else ''} "
-            f"(nothing else determines {'them' if count > 1 else 'it'}): {listed}; give fixed=True "
-            f"or initial equations to choose")
+    owners = dict.fromkeys(other.rpartition(".")[0] or other for name, _ in from_start
+                           for other in (name, *(aliases.get(name) or ())))
+    lines = [f"{', '.join(owners)}: {count} state{'s' if count > 1 else ''} without fixed=True "
+             f"initialised from {'their' if count > 1 else 'its'} start value{'s' if count > 1 else ''} "
+             f"(initialization of {model}: nothing else determines {'them' if count > 1 else 'it'})"]
+    lines += [f"  {named(name)} = {value:g}" for name, value in from_start]
+    lines.append("  hint: give fixed=True or initial equations to choose")
+    return "\n".join(lines)
 
 
 def start_value_relations(translation: Translation, start_time: float) -> tuple[bool, ...]:

@@ -26,15 +26,17 @@ import math
 import os
 import sys
 import time as _time
+import warnings
 from collections import deque
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import scipy.integrate as integrate
 
-from ..compiler.translate import ModeSystem, Translation, translate
-from ..errors import (AcausalError, AssertionViolation, ChatteringError, ModelDefinitionError, ZenoError, InitializationError, SettingError, SimulationError,
-                      SimulationInterrupted, SolverError, StructuralError)
+from ..compiler.translate import ModeSystem, Translation, translate, with_start_values
+from ..errors import (AcausalError, AssertionViolation, ChatteringError, InitializationError, ModelDefinitionError,
+                      RedundantConstraintWarning, SettingError, SimulationError, SimulationInterrupted, SolverError,
+                      StructuralError, ZenoError)
 from ..language import Component
 from ..names import base_name, der_name
 from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, states_at, step_samples,
@@ -123,7 +125,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              max_steps: int | None = None, timeout: float | None = None,
              cache: bool = True, parameters: Mapping[str, float] | None = None,
              redundant_constraints: str = "relax",
-             progress: "bool | Callable[[float, float, float], object] | None" = None) -> SimulationResult:
+             progress: "bool | Callable[[float, float, float], object] | None" = None,
+             start: Mapping[str, float] | None = None) -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -171,7 +174,19 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         removes the terms it multiplies; a parameter a relation compares with
         a constant) makes a new translation, and the result's notes say so.
         Structural parameters (``structural=True``) are set when the model is
-        built.
+        built.  ``"J1.w.start"`` is a start value (as in ``start``).
+    start : mapping, optional
+        Start values by variable name, e.g. ``{"J1.w": 3.0, "housing.T":
+        300}``, in place of the model's (OMPython's ``setParameters``, FMPy's
+        ``start_values``).  The start values initialization reads, those of
+        the states and of the variables with ``fixed=True``, are inputs of
+        the generated code: the compiled systems are reused, and the result
+        is the one the same value given as a modifier
+        (``Inertia(w=dict(start=3))``) gives.  A Newton iteration whose first
+        guess is such a start value is compiled anew, and the result's notes
+        say so.  Unknown names, values that are not finite numbers, and
+        variables whose start is not read by initialization raise a
+        :class:`~acausal.errors.ParameterError`.
     progress : bool or callable, optional
         ``progress(t, start_time, stop_time)`` is called as the run advances
         (at most every :data:`PROGRESS_PERIOD` seconds of wall time, and once
@@ -207,11 +222,13 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     if isinstance(model, Translation):
         if outputs is not None and model.demand != frozenset(outputs):
             raise ValueError("outputs must be given to translate() when simulating a Translation")
-        if parameters:
-            raise SettingError("parameters= needs the model, not a translation",
-                               hint="simulate(model, parameters={...}) reuses the compiled systems")
+        for given, what in ((parameters, "parameters"), (start, "start")):
+            if given:
+                raise SettingError(f"{what}= needs the model, not a translation",
+                                   hint=f"simulate(model, {what}={{...}}) reuses the compiled systems")
         translation = model
     else:
+        parameters = with_start_values(parameters, start)
         translation = translate(model, outputs, cache=cache, parameters=parameters,
                                 redundant_constraints=redundant_constraints)
     flatten_seconds = _time.perf_counter() - t_setup
@@ -249,6 +266,8 @@ def _structural_notes(translation: Translation, parameters: Mapping[str, float] 
     structural = translation.flat.structural_parameters
     for name in sorted(parameters or ()):
         value = translation.parameter_values.get(name)
+        if name not in structural and name not in translation.flat.parameter_values:
+            continue  # a start value: it decides no equation
         if name in structural:
             notes.append(f"{name} = {structural[name]!r} is a structural parameter: the model was built "
                          f"and translated anew for this value")
@@ -349,6 +368,8 @@ class _Run:
         self.terminated: tuple | None = None  #: (time, messages) of a terminate()
         self.modes: list[str] = []
         self.notes: list[str] = []
+        #: how many notes the translation had before this run (its later ones are this run's)
+        self.translation_notes_before = len(translation.notes)
         self.nfev = 0
         self.steps = 0
         self.max_steps: int | None = None
@@ -473,6 +494,13 @@ class _Run:
     def _record_mode(self, system: ModeSystem) -> None:
         if system.description not in self.modes:
             self.modes.append(system.description)
+            relaxed = getattr(system, "relaxed", None)
+            if relaxed is not None:
+                # said by the run, not by the compiler: a system loaded from the
+                # disk cache (or compiled by an earlier run) warns as a new one does
+                message = relaxed.message(self.translation.flat.name, system.description)
+                self.notes.append(message)
+                warnings.warn(message, RedundantConstraintWarning, stacklevel=4)
 
     def _integrate(self, t: float, t1: float, outcome) -> None:
         recorder = self.recorder
@@ -874,9 +902,12 @@ class _Run:
             - (translation.translation_seconds - self.compile_seconds_before),
             "method": self.method,
             "rtol": self.rtol,
+            "atol": self.atol,
         }
         return SimulationResult(times, columns, status if error is not None or status == 1 else 0, message, tuple(self.events),
-                                tuple(self.modes), translation.compiled_systems, stats, tuple(self.notes),
+                                tuple(self.modes), translation.compiled_systems, stats,
+                                # and what the translation noted while this run compiled its systems
+                                (*self.notes, *translation.notes[self.translation_notes_before:]),
                                 error, translation.flat.name,
                                 describe_columns(translation.flat, list(columns)))
 

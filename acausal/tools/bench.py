@@ -21,7 +21,8 @@ cases written by hand without the engine).
 Eight sections (``--only`` picks some: ``work-precision``, ``effects``,
 ``commands``, ``scaling``, ``soak``, ``parameters``, ``storm``,
 ``floors``; the files of the others are then left as they are), each
-written into ``--out`` (default ``bench-out``) as Markdown and CSV, and
+written into ``--out`` (default :func:`default_out`: ``acausal-bench`` in the
+user's cache folder, never the working folder) as Markdown and CSV, and
 printed at the end:
 
 1. **Work-precision** (``bench.md``, ``bench.csv``, ``work_precision.png``;
@@ -2138,9 +2139,11 @@ def run_parameter_change(repeats: int = 5, log: Callable[[str], None] | None = N
     The suite's parameter case (``parameter_case()``): one run translated
     from scratch (``cache=False``), the same model again (the cache), each
     of several new values of one tunable parameter (the compiled systems
-    rebound to a new parameter vector), and the value 0 (a structural zero:
-    a new translation).  Wall seconds and the run's own translation seconds,
-    median of ``repeats`` for the repeatable rows.
+    rebound to a new parameter vector), the value 0 (a structural zero:
+    a new translation), and new start values of one state (``start_case()``:
+    start values are inputs of the generated code too).  Wall seconds and
+    the run's own translation seconds, median of ``repeats`` for the
+    repeatable rows.
     """
     from ..runtime.simulate import simulate
 
@@ -2169,6 +2172,10 @@ def run_parameter_change(repeats: int = 5, log: Callable[[str], None] | None = N
               lambda value=value: simulate(make(), parameters={parameter: value}))
     timed(f"{parameter} = 0 (structural zero: translated anew)", 1,
           lambda: simulate(make(), parameters={parameter: 0.0}))
+    start_name, start_values = suite().start_case()
+    for value in start_values:
+        timed(f"{start_name} start = {value:g} (start value at run time, systems rebound)", 1,
+              lambda value=value: simulate(make(), start={start_name: value}))
     return rows
 
 
@@ -2177,7 +2184,8 @@ def _parameters_markdown(rows: list[dict]) -> str:
              "Each new value of a tunable parameter reuses the systems compiled for the model's own "
              "values, bound to a new parameter vector; what is left of the translation is "
              "flattening (always done: the cache keys on the flat model) and binding. A zero is a "
-             "structural zero and translates anew. Wall seconds per run (median of the repeats), "
+             "structural zero and translates anew. A start value given at run time (`start=`) is a "
+             "parameter of the generated code too: rebound, not translated. Wall seconds per run (median of the repeats), "
              "translation seconds as the run's `stats` count them.", "",
              "| model | run | repeats | wall [s] | translation [s] | status |", "|---|---|---|---|---|---|"]
     for r in rows:
@@ -2397,6 +2405,20 @@ def _split(text: str) -> list[str]:
     return [s.strip() for s in text.split(",") if s.strip()]
 
 
+def default_out() -> Path:
+    """The folder ``acausal bench`` writes into without ``--out``: ``acausal-bench`` in the user's
+    cache folder (``$XDG_CACHE_HOME``, else ``~/.cache``; ``~/Library/Caches`` on macOS;
+    ``%LOCALAPPDATA%`` on Windows), outside any source tree and beside, not inside, the
+    compile cache's folder.  The bench prints it."""
+    if sys.platform == "darwin":
+        base = Path.home() / "Library" / "Caches"
+    elif os.name == "nt":
+        base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "acausal-bench"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """``acausal bench``: run the benchmark, write the files, print the tables; exit status 0."""
     from .collector import GC_THRESHOLD
@@ -2412,7 +2434,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                                                  "size costs.")
     parser.add_argument("--quick", action="store_true",
                         help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40; storm N = 3, 6)")
-    parser.add_argument("--out", default="bench-out", metavar="DIR", help="output folder (default bench-out)")
+    parser.add_argument("--out", metavar="DIR",
+                        help=f"output folder (default {default_out()}, the user's cache folder)")
     parser.add_argument("--methods", metavar="M,...",
                         help=f"comma-separated methods (default {','.join(ADAPTIVE_METHODS)})")
     parser.add_argument("--rtols", metavar="R,...", help="comma-separated relative tolerances")
@@ -2466,7 +2489,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         reduced["soak_runs"] = 0
     elif args.soak_runs is not None:
         reduced["soak_runs"] = args.soak_runs
-    result = run_bench(args.quick, Path(args.out), methods, rtols, verbose=True, **reduced)
+    out = Path(args.out) if args.out else default_out()
+    if not args.out:
+        print(f"acausal bench: writing into {out} (--out DIR for another folder)", flush=True)
+    result = run_bench(args.quick, out, methods, rtols, verbose=True, **reduced)
     print()
     for key in ("bench", "effects", "commands", "scaling", "soak", "parameters", "storm", "floors", "tables"):
         if key in result.tables:

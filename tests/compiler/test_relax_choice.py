@@ -62,7 +62,8 @@ def _run(convection_first: bool):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = simulate(_gear_and_brake(convection_first), rtol=1e-8, atol=1e-10)
-    relaxations = {str(w.message).split("; ")[1] for w in caught
+    # what was left out and what was set to zero (the lines after the components)
+    relaxations = {"\n".join(str(w.message).splitlines()[1:3]) for w in caught
                    if issubclass(w.category, RedundantConstraintWarning)}
     return result, relaxations
 
@@ -73,7 +74,7 @@ def test_a_torque_of_the_locked_loop_is_left_open(convection_first):
     assert result.success, result.message
     assert relaxations, "both elements stuck: the state constrains the shaft twice"
     for text in relaxations:
-        zeroed = text.rsplit(" and set ", 1)[1].removesuffix(" = 0")
+        zeroed = text.split("set to 0: ", 1)[1].split(" ", 1)[0]
         assert zeroed.endswith(".tau") and "heatPort" not in zeroed, text
     # stuck all along: the shaft rests, the inertias feel no net torque, nothing dissipates
     assert np.max(np.abs(result["inertia1.w"])) < 1e-9
