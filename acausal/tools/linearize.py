@@ -31,7 +31,10 @@ For ``der(x) = f(x, z_a, u)``, ``0 = g(x, z_a, u)`` this is the familiar
 ``A = f_x - f_z g_z^{-1} g_x``.
 
 :func:`steady_state` solves ``der(x) = 0`` for the states, with the discrete
-state found by the runtime's event iteration at the solution.
+state found by the runtime's event iteration at the solution, and checks
+that the result is one: every derivative at rest, the discrete state the one
+the event iteration reproduces there, the states no equation determines
+named.
 
 References
 ----------
@@ -52,7 +55,9 @@ References
 from __future__ import annotations
 
 import difflib
+import html
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
@@ -64,18 +69,36 @@ from ..compiler.alias import eliminate_aliases
 from ..compiler.codegen import compile_functions
 from ..compiler.structure import StructureMemo, analyse
 from ..compiler.translate import Translation, translate
-from ..errors import SettingError, SolverError, StructuralError
+from ..errors import InitializationError, SettingError, SimulationError, SolverError, StructuralError
 from ..language import Component, real_symbol, time as time_symbol
 from ..names import der_name, is_derivative, parse
 from ..runtime.events import evaluator_for, mode_values
-from ..runtime.initialization import initialize
+from ..runtime.initialization import initialize, start_guess
 from ..runtime.simulate import simulate
 from .report_html import StateNamer
 
-__all__ = ["Linearization", "SteadyState", "linearize", "steady_state"]
+__all__ = ["Linearization", "SteadyState", "UndeterminedStateWarning", "linearize", "steady_state"]
 
 #: Newton iterations that make the unknowns consistent with the states at an operating point.
 _NEWTON_ITERATIONS = 30
+
+#: Relative tolerance of those unknowns (of the residuals, relative to the largest value).  The
+#: matrices are exact up to it and to the round-off of one linear solve, so an entry below it
+#: relative to the largest entry of its matrix is printed as 0 (the arrays keep it).
+CONSISTENCY_TOL = 1e-12
+
+#: An eigenvalue within this of zero, relative to the largest entry of ``A``, is printed as 0:
+#: a multiple eigenvalue is only accurate to about the square root of the machine epsilon.
+EIGENVALUE_TOL = 1e-8
+
+#: The relative accuracy taken for values a steady state keeps at their guess: such guesses are
+#: mostly a simulation's values, accurate to its tolerance (simulate's default rtol).  Whether
+#: they belong to the discrete state is judged with relation margins of this size, and a kept
+#: value below it is printed as 0 (a stuck speed of -1.000011e-10).
+GUESS_RTOL = 1e-6
+
+#: Rows and columns of a matrix (rows of a state table) a repr shows before it elides the rest.
+_SHOWN = 12
 
 #: Rounds of "solve, then event iteration" before :func:`steady_state` gives up.
 MAX_ROUNDS = 8
@@ -91,6 +114,13 @@ class Linearization:
     """The linear model of one discrete state at an operating point.
 
     ``der(x) ≈ A (x - x0) + B (u - u0)`` and ``y ≈ y0 + C (x - x0) + D (u - u0)``.
+
+    ``repr()`` is a short summary (model, discrete state, time, sizes,
+    eigenvalues); in a notebook the matrices show as tables with the names
+    (:meth:`_repr_html_`); ``str()`` prints them as text.  What is printed
+    shows an entry below :data:`CONSISTENCY_TOL` times the largest of its
+    matrix as 0 (round-off of the linear solve: a ``-0.`` or ``1e-17``); the
+    arrays keep their values.
 
     Attributes
     ----------
@@ -111,6 +141,8 @@ class Linearization:
     discrete_description : str
         The engine's description of it, as in
         :attr:`~acausal.runtime.result.SimulationResult.modes`.
+    model : str
+        The name of the model.
     """
 
     A: np.ndarray
@@ -127,6 +159,7 @@ class Linearization:
     discrete_key: tuple
     discrete_state: str
     discrete_description: str = field(repr=False, default="")
+    model: str = ""
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -157,41 +190,104 @@ class Linearization:
         return control.ss(self.A, self.B, self.C, self.D, states=labels(self.state_names),
                           inputs=labels(self.input_names), outputs=labels(self.output_names))
 
+    # -- display -----------------------------------------------------------------
+
+    def _heading(self) -> str:
+        model = f" of {self.model}" if self.model else ""
+        return f"Linearization{model} at t = {_number(self.t)} in [{self.discrete_state or 'no discrete state'}]"
+
+    def _sizes(self) -> str:
+        n, m, p = len(self.state_names), len(self.input_names), len(self.output_names)
+        return (f"{_count(n, 'state')}, {_count(m, 'input')}, {_count(p, 'output')}: "
+                f"A {n}x{n}, B {n}x{m}, C {p}x{n}, D {p}x{m}")
+
+    def _eigenvalue_text(self, limit: int = 8) -> str:
+        values = self.eigenvalues
+        if not values.size:
+            return "none"
+        zero = EIGENVALUE_TOL * max(1.0, float(np.max(np.abs(self.A))))
+        texts = _complex_texts(values, zero)
+        shown = ", ".join(texts[:limit])
+        return shown + (f", ... ({len(texts) - limit} more)" if len(texts) > limit else "")
+
+    def __repr__(self) -> str:
+        return f"{self._heading()}\n  {self._sizes()}\n  eigenvalues: {self._eigenvalue_text()}"
+
     def __str__(self) -> str:
         with np.printoptions(precision=6, suppress=True, linewidth=120):
-            return (f"Linearization at t = {self.t:g} in [{self.discrete_state}]\n"
+            matrices = "\n".join(f"{name} =\n{_printed(matrix, _matrix_zero(matrix))}"
+                                 for name, matrix in zip("ABCD", (self.A, self.B, self.C, self.D)))
+            return (f"{self._heading()}\n"
                     f"  states  {', '.join(self.state_names)}\n"
                     f"  inputs  {', '.join(self.input_names) or '-'}\n"
                     f"  outputs {', '.join(self.output_names) or '-'}\n"
-                    f"A =\n{self.A}\nB =\n{self.B}\nC =\n{self.C}\nD =\n{self.D}")
+                    f"  eigenvalues {self._eigenvalue_text(limit=len(self.state_names))}\n"
+                    f"{matrices}")
+
+    def _repr_html_(self) -> str:
+        """The summary and ``A, B, C, D`` as tables with the state, input and output names."""
+        states, inputs, outputs = self.state_names, self.input_names, self.output_names
+        tables = [_html_matrix("A", self.A, states, states), _html_matrix("B", self.B, states, inputs),
+                  _html_matrix("C", self.C, outputs, states), _html_matrix("D", self.D, outputs, inputs)]
+        return (f"<div><p><b>{html.escape(self._heading())}</b><br>{html.escape(self._sizes())}<br>"
+                f"eigenvalues: {html.escape(self._eigenvalue_text())}</p>"
+                f"<div style=\"display:flex;flex-wrap:wrap;gap:1.5em;align-items:flex-start\">"
+                f"{''.join(tables)}</div></div>")
 
 
 @dataclass(frozen=True, eq=False)
 class SteadyState:
-    """A steady state: ``der(x) = 0`` for the states solved for.
+    """A steady state: ``der(x) = 0`` for the states at rest, in a consistent discrete state.
+
+    ``repr()`` lists the discrete state and every state with its value and
+    ``der(x)``; in a notebook the same is a table (:meth:`_repr_html_`).  A
+    number below :attr:`tolerance` is printed as 0; the dicts keep their
+    values.
 
     Attributes
     ----------
     states : dict
         Every state of the discrete state's system at the solution.
     derivatives : dict
-        ``der(x)`` of every state there: zero up to :attr:`residual` for the
-        solved states; the held states (:attr:`free`) may move at a constant rate.
+        ``der(x)`` of every state there (keys ``der(name)``): at most
+        :attr:`tolerance` for the states at rest; the states in :attr:`free`
+        that are not :attr:`undetermined` may move at a constant rate.
     residual : float
-        Euclidean norm of the derivatives of the solved states.
+        The largest ``|der(x)|`` of the states at rest (0 when there are none).
     free : tuple of str
-        The states held at their guess and not solved for: those asked for
-        with ``free=`` and those no derivative depends on.
+        The states held and not solved for: those asked for with ``free=``,
+        those that integrate states at rest and that no derivative depends
+        on (an angle of a speed: uniform motion), and the
+        :attr:`undetermined` ones.
     values : dict
         Every continuous variable at the solution (aliases included).
     t : float
     discrete_key : tuple
     discrete_state : str
-        The discrete state named by its modes.
+        The discrete state named by its modes, as ``acausal explain`` names
+        it (e.g. ``bearing: Stuck (locked)``).
     discrete_description : str
         The engine's description of it.
     rounds : int
         Discrete states tried (1: the first was consistent).
+    undetermined : tuple of str
+        States that no equation of the discrete state determines at rest
+        (the speed of a stuck friction element: its derivative is 0 whatever
+        its value): kept at the guess, or at the value the model starts
+        with.  :func:`steady_state` warns about them
+        (:class:`UndeterminedStateWarning`).  Their derivatives are at rest.
+    residuals : dict
+        ``|der(x)|`` of each state at rest, by state name.
+    discrete_values : dict
+        The discrete variables (modes, Booleans, discrete Reals) in the
+        discrete state, as the event iteration at the solution leaves them.
+    tolerance : float
+        The largest ``|der(x)|`` accepted at rest: ``tol * (1 + max |x|)``
+        over the states at rest.
+    model : str
+        The name of the model.
+    units : dict
+        The unit of each state ('' where none).
     """
 
     states: dict
@@ -204,10 +300,161 @@ class SteadyState:
     discrete_state: str
     discrete_description: str = field(repr=False, default="")
     rounds: int = 1
+    undetermined: tuple[str, ...] = ()
+    residuals: dict = field(default_factory=dict)
+    discrete_values: dict = field(default_factory=dict, repr=False)
+    tolerance: float = 0.0
+    model: str = ""
+    units: dict = field(default_factory=dict, repr=False)
 
     def __getitem__(self, name: str) -> float:
         """The value of variable ``name`` at the steady state."""
         return self.values[name]
+
+    @property
+    def moving(self) -> tuple[str, ...]:
+        """The held states that move at a constant rate: ``|der(x)|`` above :attr:`tolerance`
+        and :data:`GUESS_RTOL` (the rate of an angle is a speed, perhaps a guessed one)."""
+        return tuple(s for s in self.free if s not in self.undetermined
+                     and abs(self.derivatives[der_name(s)]) > self._kept_zero)
+
+    @property
+    def _kept_zero(self) -> float:
+        """Below this a value kept at its guess, or the rate of a held state, is printed as 0."""
+        return max(self.tolerance, GUESS_RTOL)
+
+    # -- display -----------------------------------------------------------------
+
+    def _heading(self) -> str:
+        model = f" of {self.model}" if self.model else ""
+        rounds = f" (after {_count(self.rounds, 'discrete state')} tried)" if self.rounds > 1 else ""
+        return (f"SteadyState{model} at t = {_number(self.t)} in "
+                f"[{self.discrete_state or 'no discrete state'}]{rounds}")
+
+    def _rows(self) -> list[tuple[str, str, str, str, str]]:
+        """``(state, value, unit, der(x), note)`` for each state, numbers below the tolerance as 0:
+        the solved states' values and derivatives below :attr:`tolerance`, the held states' below
+        :data:`GUESS_RTOL` too (kept values, and rates that are such values)."""
+        rows = []
+        for name, value in self.states.items():
+            if name in self.undetermined:
+                note = "undetermined: kept as it was"
+            elif name in self.moving:
+                note = "free: moves at a constant rate"
+            elif name in self.free:
+                note = "free"
+            else:
+                note = ""
+            zero = self._kept_zero if name in self.free else self.tolerance
+            rows.append((name, _number(value, zero), self.units.get(name, ""),
+                         _number(self.derivatives[der_name(name)], zero), note))
+        return rows
+
+    def _footer(self) -> str:
+        return f"max |der(x)| at rest = {_number(self.residual, self.tolerance)} (tolerance {self.tolerance:.3g})"
+
+    def __repr__(self) -> str:
+        rows = self._rows()
+        shown = rows[:_SHOWN]
+        header = ("state", "value", "unit", "der(x)", "")
+        widths = [max(len(r[k]) for r in (header, *shown)) for k in range(4)]
+        lines = [self._heading()]
+        for row in (header, *shown):
+            cells = [row[0].ljust(widths[0]), row[1].rjust(widths[1]), row[2].ljust(widths[2]),
+                     row[3].rjust(widths[3]), row[4]]
+            lines.append("  " + "  ".join(cells).rstrip())
+        if len(rows) > len(shown):
+            lines.append(f"  ... ({len(rows) - len(shown)} more states)")
+        lines.append("  " + self._footer())
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """The discrete state and a table of the states: value, unit, ``der(x)``, and what is held."""
+        rows = self._rows()
+        body = "".join(
+            "<tr>" + "".join(f"<td style=\"text-align:{align}\">{html.escape(cell)}</td>"
+                             for cell, align in zip(row, ("left", "right", "left", "right", "left"))) + "</tr>"
+            for row in rows[:_SHOWN])
+        more = (f"<tr><td colspan=\"5\">... {len(rows) - _SHOWN} more states</td></tr>"
+                if len(rows) > _SHOWN else "")
+        return (f"<div><p><b>{html.escape(self._heading())}</b></p>"
+                f"<table><thead><tr><th>state</th><th>value</th><th>unit</th><th>der(x)</th><th></th></tr>"
+                f"</thead><tbody>{body}{more}</tbody></table>"
+                f"<p>{html.escape(self._footer())}</p></div>")
+
+
+class UndeterminedStateWarning(UserWarning):
+    """A steady state left states at their guess: no equation of its discrete state determines them.
+
+    The states are listed in :attr:`SteadyState.undetermined`.
+    """
+
+
+# -- printing ---------------------------------------------------------------------
+
+
+def _number(value: float, zero: float = 0.0, digits: int = 6) -> str:
+    """``value`` to ``digits`` significant digits; ``0`` where ``|value| <= zero`` (a ``-0.`` too)."""
+    value = float(value)
+    if abs(value) <= zero:
+        return "0"
+    return f"{value:.{digits}g}"
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 state``, ``2 states``."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def _matrix_zero(matrix: np.ndarray) -> float:
+    """The magnitude below which an entry of ``matrix`` is printed as 0."""
+    return CONSISTENCY_TOL * float(np.max(np.abs(matrix))) if matrix.size else 0.0
+
+
+def _printed(matrix: np.ndarray, zero: float) -> np.ndarray:
+    """A copy of ``matrix`` for printing: entries with ``|x| <= zero`` made +0.0 (no ``-0.``)."""
+    return np.where(np.abs(matrix) <= zero, 0.0, matrix)
+
+
+def _complex_texts(values: np.ndarray, zero: float) -> list[str]:
+    """Eigenvalues as text to 4 digits, parts below ``zero`` as 0, each conjugate pair as ``a±bj``."""
+    texts, k = [], 0
+    values = list(values)
+    while k < len(values):
+        v = values[k]
+        re_, im = (0.0 if abs(v.real) <= zero else v.real), (0.0 if abs(v.imag) <= zero else v.imag)
+        if im == 0.0:
+            texts.append(_number(re_, zero, 4))
+            k += 1
+            continue
+        pair = k + 1 < len(values) and abs(values[k + 1] - np.conj(v)) <= max(zero, 1e-12 * abs(v))
+        sign = "±" if pair else ("+" if im > 0 else "-")
+        texts.append(f"{_number(re_, zero, 4)}{sign}{abs(im):.4g}j" if re_ else
+                     f"{'±' if pair else ('' if im > 0 else '-')}{abs(im):.4g}j")
+        k += 2 if pair else 1
+    return texts
+
+
+def _html_matrix(name: str, matrix: np.ndarray, rows: Sequence[str], columns: Sequence[str]) -> str:
+    """``matrix`` as a small HTML table headed by ``name``, the names as row and column headers."""
+    zero = _matrix_zero(matrix)
+    shown_rows, shown_columns = min(len(rows), _SHOWN), min(len(columns), _SHOWN)
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in columns[:shown_columns])
+    if len(columns) > shown_columns:
+        head += f"<th>... {len(columns) - shown_columns} more</th>"
+    body = []
+    for i in range(shown_rows):
+        cells = "".join(f"<td style=\"text-align:right\">{_number(matrix[i, j], zero)}</td>"
+                        for j in range(shown_columns))
+        if len(columns) > shown_columns:
+            cells += "<td></td>"
+        body.append(f"<tr><th style=\"text-align:left\">{html.escape(rows[i])}</th>{cells}</tr>")
+    if len(rows) > shown_rows:
+        body.append(f"<tr><td colspan=\"{shown_columns + 1}\">... {len(rows) - shown_rows} more rows</td></tr>")
+    if not matrix.size:
+        body.append(f"<tr><td>(empty: {matrix.shape[0]}x{matrix.shape[1]})</td></tr>")
+    return (f"<table><caption style=\"text-align:left\"><b>{name}</b></caption>"
+            f"<thead><tr><th></th>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>")
 
 
 # ---------------------------------------------------------------------------
@@ -270,7 +517,13 @@ class _StateDAE:
         self.parameter_vector = np.array([parameters[n] for n in self.parameter_names], dtype=float)
         self.outputs = tuple(outputs)
         output_exprs = [self._output_expression(name) for name in self.outputs]
-        self.structural_free = self._structurally_free()
+        #: for each state, the states whose derivative depends on it (structurally)
+        self.reaches = self._derivatives_reached()
+        #: the states no derivative depends on (an angle that only integrates a speed)
+        self.structural_free = frozenset(s for s, reached in self.reaches.items() if not reached)
+        #: those of them whose derivative is a linear combination of the other states: they may
+        #: move at a constant rate in a steady state (an angle, a position), the others may not
+        self.integrators = self._integrators()
 
         # Jacobian entries, each d(residual or output)/d(variable), in one compiled function
         columns = {**{s: ("x", k) for k, s in enumerate(self.states)},
@@ -324,13 +577,23 @@ class _StateDAE:
                     raise SettingError(f"the linearization of {self.translation.flat.name}: {symbol.name} "
                                        f"is neither a state, an unknown, an input nor a parameter")
 
-    def _structurally_free(self) -> frozenset[str]:
-        """The states no derivative depends on (an angle that only integrates a speed).
+    def _derivatives_reached(self) -> dict[str, frozenset[str]]:
+        """For each state ``s``, the states whose derivative depends on ``s``.
 
         Each equation computes the unknown it is matched to from the other
         variables it contains; a state reaches a derivative through that graph
-        or not at all.
+        or not at all.  The pattern is structural: a derivative that depends on
+        a state only through a term that vanishes at some point still counts
+        (a quadratic load at rest), one whose equations do not contain the
+        state does not (the speed of a stuck friction element: ``der(w) = 0``).
         """
+        graph = self._dependency_graph()
+        state_of = {der_name(s): s for s in self.states}
+        return {s: frozenset(state_of[n] for n in nx.descendants(graph, s) if n in state_of)
+                for s in self.states}
+
+    def _dependency_graph(self) -> nx.DiGraph:
+        """Edges from each variable to the unknowns computed from it (by their matched equations)."""
         structure = self.structure
         graph = nx.DiGraph()
         graph.add_nodes_from(structure.states)
@@ -340,12 +603,77 @@ class _StateDAE:
             for symbol in eq.residual.free_symbols:
                 if symbol.name != solved and symbol.name in graph:
                     graph.add_edge(symbol.name, solved)
-        derivatives = {der_name(s) for s in self.states}
-        free = set()
-        for s in self.states:
-            if derivatives.isdisjoint(nx.descendants(graph, s)):
-                free.add(s)
-        return frozenset(free)
+        return graph
+
+    def _relation_inputs(self) -> set[str]:
+        """The states some relation of the model depends on in this discrete state."""
+        graph = self._dependency_graph()
+        aliases = self.aliases.aliases
+        read: set[str] = set()
+        for relation in self.translation.partitioned.relations:
+            for symbol in sp.sympify(relation.lhs - relation.rhs).free_symbols:
+                found = aliases.get(symbol.name)
+                names = {v.name for v in sp.sympify(found).free_symbols} if found is not None else {symbol.name}
+                read |= {n for n in names if n in graph}
+        return {s for s in self.states if s in read or not read.isdisjoint(nx.descendants(graph, s))}
+
+    def _integrators(self) -> frozenset[str]:
+        """The states no derivative depends on whose derivative integrates other states.
+
+        ``der(s)`` must follow from states that some derivative depends on
+        through a chain of the matched equations, each linear and homogeneous
+        in its variables with constant coefficients (``der(phi) = w``,
+        ``der(J2.phi) = J1.w + spring.w_rel``), and where the units are known,
+        each of those states must have the unit of ``der(s)`` (a speed for an
+        angle, a velocity for a position).  Then ``s`` moves at a constant
+        rate while those states are at rest, which is how a steady state holds
+        an angle or a position.  A state whose derivative is anything else is
+        not an integrator: at a steady state it must be at rest like the
+        others (a housing temperature heated by ``tau*w`` with no way for the
+        heat out, even where ``tau`` is a constant and ``der(T) = tau*w/C``
+        is linear: ``K/s`` is no speed).  Nor is a state a relation depends
+        on: moving, it would change the discrete state in finite time (a
+        spring stretched by a drive until the mass it pulls breaks away).
+        """
+        structure = self.structure
+        equation_of = {structure.unknowns[structure.matching[i]]: eq.residual
+                       for i, eq in enumerate(structure.equations)}
+        states = set(self.states)
+        at_rest = states - self.structural_free
+        variables = states | set(structure.unknowns) | set(self.held) | set(self.inputs)
+
+        def sources(unknown: str, visiting: frozenset) -> frozenset[str] | None:
+            """The states ``unknown`` is a linear combination of, or None where it is not one."""
+            if unknown in visiting:
+                return frozenset()  # a loop of linear equations: its other members judge it
+            residual = equation_of.get(unknown)
+            if residual is None or time_symbol in residual.free_symbols:
+                return None
+            symbols = {v for v in residual.free_symbols if v.name in variables}
+            if not _homogeneous_linear(residual, symbols):
+                return None
+            found: set[str] = set()
+            for v in symbols:
+                if v.name in states:
+                    if v.name not in at_rest:
+                        return None
+                    found.add(v.name)
+                elif v.name != unknown:
+                    inner = sources(v.name, visiting | {unknown})
+                    if inner is None:
+                        return None
+                    found |= inner
+            return frozenset(found)
+
+        variables_of = self.translation.flat.variable_map
+        watched = self._relation_inputs()
+        out = set()
+        for s in self.structural_free - watched:
+            integrated = sources(der_name(s), frozenset())
+            if integrated is not None and all(_rate_of(_unit_of(variables_of, s), _unit_of(variables_of, v))
+                                              for v in integrated):
+                out.add(s)
+        return frozenset(out)
 
     # -- evaluating ------------------------------------------------------------
 
@@ -375,7 +703,7 @@ class _StateDAE:
         scale = 1.0 + max([abs(v) for v in (*x, *z, *u)] or [0.0])
         for _ in range(_NEWTON_ITERATIONS):
             residual = self.residuals(t, x, z, u, held_values)
-            if not residual.size or np.max(np.abs(residual)) <= 1e-12 * scale:
+            if not residual.size or np.max(np.abs(residual)) <= CONSISTENCY_TOL * scale:
                 return z
             _, F_z, _, _, _, _ = self.jacobians(t, x, z, u, held_values)
             try:
@@ -406,6 +734,34 @@ class _StateDAE:
         C = H_x + H_z @ sensitivity[:, :n]
         D = H_u + H_z @ sensitivity[:, n:]
         return A, B, C, D
+
+
+def _unit_of(variables: Mapping, name: str):
+    """The parsed unit of variable ``name``, or None where it has none (or one not understood)."""
+    from ..compiler.units import parse_unit
+
+    found = variables.get(name)
+    try:
+        return parse_unit(getattr(found, "unit", "") or "")
+    except ValueError:
+        return None
+
+
+def _rate_of(position, rate) -> bool:
+    """Whether a quantity of unit ``rate`` is a rate of change of one of unit ``position`` (True
+    where a unit is unknown: the structure alone decides then)."""
+    from ..compiler.units import SECOND
+
+    return position is None or rate is None or rate.same_as(position / SECOND)
+
+
+def _homogeneous_linear(expr: sp.Expr, symbols: set) -> bool:
+    """Whether ``expr`` is ``sum(c_i * v_i)`` over ``symbols`` with coefficients free of them."""
+    expanded = sp.expand(expr)
+    for symbol in symbols:
+        if sp.diff(expanded, symbol).free_symbols & symbols:
+            return False
+    return sp.expand(expanded.xreplace({symbol: 0 for symbol in symbols})) == 0
 
 
 def _free_inputs(translation: Translation, equations, variables: Mapping, inputs: Sequence[str],
@@ -770,7 +1126,7 @@ def linearize(model_or_translation: Component | Translation, at: float | Mapping
     C = C[:, order]
     return Linearization(A, B, C, D, tuple(dae.states[k] for k in order), inputs, outputs,
                          x[order], u, y0, point.t, point.key, StateNamer(translation)(point.key),
-                         translation.describe(point.key))
+                         translation.describe(point.key), translation.flat.name)
 
 
 # ---------------------------------------------------------------------------
@@ -795,15 +1151,19 @@ def steady_state(model_or_translation: Component | Translation, *, guess: Mappin
         The discrete state to start from (key or description); default: the
         one the model is initialized in at ``t``.
     free : sequence of str
-        States held at their guess and not solved for.  States that no
-        derivative depends on (an angle that integrates a speed) are held
-        anyway: the equilibrium is then one of uniform motion, ``der(phi) =
-        w*`` (reported in :attr:`SteadyState.derivatives`).
+        States held at their guess, not solved for and free to move: their
+        derivatives need not vanish.  A state that no derivative depends on
+        and whose derivative integrates states at rest (an angle of a speed,
+        a position of a velocity) is held anyway: the equilibrium is then one
+        of uniform motion, ``der(phi) = w*`` (reported in
+        :attr:`SteadyState.derivatives`).  Any other state no derivative
+        depends on (the temperature of a housing with no heat path out) must
+        be at rest like the rest, and is undetermined.
     parameters : mapping, optional
         New parameter values by dotted name (with a model, not a translation).
     tol : float
-        The largest accepted norm of the solved derivatives, relative to
-        ``1 + max |x|``.
+        The largest accepted ``|der(x)|`` of every state at rest, relative
+        to ``1 + max |x|`` over those states.
 
     Returns
     -------
@@ -812,19 +1172,57 @@ def steady_state(model_or_translation: Component | Translation, *, guess: Mappin
     Raises
     ------
     SolverError
-        If no steady state is found in a discrete state, or the discrete
-        state keeps changing.
+        If no steady state is found in a discrete state (a derivative of a
+        state at rest stays above the tolerance, whether the solve did not
+        converge or nothing can balance it), or the discrete state keeps
+        changing.
+    InitializationError
+        If the solution is not consistent with its discrete state: states
+        that no equation of it determines were kept at their guess, and at
+        those values the model's own initialization chooses another discrete
+        state (a friction element "stuck" while its speed is not 0).
+
+    Warns
+    -----
+    UndeterminedStateWarning
+        When states are kept at their guess because no equation of the
+        discrete state determines them (:attr:`SteadyState.undetermined`).
 
     Notes
     -----
-    Each round solves the discrete state's ``der(x) = 0`` with MINPACK's
+    Each round works in one discrete state.  Its states are split
+    structurally, from the matched equations of the discrete state (the
+    dependency graph of :func:`linearize`): those held (``free=``, and those
+    no derivative depends on whose derivative is a linear combination of
+    states at rest, through linear equations: angles and positions), and
+    the others, which must be at rest.  A
+    maximum matching between the equations ``der(x_i) = 0`` of the states at
+    rest and the states they depend on (each equation tried with its own
+    state first) gives a square, structurally regular system; the states it
+    leaves unmatched are determined by no equation at rest (the speed of a
+    stuck friction element, whose ``der(w) = 0`` holds whatever ``w``): they
+    are kept at their guess, warned about and reported in
+    :attr:`SteadyState.undetermined`.  The system is solved with MINPACK's
     hybrid method (``scipy.optimize.root``, ``'hybr'``) on the compiled
-    derivatives, with the exact Jacobian of :func:`linearize`; then the
-    runtime's event iteration re-evaluates the relations and discrete
-    equations at the solution.  When the discrete state it settles in
-    differs (a load above a static limit starts a slip), the next round
-    solves in that state.  At most :data:`MAX_ROUNDS` rounds; a state
-    visited twice means no consistent steady state (the error names them).
+    derivatives, with the exact Jacobian of :func:`linearize`; then every
+    derivative of a state at rest is checked, the unmatched equations
+    included (a drive without losses has ``der(w) = tau/J`` whatever ``w``).
+
+    Then the runtime's event iteration (as :func:`~acausal.runtime.simulate.simulate`
+    runs it at an event) re-evaluates the relations and discrete equations
+    at the solution, from the discrete state of the round, with the
+    relations' exact values at the solution as their values before.  When
+    the discrete state it settles in differs (a load above a static limit
+    starts a slip), the next round solves in that state.  At most
+    :data:`MAX_ROUNDS` rounds; a state visited twice means no consistent
+    steady state (the error names them).  A discrete state the event
+    iteration reproduces must also have relation values that agree with the
+    solution beyond their margins.  Where states were kept at their guess,
+    the discrete state must moreover be the one the model's initialization
+    chooses at the solution (from the start values of its discrete
+    variables, as :func:`~acausal.runtime.initialization.initialize` does),
+    since no equation of it says whether the guessed values belong to it;
+    a state named in ``free=`` is not checked this way.
 
     References
     ----------
@@ -833,12 +1231,20 @@ def steady_state(model_or_translation: Component | Translation, *, guess: Mappin
     .. [2] M. Otter, H. Elmqvist and S. E. Mattsson, "Hybrid modeling in
        Modelica based on the synchronous data flow principle", CACSD'99, 1999
        (the event iteration that decides the discrete state).
-    """
-    from scipy.optimize import root  # only here: the tools layer stays light to import
+    .. [3] I. S. Duff, "On algorithms for obtaining a maximum transversal",
+       ACM Trans. Math. Software 7(3), 1981 (the matching of equations to states).
 
+    Examples
+    --------
+    >>> found = steady_state(DriveModel(), guess={"rotor.w": 10.0})  # doctest: +SKIP
+    >>> found["rotor.w"], found.discrete_state, found.undetermined     # doctest: +SKIP
+    """
     translation = _translation_of(model_or_translation, parameters)
     evaluator = evaluator_for(translation)
     t = float(t)
+    if isinstance(free, str) or any(not isinstance(n, str) for n in free):
+        raise SettingError("free takes a sequence of state names")
+    free = tuple(free)
     start = initialize(translation, evaluator, t).outcome
     values = dict(start.values)
     discrete_values, relations = dict(start.discrete), tuple(start.relations)
@@ -848,9 +1254,12 @@ def steady_state(model_or_translation: Component | Translation, *, guess: Mappin
         discrete_values = _discrete_of_key(translation, key, discrete_values)
     guess = {str(n): float(v) for n, v in (guess or {}).items()}
     values.update(guess)
+    #: where each state's current value came from, for what is said of the states kept as they are
+    came_from = {n: "its guess" if n in guess else "the model's start" for n in values}
     unknown = [n for n in (*guess, *free) if n not in translation.continuous]
     if unknown:
         raise SettingError(f"{translation.flat.name} has no continuous variable {unknown[0]!r}")
+    name = translation.flat.name
     namer = StateNamer(translation)
     seen: list[tuple] = []
     for round_ in range(1, MAX_ROUNDS + 1):
@@ -858,51 +1267,348 @@ def steady_state(model_or_translation: Component | Translation, *, guess: Mappin
         system = translation.system(key)
         states = list(system.states)
         dae = _StateDAE(translation, key, (), ())
-        held_free = [s for s in states if s in set(free) or s in dae.structural_free]
-        solved = [k for k, s in enumerate(states) if s not in held_free]
-        x_full = np.array([values.get(s, 0.0) for s in states], dtype=float)
-
-        def residual(x_solved, x_full=x_full, system=system, solved=solved):
-            x = x_full.copy()
-            x[solved] = x_solved
-            return np.asarray(system.derivatives(t, x), dtype=float)[solved]
-
-        jacobian = _exact_jacobian(dae, system, t, x_full, solved, held_free, values)
-        x_solved = x_full[solved]
-        if solved:
-            found = root(residual, x_solved, jac=jacobian, method="hybr",
-                         options={"xtol": 1e-14, "maxfev": 2000})
-            x_solved = found.x
-            norm = float(np.linalg.norm(residual(x_solved)))
-            if not np.isfinite(norm) or norm > tol * (1.0 + float(np.max(np.abs(x_solved)))):
-                raise SolverError(
-                    f"no steady state of {translation.flat.name} found in [{namer(key)}]: the derivatives "
-                    f"of {', '.join(states[k] for k in solved)} stay at norm {norm:.3g} ({found.message})",
-                    hint="the states may grow without bound (name them in free=), or give a better "
-                         "guess=; a steady state must exist in the discrete state reached")
-        else:
-            norm = 0.0
-        x_full = x_full.copy()
-        x_full[solved] = x_solved
-        point_values = mode_values(system, t, x_full)
-        new_key, new_values, _, new_discrete, new_relations = _settled(
-            translation, t, point_values, discrete_values, relations)
+        plan = _rest_plan(dae, states, free)
+        x, message = _solve_at_rest(dae, system, plan, t, np.array([values.get(s, 0.0) for s in states],
+                                                                     dtype=float))
+        for k in plan.solved:
+            came_from[states[k]] = f"solved in [{namer(key)}]"
+        derivatives = np.asarray(system.derivatives(t, x), dtype=float)
+        at_rest = plan.at_rest
+        tolerance = tol * (1.0 + max((abs(float(x[k])) for k in at_rest), default=0.0))
+        failure = _not_at_rest(translation, namer, key, plan, x, derivatives, tolerance, message)
+        try:
+            point_values = mode_values(system, t, x)
+            # the relations before the event iteration: their exact values at the solution (not those
+            # of the point the round started from, which the margins would otherwise favour)
+            exact = evaluator.relation_values(system, t, x, relations, exact=True) if relations else ()
+            new_key, new_values, _, new_discrete, new_relations = _settled(
+                translation, t, point_values, discrete_values, exact)
+        except (SimulationError, ArithmeticError, ValueError):
+            # the event iteration may fail at a point that is no steady state (a solve gone
+            # astray): then that is the news, not what the event iteration made of it
+            if failure is not None:
+                raise failure from None
+            raise
+        if failure is not None and new_key == key:
+            raise failure
+        # (not at rest, but in a discrete state the event iteration leaves: the next round
+        # solves in the state it settles in)
         if new_key == key:
-            derivatives = dict(zip(states, map(float, system.derivatives(t, x_full))))
-            return SteadyState(dict(zip(states, map(float, x_full))),
-                               {der_name(s): derivatives[s] for s in states}, norm, tuple(held_free),
-                               point_values, t, key, namer(key), translation.describe(key), round_)
+            _check_relations(translation, evaluator, namer, key, system, t, x, new_relations)
+            undetermined = [states[k] for k in plan.undetermined]
+            if undetermined:
+                kept = {s: came_from.get(s, "the model's start") for s in undetermined}
+                _check_undetermined(translation, namer, key, system, t, point_values, kept)
+                warnings.warn(_undetermined_message(translation, namer, key, point_values, kept),
+                              UndeterminedStateWarning, stacklevel=2)
+            variables = translation.flat.variable_map
+            residuals = {states[k]: abs(float(derivatives[k])) for k in at_rest}
+            return SteadyState(
+                dict(zip(states, map(float, x))), {der_name(s): float(d) for s, d in zip(states, derivatives)},
+                max(residuals.values(), default=0.0),
+                tuple(s for k, s in enumerate(states) if k not in plan.solved),
+                point_values, t, key, namer(key), translation.describe(key), round_,
+                undetermined=tuple(undetermined), residuals=residuals, discrete_values=dict(new_discrete),
+                tolerance=tolerance, model=name,
+                units={s: (getattr(variables.get(s), "unit", "") or "") for s in states})
         if new_key in seen:
             names = " -> ".join(namer(k) for k in (*seen[seen.index(new_key):], new_key))
-            raise SolverError(f"no consistent steady state of {translation.flat.name}: the discrete state "
-                              f"alternates ({names})",
+            raise SolverError(f"no consistent steady state of {name}: the discrete state alternates ({names})",
                               hint="the equilibrium may lie exactly on a switching condition; try "
                                    "another guess= or parameter values")
         key, values, discrete_values, relations = new_key, {**new_values, **{
-            s: v for s, v in zip(states, x_full) if s not in new_values}}, new_discrete, new_relations
-    raise SolverError(f"no consistent steady state of {translation.flat.name} after {MAX_ROUNDS} discrete "
+            s: v for s, v in zip(states, x) if s not in new_values}}, new_discrete, new_relations
+    raise SolverError(f"no consistent steady state of {name} after {MAX_ROUNDS} discrete "
                       f"states: {' -> '.join(namer(k) for k in seen)}",
                       hint="give discrete= or a guess= near the steady state")
+
+
+@dataclass(frozen=True)
+class _RestPlan:
+    """How :func:`steady_state` treats the states of one discrete state (positions in its system).
+
+    Attributes
+    ----------
+    held : tuple of int
+        Not solved for, and free to move: named in ``free=``, integrators
+        (angles, positions: :meth:`_StateDAE._integrators`), or discrete
+        Reals (held between events).
+    undetermined : tuple of int
+        At rest, but no equation ``der(x) = 0`` is left to determine them:
+        kept as they are.
+    solved : tuple of int
+        The states solved for ...
+    equations : tuple of int
+        ... from ``der(x) = 0`` of these states (as many, matched in order).
+    unbalanced : tuple of int
+        States at rest whose ``der(x) = 0`` is matched to no state: it depends
+        on none left to solve for, so it holds or fails as it is.
+    """
+
+    held: tuple[int, ...]
+    undetermined: tuple[int, ...]
+    solved: tuple[int, ...]
+    equations: tuple[int, ...]
+    unbalanced: tuple[int, ...]
+
+    @property
+    def at_rest(self) -> tuple[int, ...]:
+        """The states whose derivatives must vanish: all but the held ones."""
+        return tuple(sorted((*self.solved, *self.undetermined)))
+
+
+def _rest_plan(dae: _StateDAE, states: Sequence[str], free: Sequence[str]) -> _RestPlan:
+    """Which states are held, solved for (from which ``der(x) = 0``) or undetermined.
+
+    The equations ``der(x_i) = 0`` of the states at rest are matched to the
+    states they depend on structurally (:attr:`_StateDAE.reaches`), each
+    equation trying its own state first, so that a state is reported
+    undetermined only where its own equation does not contain it (``der(w)
+    = 0`` of a stuck element) and no other equation is left for it.
+    """
+    position = {s: k for k, s in enumerate(states)}
+    free = set(free)
+    held = [s for s in states if s in free or s in dae.integrators or s in dae.held]
+    candidates = [s for s in states if s not in set(held)]
+    adjacency: dict[str, list[str]] = {e: [] for e in candidates}
+    for s in candidates:
+        # a state the DAE does not know (none expected) counts as reaching every equation
+        reached = dae.reaches.get(s)
+        for e in candidates:
+            if reached is None or e in reached:
+                adjacency[e].append(s)
+    for e, around in adjacency.items():
+        if e in around:  # its own state first
+            around.remove(e)
+            around.insert(0, e)
+    owner = _maximum_matching(candidates, adjacency)
+    pairs = sorted((position[e], position[s]) for s, e in owner.items())
+    matched_equations = {e for e in owner.values()}
+    return _RestPlan(held=tuple(position[s] for s in held),
+                     undetermined=tuple(position[s] for s in candidates if s not in owner),
+                     solved=tuple(s for _, s in pairs), equations=tuple(e for e, _ in pairs),
+                     unbalanced=tuple(position[e] for e in candidates if e not in matched_equations))
+
+
+def _maximum_matching(equations: Sequence[str], adjacency: Mapping[str, Sequence[str]]) -> dict[str, str]:
+    """A maximum matching ``{state: equation}`` by augmenting paths (breadth first).
+
+    The equations are taken in order, and each one's candidates in the order
+    of ``adjacency``: an equation takes the first free state it reaches, its
+    preferred one where that is free.
+    """
+    owner: dict[str, str] = {}     # state -> equation
+    state_of: dict[str, str] = {}  # equation -> state
+    for root_equation in equations:
+        parent: dict[str, str] = {}  # state -> the equation that reached it
+        queue = [root_equation]
+        found = None
+        while queue and found is None:
+            equation = queue.pop(0)
+            for s in adjacency[equation]:
+                if s in parent:
+                    continue
+                parent[s] = equation
+                if s not in owner:
+                    found = s
+                    break
+                queue.append(owner[s])
+        while found is not None:  # flip the path: each equation on it takes the state after it
+            equation = parent[found]
+            before = state_of.get(equation)
+            owner[found], state_of[equation] = equation, found
+            found = before
+    return owner
+
+
+def _solve_at_rest(dae: _StateDAE, system, plan: _RestPlan, t: float, x: np.ndarray) -> tuple[np.ndarray, str]:
+    """``(x, message)``: the states of ``plan.solved`` solved from ``der(x) = 0`` of ``plan.equations``
+    (MINPACK's hybrid method with the exact Jacobian), the others as given; the solver's message."""
+    from scipy.optimize import root  # only here: the tools layer stays light to import
+
+    if not plan.solved:
+        return x, ""
+    rows, columns = list(plan.equations), list(plan.solved)
+
+    def residual(x_solved):
+        trial = x.copy()
+        trial[columns] = x_solved
+        return np.asarray(system.derivatives(t, trial), dtype=float)[rows]
+
+    found = root(residual, x[columns], jac=_exact_jacobian(dae, system, t, x, rows, columns), method="hybr",
+                 options={"xtol": 1e-14, "maxfev": 2000})
+    solved = x.copy()
+    solved[columns] = found.x
+    return solved, str(found.message)
+
+
+def _rate_unit(unit: str) -> str:
+    """The unit of ``der(x)`` for ``x`` in ``unit`` (``K`` -> ``K/s``, ``rad/s`` -> ``rad/s2``)."""
+    if not unit or unit == "1":
+        return "1/s"
+    if unit.endswith("/s"):
+        return unit + "2"
+    return f"{unit}/s"
+
+
+def _not_at_rest(translation: Translation, namer: StateNamer, key: tuple, plan: _RestPlan, x: np.ndarray,
+                 derivatives: np.ndarray, tolerance: float, message: str) -> SolverError | None:
+    """The :class:`SolverError` to raise unless every state at rest has ``|der(x)| <= tolerance``."""
+    states = translation.system(key).states
+    variables = translation.flat.variable_map
+    bad = [k for k in plan.at_rest if not abs(float(derivatives[k])) <= tolerance]  # NaN fails too
+    if not bad:
+        return None
+    bad.sort(key=lambda k: -abs(float(derivatives[k])) if np.isfinite(derivatives[k]) else -math.inf)
+
+    def rate(k: int) -> str:
+        unit = _rate_unit(getattr(variables.get(states[k]), "unit", "") or "")
+        return f"{der_name(states[k])} = {float(derivatives[k]):.3g} {unit}"
+
+    listed = ", ".join(rate(k) for k in bad[:4]) + (f" and {len(bad) - 4} more" if len(bad) > 4 else "")
+    unbalanced = [states[k] for k in bad if k in plan.unbalanced]
+    if unbalanced:
+        hint = (f"{', '.join(der_name(s) for s in unbalanced)} depends on no state left to solve for in "
+                f"this discrete state, so nothing there can bring it to zero (a drive without losses, a "
+                f"storage filled with no path out); name the state in free= if it may change at a "
+                f"constant rate")
+    else:
+        hint = ("the states may grow without bound (name them in free=), or give a better guess=; a "
+                "steady state must exist in the discrete state reached")
+    # the solver's word matters for the states it solved for, not for an equation it had no state for
+    solver = f" (the solver: {message})" if message and any(k in plan.solved for k in bad) else ""
+    return SolverError(f"no steady state of {translation.flat.name} found in [{namer(key)}]: at the point "
+                       f"reached {listed} (tolerance {tolerance:.3g}){solver}", hint=hint)
+
+
+def _check_relations(translation: Translation, evaluator, namer: StateNamer, key: tuple, system, t: float,
+                     x: np.ndarray, relations: Sequence[bool]) -> None:
+    """Raise :class:`InitializationError` where a relation's value in the discrete state contradicts
+    the continuous solution: its two sides lie beyond its margin, on the other side.
+
+    A relation within its margin (the hysteresis of event detection) may
+    take either value: the equilibrium is then on a switching condition.
+    """
+    n = len(relations)
+    if not n:
+        return
+    raw = system.crossings(t, x)
+    exact = evaluator.relation_values(system, t, x, relations, exact=True, raw=raw)
+    # decided alike from either side of the margin: the solution fixes the value
+    high = evaluator.relation_values(system, t, x, (True,) * n, raw=raw)
+    low = evaluator.relation_values(system, t, x, (False,) * n, raw=raw)
+    wrong = [k for k in range(n) if high[k] == low[k] and raw[2 * k] != raw[2 * k + 1]
+             and bool(relations[k]) != bool(exact[k])]
+    if wrong:
+        texts = [r.text for r in translation.partitioned.relations]
+        listed = ", ".join(f"{texts[k]} is {'true' if relations[k] else 'false'} "
+                           f"({raw[2 * k]:.6g} against {raw[2 * k + 1]:.6g})" for k in wrong[:4])
+        raise InitializationError(
+            f"the steady state of {translation.flat.name} in [{namer(key)}] is not consistent with its "
+            f"discrete state: {listed}",
+            hint="the discrete state's relations must hold at the solution; try another guess= or discrete=")
+
+
+def _check_undetermined(translation: Translation, namer: StateNamer, key: tuple, system, t: float,
+                        values: Mapping[str, float], kept: Mapping[str, str]) -> None:
+    """Raise :class:`InitializationError` if the model's initialization at ``values`` chooses
+    another discrete state than ``key``: the states kept at their guess do not belong to it.
+
+    Keys that differ only in relations at their limit (within the margins of
+    :data:`GUESS_RTOL`: an inertia at rest exactly at the edge of a backlash
+    gap) are the same discrete state to this check: either value is right.
+    ``kept`` names the states kept as they were, and where each value came from.
+    """
+    chosen = _chosen_from_start(translation, t, values)
+    if chosen is None or chosen == key:
+        return
+    states = system.states
+    undecided = _undecided_relations(translation, system, t, [values[s] for s in states])
+    differing = [parse(symbol.name) for symbol, a, b in zip(translation.selectors, key, chosen) if a != b]
+    if all(name.kind == "relation" and name.index in undecided for name in differing):
+        return
+    undetermined = list(kept)
+    them = "it" if len(undetermined) == 1 else "them"
+    point = ", ".join(f"{s} = {values[s]:.6g}" for s in states)
+    raise InitializationError(
+        f"the steady state of {translation.flat.name} found in [{namer(key)}] is not consistent with that "
+        f"discrete state: no equation of it determines {', '.join(undetermined)}, kept at "
+        f"{_kept_text(values, kept)}, and at the point found ({point}) the model's initialization "
+        f"chooses [{namer(chosen)}]",
+        hint=f"give guess= values of {', '.join(undetermined)} that [{namer(key)}] can hold (those the model "
+             f"has when it enters that state), start from another discrete=, or name {them} in free= to "
+             f"keep {them} as given without this check")
+
+
+def _undecided_relations(translation: Translation, system, t: float, x) -> set[int]:
+    """The relations at their limit at ``(t, x)``: decided differently from either side of a margin
+    of :data:`GUESS_RTOL`, or with both sides equal."""
+    relations = translation.partitioned.relations
+    if not relations:
+        return set()
+    evaluator = evaluator_for(translation, relation_epsilon=GUESS_RTOL)
+    raw = system.crossings(t, x)
+    n = len(relations)
+    high = evaluator.relation_values(system, t, x, (True,) * n, raw=raw)
+    low = evaluator.relation_values(system, t, x, (False,) * n, raw=raw)
+    return {k for k in range(n) if high[k] != low[k] or raw[2 * k] == raw[2 * k + 1]}
+
+
+def _kept_text(values: Mapping[str, float], kept: Mapping[str, str]) -> str:
+    """``rotor.w = 1 (its guess), housing.T = 293.15 (the model's start)``."""
+    return ", ".join(f"{s} = {values[s]:.6g} ({origin})" for s, origin in kept.items())
+
+
+def _undetermined_message(translation: Translation, namer: StateNamer, key: tuple, values: Mapping[str, float],
+                          kept: Mapping[str, str]) -> str:
+    return (f"steady state of {translation.flat.name} in [{namer(key)}]: no equation of this discrete state "
+            f"determines {', '.join(kept)}; kept at {_kept_text(values, kept)} "
+            f"(SteadyState.undetermined lists {'it' if len(kept) == 1 else 'them'})")
+
+
+def _chosen_from_start(translation: Translation, t: float, values: Mapping[str, float]) -> tuple | None:
+    """The discrete state the model's own initialization settles in at the continuous ``values``.
+
+    The loop of :func:`~acausal.runtime.initialization.initialize` without
+    its continuous solve: the discrete variables from their start values,
+    ``pre()`` of the fixed ones held at their starts, the relations judged
+    with no history (within the margin, ``g`` counts as 0), iterated to a
+    fixed point with ``initial()`` true; then the event iteration with
+    ``initial()`` false that follows initialization.  The states are those
+    of ``values``; the other unknowns follow from them in each discrete
+    state tried.  The relations are judged with margins of
+    :data:`GUESS_RTOL` (the runtime's event iteration with that
+    ``relation_epsilon``): the values judged include guesses.  None where
+    that cannot be evaluated (it does not settle, a domain error, a state of
+    another discrete state that ``values`` lacks).
+    """
+    variables = translation.flat.variable_map
+    # margins of the accuracy of guessed values: a stuck speed of -1e-10 from a simulation is 0
+    evaluator = evaluator_for(translation, relation_epsilon=GUESS_RTOL)
+    discrete, relations = start_guess(translation)
+    fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
+    at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
+    try:
+        for _ in range(evaluator.max_iterations):
+            pre = {**discrete, **fixed_pre}
+            system = translation.system(evaluator.key(discrete, pre, relations, True))
+            x = [discrete[s] if s in discrete else values[s] for s in system.states]
+            new_relations = evaluator.relation_values(system, t, x, at_zero)
+            evaluator.prepare(system, t, x)
+            new_discrete = evaluator.evaluate_discrete(discrete, pre, new_relations, True)
+            if new_discrete == discrete and new_relations == relations:
+                break
+            discrete, relations = new_discrete, new_relations
+        else:
+            return None
+        evaluator.prepare(None, t, x)
+        outcome = evaluator.iterate(t, {**values, **mode_values(system, t, x)}, discrete, relations,
+                                    initial=False)
+    except (KeyError, ArithmeticError, StructuralError, SimulationError):
+        return None
+    finally:
+        evaluator.prepare(None, t, ())
+    return evaluator.key(outcome.discrete, outcome.discrete, outcome.relations, False)
 
 
 def _discrete_of_key(translation: Translation, key: tuple, defaults: Mapping) -> dict:
@@ -917,10 +1623,10 @@ def _discrete_of_key(translation: Translation, key: tuple, defaults: Mapping) ->
     return out
 
 
-def _exact_jacobian(dae: _StateDAE, system, t: float, x_full: np.ndarray, solved: list[int],
-                    held_free: list[str], values: Mapping[str, float]):
-    """``jac(x_solved)`` for :func:`scipy.optimize.root` from the symbolic linearization, or None
-    where the DAE's states are not the compiled system's."""
+def _exact_jacobian(dae: _StateDAE, system, t: float, x_full: np.ndarray, rows: list[int], columns: list[int]):
+    """``jac(x_solved)`` for :func:`scipy.optimize.root` from the symbolic linearization: the
+    derivatives of states ``rows`` with respect to states ``columns`` (positions in the compiled
+    system), or None where the DAE's states are not the compiled system's."""
     states = list(system.states)
     if set(states) != set(dae.states) or dae.held:
         return None
@@ -929,12 +1635,12 @@ def _exact_jacobian(dae: _StateDAE, system, t: float, x_full: np.ndarray, solved
 
     def jacobian(x_solved):
         x = x_full.copy()
-        x[solved] = x_solved
+        x[columns] = x_solved
         point_values = mode_values(system, t, x)
         point = _Point(t, dae.key, point_values, system)
         xd, z, u, held = _evaluate(dae, point, starts)
         A, _, _, _ = dae.linear(t, xd, z, u, held)
         A = A[np.ix_(where, where)]
-        return A[np.ix_(solved, solved)]
+        return A[np.ix_(rows, columns)]
 
     return jacobian

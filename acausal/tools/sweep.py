@@ -15,9 +15,12 @@ the first run did not is compiled in the worker that meets it (once per
 worker process; later runs there load it), and the result counts it
 (:attr:`SweepResult.compiled_in_workers`).  A parameter value that changes
 what the translation decided (a zero that removes a term, a relation of
-parameters alone, a start value computed from a parameter) has its run
-translated in the worker (:attr:`SweepResult.translated_in_workers`), as
-``simulate(model, parameters=...)`` would translate it.
+parameters alone, a start value computed from a parameter for a variable that
+is neither a state nor fixed) has its run translated in the worker
+(:attr:`SweepResult.translated_in_workers`), as ``simulate(model,
+parameters=...)`` would translate it.  Start values of states and fixed
+variables are parameters of the shipped code: swept (``"J1.w.start"``) or
+computed from a parameter, they cost no translation.
 
 Executors: a process pool of the standard library (the default, sized to the
 machine), any :class:`concurrent.futures.Executor`, a ``dask.distributed``
@@ -58,10 +61,10 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
-from ..compiler.flatten import FlatModel, FlatParameter, _Flattener
+from ..compiler.flatten import FlatModel, FlatParameter, _Flattener, tunable_starts_of
 from ..compiler.initial import InitialSystem
 from ..compiler.modes import ModeSystem
-from ..compiler.translate import Translation, TranslationBundle, translate
+from ..compiler.translate import Translation, TranslationBundle, translate, with_start_values
 from ..errors import AcausalError, SettingError, SimulationInterrupted
 from ..language import Component
 from ..runtime.result import SimulationResult
@@ -165,6 +168,8 @@ class _RunSpec:
     values: dict
     parameters: tuple  #: the flat model's parameter values, in the bundle's order
     variables: tuple | None  #: the flat model's variables when they differ from the bundle's
+    #: its tunable start values (in the order of the bundle's ``tunable_starts``) when only they differ
+    starts: tuple = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -241,6 +246,8 @@ def _run_one(bundle: TranslationBundle, spec: _RunSpec, outputs, options: dict) 
         parameters = tuple(dataclasses.replace(p, value=v) for p, v in zip(base.parameters, spec.parameters))
         flat = dataclasses.replace(base, parameters=parameters,
                                    variables=base.variables if spec.variables is None else spec.variables)
+        if spec.starts:  # start values are parameters of the shipped code: no translation
+            flat = flat.with_starts(dict(zip(base.tunable_starts, spec.starts)))
         translation = Translation.from_bundle(bundle, flat, store)
         result = simulate(translation, progress=False, **options)
     except Exception as exc:  # noqa: BLE001 - a failed run is a row of the table, the others go on
@@ -730,6 +737,61 @@ class SweepResult:
         """The runs that did not end as the model asked (status not 0 or 1)."""
         return tuple(r for r in self.runs if r.status not in (0, 1))
 
+    def __repr__(self) -> str:
+        """The runs, how many ended as asked and how many failed, the parameters and the outputs."""
+        failed = self.failed
+        ok = len(self.runs) - len(failed)
+        seconds = f" in {self.seconds:.3g} s" if self.seconds else ""
+        lines = [f"SweepResult: {len(self.runs)} run{'' if len(self.runs) == 1 else 's'}{seconds}, "
+                 f"{ok} ok, {len(failed)} failed"]
+        swept = []
+        for name in self.parameters.columns:
+            values = self.parameters[name].dropna()
+            if len(values):
+                # parameter values are inputs, printed as given (never rounded to 0)
+                swept.append(f"{name} {float(values.min()):.6g} .. {float(values.max()):.6g} "
+                             f"({values.nunique()} value{'' if values.nunique() == 1 else 's'})")
+        lines.append(f"  parameters: {'; '.join(swept) or 'none'}")
+        lines.append(f"  outputs: {', '.join(self.outputs) or 'none'}")
+        if failed:
+            shown = ", ".join(f"{r.index} ({r.error_type or f'status {r.status}'})" for r in failed[:5])
+            lines.append(f"  failed runs: {shown}{', ...' if len(failed) > 5 else ''}")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """The summary and the head of :attr:`table`.
+
+        An output's value below the solver tolerance (the runs' ``rtol``
+        times the largest magnitude of that output over the sweep, the
+        absolute tolerance the integrator works to) is shown as 0 — a stuck
+        speed of ``-1e-10`` is a 0 — in what is printed only: :attr:`table`
+        keeps the values.
+        """
+        import html
+
+        import pandas as pd
+
+        rows = 10
+        head = self.table.head(rows).copy()
+        given = [r.result.stats.get("rtol") for r in self.runs if r.result is not None]
+        rtol = max((float(v) for v in given if v), default=1e-6)  # simulate's default rtol
+        for name in self.outputs:
+            columns = [c for c in (f"{name}:final", f"{name}:min", f"{name}:max") if c in head.columns]
+            if not columns:
+                continue
+            values = np.abs(self.table[columns].to_numpy(dtype=float))
+            finite = values[np.isfinite(values)]
+            if not finite.size:
+                continue
+            zero = rtol * float(finite.max())
+            for column in columns:
+                head[column] = head[column].where(~(head[column].abs() <= zero), 0.0)
+        summary = html.escape(repr(self)).replace("\n", "<br>")
+        more = f"<p>... {len(self.table) - len(head)} more runs</p>" if len(self.table) > len(head) else ""
+        with pd.option_context("display.max_colwidth", 80):
+            table = head.to_html(index=False, float_format=lambda v: f"{v:.6g}", na_rep="")
+        return f"<div><p>{summary}</p>{table}{more}</div>"
+
     def series(self, name: str, points: int = 501):
         """The time series of ``name``: a DataFrame, time as index, one column per run.
 
@@ -893,7 +955,7 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
           seed: int | None = None, progress: "bool | Callable[[int, int, RunOutcome], object] | None" = None,
           chunk_size: int | None = None, workers: int | None = None, sampling: str = "lhs",
           pilot: int = 1, timeout: float | None = None, max_steps: int | None = None,
-          **simulate_options) -> SweepResult:
+          start: Mapping[str, float] | None = None, **simulate_options) -> SweepResult:
     """Simulate ``model`` for many parameter sets, translated once.
 
     Parameters
@@ -902,7 +964,10 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
     parameters : mapping or sequence of mappings
         ``name -> values`` (a full factorial grid), a list of ``name ->
         value`` runs, or with ``samples`` ``name -> (low, high)`` (see
-        :func:`parameter_sets`).  Numeric parameters only.
+        :func:`parameter_sets`).  Numeric parameters, and start values
+        named ``<variable>.start`` (``{"J1.w.start": [1, 2, 3]}``): those of
+        states and fixed variables are parameters of the compiled code, so
+        a start value swept costs no translation either.
     outputs : sequence of str, optional
         The variables kept and summarised; the model computes only what they
         need (as ``simulate(..., outputs=...)``).  Default: every column.
@@ -935,6 +1000,11 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
         the others go on.
     max_steps : int, optional
         Integrator steps each run may take, likewise.
+    start : mapping, optional
+        Start values by variable name (``{"J1.w": 3.0}``), the same for every
+        run (as :func:`~acausal.runtime.simulate.simulate`'s ``start``); a
+        start value that varies is a name ``<variable>.start`` of
+        ``parameters``.
     **simulate_options
         Passed to :func:`~acausal.runtime.simulate.simulate` for every run
         (``stop_time``, ``rtol``, ``method``, ...).
@@ -1000,7 +1070,7 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
         resolved: dict[int, tuple] = {}
         for index, values in enumerate(runs):
             try:
-                resolved[index] = _flat_values(model, values)
+                resolved[index] = _flat_values(model, with_start_values(values, start) or {})
             except AcausalError as exc:
                 report(RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0))
                 continue
@@ -1009,8 +1079,8 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
         if first is not None:
             # this process's translation of the model is reused (a second sweep compiles
             # nothing); what it compiles keeps its stages, which the bundle ships
-            translation = translate(model, outputs, parameters=runs[first], redundant_constraints=redundant,
-                                    disk_cache=False)
+            translation = translate(model, outputs, parameters=with_start_values(runs[first], start),
+                                    redundant_constraints=redundant, disk_cache=False)
             bundle_flat = translation.flat
             report(_run_here(translation, first, runs[first], outputs, options))
             bundle = translation.export()
@@ -1018,8 +1088,14 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
                 if index == first:
                     continue
                 by_name = {p.name: p.value for p in flat_parameters}
+                try:  # start values travel as numbers, the variables only when they differ otherwise
+                    starts, other = tunable_starts_of(bundle_flat, variables,
+                                                      with_start_values(runs[index], start) or {})
+                except AcausalError as exc:
+                    report(RunOutcome(index, runs[index], -1, exc.message, type(exc).__name__, None, 0.0))
+                    continue
                 specs.append(_RunSpec(index, runs[index], tuple(by_name[p.name] for p in bundle_flat.parameters),
-                                      None if variables == bundle_flat.variables else variables))
+                                      variables if other else None, () if other else starts))
             if pilot > 1 and specs:
                 # more runs here, spread over the sweep: the discrete states they reach are
                 # compiled once, here, and shipped, instead of once in every worker
@@ -1114,7 +1190,7 @@ def _units(outcomes: Sequence[RunOutcome], bundle: TranslationBundle | None) -> 
     units: dict[str, str] = {}
     if bundle is not None:
         flat: FlatModel = bundle.unpacked()[0]
-        units.update({p.name: p.unit or "" for p in flat.parameters})
+        units.update({p.name: p.unit or "" for p in (*flat.parameters, *flat.start_parameters)})
     for outcome in outcomes:
         if outcome.result is not None:
             for name, info in outcome.result.column_info.items():
