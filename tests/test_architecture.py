@@ -381,12 +381,43 @@ def _layout_rows() -> dict[str, str]:
     return rows
 
 
+def _top_folders(repo: Path) -> list[str]:
+    """The repository's top-level folders, as the layout table describes them.
+
+    The folders of the files git tracks: what commands leave in a checkout
+    (``bench-out/``, ``plots/`` of ``compare --plot``, a virtual environment,
+    ``build/``), whether ``.gitignore`` lists it or not, is not the
+    repository's layout, and the README's test command must pass in a
+    checkout that has been used.  Outside a git checkout (an unpacked source
+    archive) the folders on disk, less those ``.gitignore`` names.
+    """
+    try:
+        top = subprocess.run(["git", "-C", str(repo), "rev-parse", "--show-toplevel"],
+                             capture_output=True, text=True, timeout=60)
+        files = subprocess.run(["git", "-C", str(repo), "ls-files", "-z"],
+                               capture_output=True, text=True, timeout=60)
+        tracked = (top.returncode == 0 and files.returncode == 0
+                   and Path(top.stdout.strip()).resolve() == repo.resolve())
+    except (OSError, subprocess.SubprocessError):
+        tracked = False
+    if tracked and files.stdout:
+        names = {path.split("/", 1)[0] for path in files.stdout.split("\0") if "/" in path}
+    else:
+        import fnmatch
+
+        ignore = repo / ".gitignore"
+        patterns = [line.strip().strip("/") for line in
+                    (ignore.read_text(encoding="utf-8").splitlines() if ignore.is_file() else [])
+                    if line.strip() and not line.lstrip().startswith(("#", "!"))]
+        names = {p.name for p in repo.iterdir()
+                 if p.is_dir() and not any(fnmatch.fnmatch(p.name, pattern) for pattern in patterns)}
+    return sorted(name for name in names if not name.startswith("."))
+
+
 def test_readme_layout_names_every_layer_and_module():
     rows = _layout_rows()
     repo = PACKAGE_DIR.parent
-    top = sorted(p.name for p in repo.iterdir()
-                 if p.is_dir() and not p.name.startswith(".") and p.name not in ("build", "dist")
-                 and not p.name.endswith(".egg-info") and p.name != "__pycache__")
+    top = _top_folders(repo)
     missing_top = [name for name in top if not any(r == name or r.startswith(name + "/") for r in rows)]
     assert not missing_top, f"README layout misses the folders {missing_top}"
     for layer in ("compiler", "runtime", "tools"):
