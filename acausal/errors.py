@@ -20,6 +20,7 @@ __all__ = [
     "ModelDefinitionError",
     "EquationError",
     "ModifierError",
+    "ConnectorError",
     "ConnectionError_",
     "ParameterError",
     "TableError",
@@ -99,12 +100,17 @@ class ModifierError(ModelDefinitionError, TypeError):
     """A modifier names something the component does not declare."""
 
 
-class ConnectionError_(ModelDefinitionError):
-    """A connect() joins incompatible or disabled connectors.
+class ConnectorError(ModelDefinitionError):
+    """A connect() joins incompatible or disabled connectors, or an input is left unconnected.
 
-    Named with a trailing underscore so it does not shadow the built-in
-    ``ConnectionError`` (which is about sockets).
+    Not called ``ConnectionError``, so that it does not shadow the built-in
+    (which is about sockets).
     """
+
+
+#: The earlier name of :class:`ConnectorError`, kept so that ``except ConnectionError_``
+#: and ``pytest.raises(ConnectionError_)`` keep working: the same class, not a subclass.
+ConnectionError_ = ConnectorError
 
 
 class ParameterError(ModelDefinitionError):

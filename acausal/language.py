@@ -39,7 +39,7 @@ from typing import Any, Callable, Iterator, Mapping
 
 import sympy as sp
 
-from .errors import ConnectionError_, ModelDefinitionError, ModifierError
+from .errors import ConnectorError, ModelDefinitionError, ModifierError
 
 __all__ = [
     "time",
@@ -187,7 +187,7 @@ class StateSelect(enum.IntEnum):
 # Declarations
 # --------------------------------------------------------------------------
 
-_VARIABLE_ATTRIBUTES = ("start", "fixed", "nominal", "state_select", "min", "max", "unit")
+_VARIABLE_ATTRIBUTES = ("start", "fixed", "nominal", "state_select", "min", "max", "unit", "display_unit")
 
 
 @functools.lru_cache(maxsize=None)
@@ -327,6 +327,9 @@ class Parameter(Declaration):
         parameters (``Inertia(J=self.Jmotor)``).
     unit, min, max, description
         As in Modelica.
+    display_unit : str
+        Modelica's ``displayUnit``: the unit results show the value in
+        (``"deg"``, ``"bar"``); the value itself stays in ``unit``.
     structural : bool
         Evaluated at build time (Modelica's ``Evaluate=true``): reading it on
         an instance gives the Python value, so it can select connectors and
@@ -344,8 +347,10 @@ class Parameter(Declaration):
 
     def __init__(self, default: Any = None, *, unit: str = "", min: float | None = None,
                  max: float | None = None, structural: bool = False, fixed: bool = True,
-                 finite: bool = True, description: str = "", condition=None) -> None:
+                 finite: bool = True, description: str = "", condition=None,
+                 display_unit: str = "") -> None:
         super().__init__(unit=unit, description=description, condition=condition)
+        self.display_unit = display_unit
         self.default = default
         self.min = min
         self.max = max
@@ -381,6 +386,8 @@ class Variable(Declaration):
     ``start``, ``fixed``, ``nominal``, ``state_select``, ``min`` and ``max``
     are Modelica's attributes.  Any of them may be a callable taking the
     component, for attributes that depend on structural parameters.
+    ``display_unit`` is Modelica's ``displayUnit`` (``"rpm"``, ``"degC"``):
+    the unit results show the variable in; its values stay in ``unit``.
     """
 
     kind = "continuous"
@@ -389,8 +396,9 @@ class Variable(Declaration):
                  nominal: Any = None, state_select: Any = StateSelect.default,
                  min: float | None = None, max: float | None = None,
                  description: str = "", condition=None, causality: str = "",
-                 discrete: bool = False) -> None:
+                 discrete: bool = False, display_unit: str = "") -> None:
         super().__init__(unit=unit, description=description, condition=condition)
+        self.display_unit = display_unit
         #: Modelica's ``discrete Real``: changes only at events (assigned in a when-clause)
         self.discrete = discrete
         self.start = start
@@ -577,7 +585,7 @@ class BoundConnector:
             raise AttributeError(f"connector {self.path} ({type(self._declaration).__name__}) "
                                  f"has no variable {name!r}; it has {sorted(variables)}")
         if not self.enabled:
-            raise ConnectionError_(
+            raise ConnectorError(
                 f"connector {self.path} is disabled in this instance of "
                 f"{type(self._owner).__name__}",
                 hint=f"it exists only when {_condition_text(self._declaration)}")

@@ -14,7 +14,7 @@ import sympy as sp
 from acausal import Component, Eq, Model, Variable, simulate, time
 from acausal.errors import (
     AcausalError,
-    ConnectionError_,
+    ConnectorError,
     EquationError,
     InitializationError,
     ModelDefinitionError,
@@ -265,7 +265,7 @@ def test_python_bool_instead_of_equation():
 
 
 def test_connecting_flange_to_heat_port():
-    """A rotational Flange and a HeatPort are different connector families: ConnectionError_."""
+    """A rotational Flange and a HeatPort are different connector families: ConnectorError."""
 
     class Mixed(Model):
         def build(self):
@@ -273,7 +273,7 @@ def test_connecting_flange_to_heat_port():
             self.mass = HeatCapacitor(C=1)
             self.connect(self.body.flange_a, self.mass.port)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         compile_model(Mixed())
     message = str(info.value)
     assert "body.flange_a" in message and "mass.port" in message
@@ -282,7 +282,7 @@ def test_connecting_flange_to_heat_port():
 
 
 def test_connecting_a_disabled_conditional_connector():
-    """Torque(useSupport=False).support does not exist: connecting it is a ConnectionError_ hinting at useSupport."""
+    """Torque(useSupport=False).support does not exist: connecting it is a ConnectorError hinting at useSupport."""
 
     class Disabled(Model):
         def build(self):
@@ -294,7 +294,7 @@ def test_connecting_a_disabled_conditional_connector():
             self.connect(self.torque.flange, self.body.flange_a)
             self.connect(self.torque.support, self.fixed.flange)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         compile_model(Disabled())
     message = str(info.value)
     assert "torque.support" in message and "disabled" in message
@@ -302,7 +302,7 @@ def test_connecting_a_disabled_conditional_connector():
 
 
 def test_reading_a_variable_of_a_disabled_connector():
-    """torque.support.phi on a Torque without support raises ConnectionError_ at once, naming the connector."""
+    """torque.support.phi on a Torque without support raises ConnectorError at once, naming the connector."""
 
     class Disabled(Model):
         def build(self):
@@ -310,7 +310,7 @@ def test_reading_a_variable_of_a_disabled_connector():
 
     model = Disabled()
     model.ensure_built()
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         model.torque.support.phi
     assert "torque.support" in str(info.value)
     assert_hint(info.value, "useSupport")
@@ -327,7 +327,7 @@ def test_unknown_modifier_suggests_the_close_name():
 
 
 def test_unconnected_real_input():
-    """A Torque whose tau input nothing drives: ConnectionError_ naming the input torque.tau."""
+    """A Torque whose tau input nothing drives: ConnectorError naming the input torque.tau."""
 
     class Unconnected(Model):
         def build(self):
@@ -335,7 +335,7 @@ def test_unconnected_real_input():
             self.body = Inertia(J=1, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
             self.connect(self.torque.flange, self.body.flange_a)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         compile_model(Unconnected())
     message = str(info.value)
     assert "torque.tau" in message and "not connected" in message and "Torque" in message
@@ -359,7 +359,7 @@ def test_parameter_below_its_minimum():
 def test_errors_are_value_errors():
     """Model errors subclass ValueError so `except ValueError` keeps working (errors.py contract)."""
     for cls in (OverDeterminedError, UnderDeterminedError, StructurallySingularError, InitializationError,
-                EquationError, ConnectionError_, ModifierError, ParameterError):
+                EquationError, ConnectorError, ModifierError, ParameterError):
         assert issubclass(cls, ValueError) and issubclass(cls, AcausalError)
 
 
@@ -460,3 +460,18 @@ def test_a_zero_parameter_that_removes_a_term_is_named_in_the_hint():
         J = 0.1
 
     assert simulate(SmallInertia(), stop_time=0.5).status == 0
+
+
+def test_the_earlier_name_of_the_connector_error_still_catches_it():
+    """``ConnectionError_`` (the name before issue 24) is the same class: old ``except`` clauses work."""
+    from acausal.errors import ConnectionError_
+
+    class Mixed(Model):
+        def build(self):
+            self.body = Inertia(J=1)
+            self.mass = HeatCapacitor(C=1)
+            self.connect(self.body.flange_a, self.mass.port)
+
+    with pytest.raises(ConnectionError_) as info:
+        compile_model(Mixed())
+    assert type(info.value) is ConnectorError and isinstance(info.value, ValueError)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from acausal.errors import ConnectionError_, ModifierError, ParameterError
+from acausal.errors import ConnectorError, ModifierError, ParameterError
 from acausal.language import (
     Boolean,
     Integer,
@@ -266,11 +266,11 @@ def test_check_parameters_runs_in_build_and_accepts_valid_values():
 
 def test_disabled_support_raises_connection_error():
     x = attach(Torque())
-    with pytest.raises(ConnectionError_):
+    with pytest.raises(ConnectorError):
         x.support.phi
-    with pytest.raises(ConnectionError_):
+    with pytest.raises(ConnectorError):
         attach(BearingFriction()).support.tau
-    with pytest.raises(ConnectionError_):
+    with pytest.raises(ConnectorError):
         attach(Damper()).heatPort.Q_flow
 
 

@@ -19,7 +19,7 @@ from acausal import Component, Eq, Integer, Model, Parameter, Variable, der, sim
 from acausal.compiler.flatten import flatten
 from acausal.errors import (
     AcausalError,
-    ConnectionError_,
+    ConnectorError,
     EquationError,
     ModelDefinitionError,
     ParameterError,
@@ -265,7 +265,7 @@ def test_connecting_a_component_that_is_not_stored_names_it():
             damper = Damper()
             self.connect(self.j.flange_b, damper.flange_a)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         flatten(Orphan())
     message = str(info.value)
     assert "connect(j.flange_b, <Damper>.flange_a) in the model" in message
@@ -285,7 +285,7 @@ def test_connecting_into_a_sub_component_of_an_unstored_model_names_the_unstored
             drive.ensure_built()
             self.connect(drive.inertia.flange_a, self.j.flange_b)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         flatten(Outer())
     assert "connect(<Drive>.inertia.flange_a, j.flange_b)" in str(info.value)
     assert_hint(info.value, "self.drive = Drive(")
@@ -301,7 +301,7 @@ def test_unstored_component_with_the_name_of_a_model_connector_is_not_taken_for_
             stray = Inertia(J=1)
             self.connect(self.flange_a, stray.flange_a)
 
-    with pytest.raises(ConnectionError_, match=r"Inertia is not part of the model"):
+    with pytest.raises(ConnectorError, match=r"Inertia is not part of the model"):
         flatten(Shell())
 
 
@@ -315,7 +315,7 @@ def test_connector_connected_to_itself():
             self.j = Inertia(J=1)
             self.connect(self.j.flange_b, self.j.flange_b)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         flatten(Loop())
     assert "connect(j.flange_b, j.flange_b) in the model: connects j.flange_b to itself" in str(info.value)
     assert_hint(info.value, "two different")
@@ -329,7 +329,7 @@ def test_signal_connected_to_itself():
             self.c = Constant()
             self.connect(self.c.y, self.c.y)
 
-    with pytest.raises(ConnectionError_, match=r"connects c.y to itself"):
+    with pytest.raises(ConnectorError, match=r"connects c.y to itself"):
         flatten(Loop())
 
 

@@ -17,6 +17,18 @@ a write that fails leaves the earlier file as it was), and read only when
 they are regular files below a size cap (:data:`MAX_CSV_BYTES`,
 :data:`MAX_MAT_BYTES`), checked without blocking on a FIFO.
 
+Values are kept in the declared (SI) units.  A column may also be shown in
+a display unit (Modelica's ``displayUnit``, declared as
+``Variable(unit="rad/s", display_unit="rpm")`` or asked for per call):
+:meth:`SimulationResult.in_unit`, ``to_pandas(display_units=...)``,
+``plot(units=...)`` and :meth:`SimulationResult.summary` convert with
+:func:`convert_unit` (Modelica's unit syntax, the scales of
+:mod:`acausal.compiler.units`, the offset of ``degC`` and ``degF``).  Files
+stay in the declared units.
+
+:meth:`SimulationResult.at` reads values at any time in the run's span:
+linear between output rows, the left or right limit at an event.
+
 Plotting lives in the tools layer (:func:`acausal.tools.plotting.plot`);
 :meth:`SimulationResult.plot` calls the plotter registered with
 :func:`register_plotter`.
@@ -25,9 +37,14 @@ Plotting lives in the tools layer (:func:`acausal.tools.plotting.plot`);
 from __future__ import annotations
 
 import csv
+import functools
 import html
 import io
+import math
+import re
+import warnings
 from dataclasses import dataclass, field
+from fractions import Fraction
 from pathlib import Path
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -43,8 +60,8 @@ if TYPE_CHECKING:  # only for annotations: the result does not need the compiler
 
     from ..compiler.flatten import FlatModel
 
-__all__ = ["ColumnInfo", "Event", "SimulationResult", "describe_columns", "read_csv", "read_mat",
-           "register_plotter"]
+__all__ = ["ColumnInfo", "Event", "SimulationResult", "convert_unit", "describe_columns", "read_csv",
+           "read_mat", "register_plotter"]
 
 #: What a column can be: a continuous-time Real, a discrete Real (changes only
 #: at events), a Boolean, an Integer, or a parameter (constant).
@@ -119,6 +136,13 @@ class ColumnInfo:
     labels : tuple of (int, str)
         For an Integer whose component class names each of its values (see
         :func:`describe_columns`): ``(value, name)`` pairs in increasing value.
+    display_unit : str
+        Declared display unit (Modelica's ``displayUnit``, ``"rpm"``), the unit
+        summaries, plots and ``to_pandas(display_units=True)`` show the values
+        in; ``""`` when none (the values are shown in ``unit``).
+    nominal : float
+        Declared nominal value (1 when none): with the run's tolerance, the
+        size below which a summary prints the value as 0.
     """
 
     name: str
@@ -126,6 +150,8 @@ class ColumnInfo:
     description: str = ""
     kind: str = "continuous"
     labels: tuple[tuple[int, str], ...] = ()
+    display_unit: str = ""
+    nominal: float = 1.0
 
     @property
     def is_discrete(self) -> bool:
@@ -133,13 +159,15 @@ class ColumnInfo:
         return self.kind in ("boolean", "integer")
 
     def line(self) -> str:
-        """One line: ``name [unit] kind: description (labels)``."""
+        """One line: ``name [unit] kind: description (labels) (display unit ...)``."""
         unit = f" [{self.unit}]" if self.unit else ""
         text = f"{self.name}{unit} {self.kind}"
         if self.description:
             text += f": {self.description}"
         if self.labels:
             text += " (" + ", ".join(f"{v} {n}" for v, n in self.labels) + ")"
+        if self.display_unit and self.display_unit != self.unit:
+            text += f" (display unit {self.display_unit})"
         return text
 
 
@@ -220,14 +248,19 @@ def _describe(flat: "FlatModel", names: list[str]) -> dict[str, ColumnInfo]:
                 unit = _per_second(unit)
             info[name] = ColumnInfo(name, unit, f"time derivative of {parsed.base}"
                                     + (f" (order {parsed.order})" if parsed.order > 1 else ""),
-                                    "continuous")
+                                    "continuous",
+                                    nominal=_nominal(base.nominal) if base is not None else 1.0)
         elif name in parameters:
             parameter = parameters[name]
-            info[name] = ColumnInfo(name, parameter.unit, parameter.description, "parameter")
+            info[name] = ColumnInfo(name, parameter.unit, parameter.description, "parameter",
+                                    display_unit=getattr(parameter, "display_unit", "") or "")
         elif name in variables:
             variable = variables[name]
             kind = variable.kind if variable.kind in KINDS else "continuous"
-            info[name] = ColumnInfo(name, variable.unit, variable.description, kind, variable.labels)
+            # display_unit: Modelica's displayUnit, when the flat model carries it
+            info[name] = ColumnInfo(name, variable.unit, variable.description, kind, variable.labels,
+                                    getattr(variable, "display_unit", "") or "",
+                                    _nominal(variable.nominal))
         else:
             info[name] = ColumnInfo(name)
     return info
@@ -238,6 +271,168 @@ def _typed(values: np.ndarray, kind: str) -> np.ndarray:
     if kind not in ("boolean", "integer") or values.dtype != np.float64 or not np.isfinite(values).all():
         return values
     return values != 0 if kind == "boolean" else np.rint(values).astype(np.int64)
+
+
+def _nominal(value: Any) -> float:
+    """A declared nominal value as a positive float (1 when it is not one)."""
+    try:
+        value = abs(float(value))
+    except (TypeError, ValueError):
+        return 1.0
+    return value if math.isfinite(value) and value > 0 else 1.0
+
+
+# ---------------------------------------------------------------------------
+# Display units
+# ---------------------------------------------------------------------------
+
+#: Names accepted for a display unit besides Modelica's unit syntax, and what they stand for.
+UNIT_ALIASES = {"rpm": "rev/min", "°C": "degC", "°F": "degF", "°": "deg"}
+
+#: Units of absolute temperature whose zero is not 0 K: unit -> (size in K, its zero in K).
+#: Only a unit written alone is one of these: ``degC/s`` is a rate, ``K/s`` in size.
+AFFINE_UNITS = {"degC": (1.0, 273.15), "degF": (5.0 / 9.0, 273.15 - 32.0 * 5.0 / 9.0)}
+
+#: Symbols of a plane angle and the power of the angle they carry (``sr`` is rad2).
+_ANGLES = {"rad": 1, "deg": 1, "rev": 1, "sr": 2}
+_SI_PREFIXES = frozenset("Y Z E P T G M k h da d c m u n p f a z y".split())
+
+
+def _angle_power(text: str) -> Fraction:
+    """The power of the plane angle in a Modelica unit string that :func:`parse_unit` accepted.
+
+    SI counts the radian as 1, and so does the unit check: for converting
+    values it is kept as a dimension of its own, so that ``rad/s`` converts to
+    ``rpm`` and ``deg/s`` but not to ``Hz`` or ``1/s`` (whose values differ by
+    2 pi or not, depending on what they count).
+    """
+    import sympy
+
+    def weight(symbol: str) -> int:
+        for angle, power in _ANGLES.items():
+            if symbol == angle or (symbol.endswith(angle) and symbol[:-len(angle)] in _SI_PREFIXES):
+                return power
+        return 0
+
+    names = set(re.findall(r"[A-Za-z]+", text))
+    if not any(weight(n) for n in names):
+        return Fraction(0)
+    # the Modelica syntax as a product of powers: kg.m2/s2 -> kg*m**(2)/s**(2)
+    product = re.sub(r"([A-Za-z]+)([+-]?\d+)", r"\1**(\2)", text).replace(".", "*")
+    symbols = {n: sympy.Symbol(n, positive=True) for n in names}
+    expression = sympy.parse_expr(product, local_dict=symbols, evaluate=True)
+    powers = expression.as_powers_dict()
+    return sum((Fraction(str(powers.get(symbols[n], 0))) * weight(n) for n in names), Fraction(0))
+
+
+@dataclass(frozen=True)
+class _Scale:
+    """A unit as conversion needs it: dimensions, angle power, size and zero in coherent SI."""
+
+    text: str
+    exponents: tuple
+    angle: Fraction
+    scale: float
+    offset: float = 0.0
+
+    def dimension(self) -> str:
+        """What the unit measures, in base units: ``1/s``, ``rad/s``, ``kg/(m.s2)``."""
+        from ..compiler.units import Unit, format_unit
+
+        base = format_unit(Unit(self.exponents, 1.0))
+        if not self.angle:
+            return base
+        angle = "rad" if self.angle == 1 else f"rad{self.angle}"
+        if base == "1":
+            return angle
+        if base.startswith("1/"):
+            return angle + base[1:]
+        return f"{angle}.{base}"
+
+
+@functools.lru_cache(maxsize=256)
+def _scale_of(unit: str) -> _Scale:
+    """A unit string (Modelica syntax, or one of :data:`UNIT_ALIASES`) as a :class:`_Scale`."""
+    from ..compiler.units import parse_unit
+
+    text = unit.strip()
+    text = UNIT_ALIASES.get(text, text)
+    if text in AFFINE_UNITS:
+        size, zero = AFFINE_UNITS[text]
+        return _Scale(unit, parse_unit("K").exponents, Fraction(0), size, zero)
+    parsed = parse_unit(text)  # a ValueError naming the unit for an unknown one
+    if parsed is None:
+        raise ValueError("an empty unit")
+    return _Scale(unit, parsed.exponents, _angle_power(text), parsed.scale)
+
+
+def _conversion(unit: str, to: str, name: str = "") -> tuple[float, float]:
+    """``(factor, offset)``: a value in ``unit`` is ``value * factor + offset`` in ``to``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown unit, or units that measure different things, naming
+        both (and ``name``, the column, when given).
+    """
+    subject = name or f"a value in {unit!r}"
+    if to == unit:
+        return 1.0, 0.0
+    if not unit:
+        raise ValueError(f"{name or 'a value'} has no unit: it cannot be shown in {to!r} "
+                         f"(declare its unit, Variable(unit=...))")
+    try:
+        source = _scale_of(unit)
+    except ValueError as exc:
+        raise ValueError(f"{name + ' is in ' if name else ''}{unit!r}, a unit acausal cannot convert: "
+                         f"{exc}") from None
+    try:
+        target = _scale_of(to)
+    except ValueError as exc:
+        raise ValueError(f"{subject} cannot be shown in {to!r}: {exc} (write a unit in Modelica's "
+                         f"syntax, e.g. 'rpm', 'deg', 'degC', 'bar', 'mm', 'km/h', 'kW')") from None
+    if source.exponents != target.exponents or source.angle != target.angle:
+        raise ValueError(f"{subject} cannot be shown in {to!r}: {unit!r} measures "
+                         f"{source.dimension()}, {to!r} measures {target.dimension()}")
+    return source.scale / target.scale, (source.offset - target.offset) / target.scale
+
+
+def convert_unit(values: Any, unit: str, to: str, *, name: str = "") -> np.ndarray:
+    """``values`` given in ``unit``, converted to the unit ``to``.
+
+    Both are Modelica unit strings (``"rad/s"``, ``"kg.m2"``, ``"bar"``,
+    prefixes such as ``"mm"``), or ``"rpm"``, ``"°C"``, ``"°F"``, ``"°"``
+    (:data:`UNIT_ALIASES`).  ``degC`` and ``degF`` written alone are absolute
+    temperatures, whose zero is not 0 K: 300 K is 26.85 degC.  A temperature
+    *difference* declared in ``K`` is shown in ``K`` (in degC it would gain
+    the offset).  The radian counts as a dimension here: ``rad/s`` converts
+    to ``rpm`` (2 pi/60 rad/s) and ``deg/s``, not to ``Hz``.
+
+    Parameters
+    ----------
+    values : array_like
+    unit, to : str
+    name : str, optional
+        What the values are, for the messages (``"J1.w"``).
+
+    Returns
+    -------
+    ndarray
+        A new float array; ``values`` is left as it was.
+
+    Raises
+    ------
+    ValueError
+        For an unknown unit, or units that measure different things, naming both.
+
+    Examples
+    --------
+    >>> convert_unit([0.0, 300.0], "K", "degC")
+    array([-273.15,   26.85])
+    """
+    factor, offset = _conversion(unit, to, name)
+    converted = np.asarray(values, dtype=float) * factor
+    return converted + offset if offset else converted
 
 
 # ---------------------------------------------------------------------------
@@ -395,6 +590,256 @@ class SimulationResult:
         ``inertia1.w [rad/s] continuous: Absolute angular velocity of component``."""
         return self.info(name).line()
 
+    # -- units -------------------------------------------------------------------------
+
+    def display_unit(self, name: str) -> str:
+        """The unit ``name`` is shown in by default: its declared display unit, else its unit.
+
+        A declared display unit that cannot show the column's unit (a typo,
+        another quantity) is not used: a ``UserWarning`` says why, and the
+        declared unit is returned.  Booleans and Integers: ``""``.
+        """
+        info = self.info(name)
+        if info.is_discrete:
+            return ""
+        if not info.display_unit or info.display_unit == info.unit:
+            return info.unit
+        try:
+            _conversion(info.unit, info.display_unit, name)
+        except ValueError as exc:
+            warnings.warn(f"the declared display unit of {name} is not used: {exc}", UserWarning,
+                          stacklevel=2)
+            return info.unit
+        return info.display_unit
+
+    def in_unit(self, name: str, unit: str | None = None) -> np.ndarray:
+        """The values of ``name`` converted to ``unit`` (default: its :meth:`display_unit`).
+
+        ``result.in_unit("J1.w", "rpm")``; ``result.in_unit("time", "min")``.
+        The result itself keeps its values in the declared units.
+
+        Raises
+        ------
+        KeyError
+            For a name that is not a column.
+        ValueError
+            For a unit that does not measure what the column's unit measures
+            (naming both), for an unknown unit, and for a unit asked of a
+            Boolean or Integer.
+        """
+        info = self.info(name)
+        values = np.asarray(self.time, dtype=float) if name not in self.columns else self[name]
+        target = self.display_unit(name) if unit is None else unit
+        if info.is_discrete:
+            if unit is not None and unit not in ("", "1"):
+                raise ValueError(f"{name} is {'a Boolean' if info.kind == 'boolean' else 'an Integer'}: "
+                                 f"it has no unit to show in {unit!r}")
+            return values
+        factor, offset = _conversion(info.unit, target, name)
+        if factor == 1.0 and offset == 0.0:
+            return values
+        return np.asarray(values, dtype=float) * factor + offset
+
+    def shown_units(self, names: Sequence[str] | None = None,
+                    units: bool | Mapping[str, str] = True) -> dict[str, str]:
+        """The unit each of ``names`` (default: every column) is shown in.
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+        units : bool or mapping of str to str
+            True: each column's declared display unit (its unit when it has
+            none); False: the declared units; a mapping: the declared display
+            units, with these columns in these units (``{"J1.w": "rpm"}``).
+
+        Returns
+        -------
+        dict of str to str
+            By name, for the columns of ``names`` (Booleans and Integers: ``""``).
+
+        Raises
+        ------
+        KeyError
+            For a name (in ``names`` or ``units``) that is not a column.
+        ValueError
+            For a unit a column cannot be shown in, naming both units.
+        """
+        chosen = list(self.columns) if names is None else list(names)
+        given = dict(units) if isinstance(units, Mapping) else {}
+        for name, unit in given.items():
+            if not isinstance(unit, str):
+                raise TypeError(f"the unit of {name} must be a str, not {type(unit).__name__}")
+            self._check_unit(name, unit)
+        shown = {}
+        for name in chosen:
+            info = self.info(name)
+            if name in given:
+                shown[name] = given[name]
+            elif info.is_discrete:
+                shown[name] = ""
+            elif units is False:
+                shown[name] = info.unit
+            else:
+                shown[name] = self.display_unit(name)
+        return shown
+
+    def _check_unit(self, name: str, unit: str) -> None:
+        """Raise the error :meth:`in_unit` would, without converting any values."""
+        info = self.info(name)
+        if info.is_discrete:
+            if unit not in ("", "1"):
+                self.in_unit(name, unit)
+            return
+        _conversion(info.unit, unit, name)
+
+    # -- values at any time ------------------------------------------------------------
+
+    def at(self, t: float | Sequence[float] | np.ndarray, names: str | Sequence[str] | None = None, *,
+           side: str = "right") -> Any:
+        """The values at time ``t`` (a number or an array of times), between the output rows.
+
+        Continuous Reals are interpolated linearly between the two rows around
+        ``t``; discrete Reals, Booleans, Integers and parameters hold the value
+        of the last row at or before ``t``.  At an event the result has two
+        rows at one time (or more, see :attr:`time`): ``side="right"`` (the
+        default) gives the right limit, the values just after the event (the
+        last of those rows), ``side="left"`` the left limit, the values just
+        before it (the first).  Away from events both give the same.
+
+        The integrator's dense output is not kept (its interpolants cover the
+        states only, in the discrete state of their step, and would take
+        several times the rows' memory): between rows the error is that of
+        linear interpolation, about ``interval**2 * |y''| / 8``.  For values
+        exact to the solver's tolerance at given times, run with a smaller
+        ``interval``.
+
+        Parameters
+        ----------
+        t : float or array_like of float
+            Times within the run's span, ``time[0] <= t <= time[-1]``.
+        names : str or sequence of str, optional
+            One column (the values are returned as they are) or several
+            (default: every column; a dict is returned).
+        side : {'right', 'left'}
+            Which limit an event instant gives.
+
+        Returns
+        -------
+        float, bool, int or ndarray, or dict of them
+            For one name: a value (a number ``t``) or an array shaped as
+            ``t``; for several: a dict of those by name.  In the declared units
+            (:meth:`in_unit` converts).  Booleans as bool, Integers as int.
+
+        Raises
+        ------
+        ValueError
+            For a time outside the run's span (naming the span), a time that
+            is not a finite number, an unknown ``side``, or a result without
+            output points.
+        KeyError
+            For a name that is not a column.
+        """
+        if side not in ("right", "left"):
+            raise ValueError(f"side={side!r}: choose 'right' (the values just after an event) or "
+                             f"'left' (just before it)")
+        single = isinstance(names, str)
+        chosen = list(self.columns) if names is None else [names] if single else list(names)
+        for name in chosen:
+            if name not in self.columns:
+                raise self._unknown(name)  # with the close names
+        time = np.asarray(self.time, dtype=float)
+        if len(time) == 0:
+            raise ValueError(f"{self.model_name or 'the result'} has no output points to read")
+        query = np.asarray(t, dtype=float)
+        flat = np.atleast_1d(query).ravel()
+        if not np.all(np.isfinite(flat)):
+            raise ValueError(f"t = {flat[~np.isfinite(flat)][0]} is not a finite time")
+        outside = (flat < time[0]) | (flat > time[-1])
+        if outside.any():
+            stopped = "" if self.success else f" (the run stopped early: {self.message.splitlines()[0]})"
+            raise ValueError(f"t = {flat[outside][0]:.12g} is outside the run's span, "
+                             f"t = {time[0]:.12g} .. {time[-1]:.12g} s{stopped}")
+        after = np.searchsorted(time, flat, side="right")  # the first row later than t
+        before = after - 1  # the last row at or before t: the right limit at an event
+        if side == "left":
+            first = np.searchsorted(time, flat, side="left")  # the first row at t, if any
+            before = np.where(time[np.minimum(first, len(time) - 1)] == flat, first, before)
+        following = np.minimum(before + 1, len(time) - 1)
+        exact = time[before] == flat
+        span = time[following] - time[before]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            weight = np.where(exact | (span <= 0), 0.0, (flat - time[before]) / span)
+        out = {}
+        for name in chosen:
+            info = self.info(name)
+            values = np.asarray(self.columns[name])
+            if info.kind == "continuous":
+                low, high = values[before], values[following]
+                # exactly a row's value at a row (no 0 * inf); linear between rows
+                picked = np.where(weight == 0.0, low, low + (high - low) * weight)
+            else:
+                picked = values[before]
+            picked = _typed(np.asarray(picked, dtype=float), info.kind).reshape(query.shape)
+            # one time: a Python number (float, bool, int), as the docstring says
+            out[name] = picked[()].item() if query.ndim == 0 else picked
+        return out[chosen[0]] if single else out
+
+    # -- printing values -----------------------------------------------------------
+
+    def resolution(self, name: str) -> float | None:
+        """The size below which a summary prints a value of ``name`` as 0 (declared units).
+
+        The run's absolute tolerance for it: ``atol`` when the run was given
+        one number, else ``rtol`` times the variable's nominal value, what the
+        integrator allowed as error for a value near zero.  None for a
+        parameter, a Boolean or an Integer, and for a result that does not
+        record its tolerance (one read from a file): those are printed as
+        they are.  Arrays are never changed.
+        """
+        info = self.info(name)
+        if info.kind not in ("continuous", "discrete"):
+            return None
+        rtol, atol = self.stats.get("rtol"), self.stats.get("atol")
+        if isinstance(atol, (int, float)) and not isinstance(atol, bool) and math.isfinite(atol) and atol >= 0:
+            return float(atol)
+        if isinstance(rtol, (int, float)) and not isinstance(rtol, bool) and math.isfinite(rtol) and rtol > 0:
+            return float(rtol) * info.nominal
+        return None
+
+    def format_value(self, name: str, value: Any, unit: str | None = None) -> tuple[str, bool]:
+        """``value`` (in the declared unit) of ``name`` as a summary prints it, in ``unit``
+        (default: the display unit).
+
+        Returns the text (six significant digits, the unit appended; a Boolean
+        ``true``/``false``, an Integer with the name of its value) and whether
+        the value was printed as 0 because it lies below :meth:`resolution`.
+        """
+        info = self.info(name)
+        if info.kind == "boolean":
+            return ("true" if bool(value) else "false"), False
+        if info.kind == "integer":
+            number = int(value) if np.isfinite(value) else value
+            label = dict(info.labels).get(number)
+            return (f"{number} ({label})" if label else f"{number}"), False
+        target = self.display_unit(name) if unit is None else unit
+        factor, offset = _conversion(info.unit, target, name)
+        shown = float(value) * factor + offset
+        tolerance = self.resolution(name)
+        snapped = (tolerance is not None and shown != 0 and math.isfinite(shown)
+                   and abs(shown) < tolerance * abs(factor))
+        text = "0" if snapped or shown == 0 else f"{shown:.6g}"
+        return (f"{text} {target}" if target and target != "1" else text), snapped
+
+    def _summary_signals(self, shown: int) -> list[str]:
+        """The signals a summary lists first: states, then Booleans and Integers, then the rest."""
+        rank = {}
+        for n in self.columns:
+            info = self.info(n)
+            if info.kind == "parameter" or n.startswith("der("):
+                continue
+            rank[n] = 0 if f"der({n})" in self.columns else 1 if info.is_discrete else 2
+        return sorted(rank, key=rank.get)[:shown]
+
     @property
     def event_rows(self) -> np.ndarray:
         """A bool per row: True for the rows at an event instant.
@@ -417,7 +862,8 @@ class SimulationResult:
     # -- pandas ------------------------------------------------------------------------
 
     def to_pandas(self, names: Sequence[str] | None = None, *, events: str = "keep",
-                  event_column: str | None = "event") -> "pandas.DataFrame":
+                  event_column: str | None = "event",
+                  display_units: bool | Mapping[str, str] = False) -> "pandas.DataFrame":
         """The result as a DataFrame indexed by time (index name ``"time"``).
 
         Parameters
@@ -433,14 +879,28 @@ class SimulationResult:
         event_column : str or None
             Name of a bool column that is True for the rows at an event
             instant (:attr:`event_rows`); None leaves it out.
+        display_units : bool or mapping of str to str
+            False (the default): the values in their declared units.  True:
+            the columns that declare a display unit in it
+            (``Variable(display_unit="rpm")``).  A mapping: as True, and these
+            columns in these units, ``{"J1.w": "rpm", "T": "degC"}`` (see
+            :meth:`shown_units`).
 
         Returns
         -------
         pandas.DataFrame
             Booleans as bool columns, Integers as int64, the rest float64.
-            ``df.attrs`` holds ``"units"``, ``"descriptions"`` and
-            ``"kinds"`` (dicts by column name, the time's unit under
-            ``"time"``), ``"model"`` and ``"status"``.
+            ``df.attrs`` holds ``"units"`` (the unit of each column's values
+            in the frame), ``"descriptions"`` and ``"kinds"`` (dicts by
+            column name, the time's unit under ``"time"``), ``"model"`` and
+            ``"status"``.
+
+        Raises
+        ------
+        KeyError
+            For a name (in ``names`` or ``display_units``) that is not a column.
+        ValueError
+            For a display unit a column cannot be shown in, naming both units.
         """
         import pandas as pd  # lazily: ``import acausal`` stays light
 
@@ -458,13 +918,18 @@ class SimulationResult:
             keep[:-1] = time[:-1] != time[1:]
         elif events == "first" and len(time) > 1:
             keep[1:] = time[1:] != time[:-1]
-        data: dict[str, np.ndarray] = {name: self[name][keep] for name in chosen}
+        infos = {name: self.info(name) for name in chosen}
+        units = (self.shown_units(chosen, display_units) if display_units is not False
+                 else {n: i.unit for n, i in infos.items()})
+        data: dict[str, np.ndarray] = {
+            name: (self.in_unit(name, units[name]) if units[name] != infos[name].unit else self[name])[keep]
+            for name in chosen}
         if event_column is not None:
             data[event_column] = self.event_rows[keep]
         frame = pd.DataFrame(data, index=pd.Index(time[keep], name=TIME_NAME), copy=False)
-        infos = {name: self.info(name) for name in chosen}
         frame.attrs = {
-            "units": {TIME_NAME: TIME_UNIT, **{n: i.unit for n, i in infos.items()}},
+            "units": {TIME_NAME: TIME_UNIT, **{n: units[n] if not i.is_discrete else i.unit
+                                               for n, i in infos.items()}},
             "descriptions": {n: i.description for n, i in infos.items()},
             "kinds": {n: i.kind for n, i in infos.items()},
             "model": self.model_name,
@@ -500,7 +965,8 @@ class SimulationResult:
     def _repr_html_(self, shown: int = 8) -> str:
         """A small table for notebooks: status, message, span and a few signals
         (states first, then Booleans and Integers) with unit, kind, final value
-        and description."""
+        and description; values in their display units, those below the run's
+        tolerance as 0 (as :meth:`summary`)."""
         escape = html.escape
         status = _STATUS_WORDS.get(self.status, f"status {self.status}")
         rows = [("status", status), ("message", self.message), ("span", self._span()),
@@ -509,16 +975,17 @@ class SimulationResult:
         head = "".join(f"<tr><th style='text-align:left'>{escape(k)}</th><td>{escape(v)}</td></tr>"
                        for k, v in rows)
         # the states first (their derivatives are columns), then Booleans and Integers
-        rank = {n: 0 if f"der({n})" in self.columns else 1 if self.info(n).is_discrete else 2
-                for n in self.columns if self.info(n).kind != "parameter" and not n.startswith("der(")}
-        signals = sorted(rank, key=rank.get)[:shown]
+        signals = self._summary_signals(shown)
         body = []
         for name in signals:
             info = self.info(name)
-            value = self[name][-1] if len(self.time) else float("nan")
-            final = f"{value:.6g}" if isinstance(value, (float, np.floating)) else str(value)
+            unit = self.display_unit(name)
+            final = (self.format_value(name, self.columns[name][-1], unit or None)[0]
+                     if len(self.time) else "nan")
+            if unit and final.endswith(f" {unit}"):
+                final = final[:-len(unit) - 1]  # the unit has a column of its own
             body.append("<tr>" + "".join(f"<td>{escape(c)}</td>" for c in (
-                name, info.unit, info.kind, final, info.description)) + "</tr>")
+                name, unit, info.kind, final, info.description)) + "</tr>")
         more = len(self.columns) - len(signals)
         tail = (f"<tr><td colspan='5'>… and {more} more (result.names)</td></tr>" if more > 0 else "")
         return (f"<div><b>SimulationResult {escape(self.model_name)}</b>"
@@ -642,7 +1109,27 @@ class SimulationResult:
         """The result a Dymola/OpenModelica result file holds (see :func:`read_mat`)."""
         return read_mat(path)
 
-    def summary(self) -> str:
+    def summary(self, signals: Sequence[str] | None = None, *, units: Mapping[str, str] | None = None,
+                values: bool = True, shown: int = 8) -> str:
+        """A few lines: status and message, counts, solver statistics, final values, notes.
+
+        Parameters
+        ----------
+        signals : sequence of str, optional
+            The signals whose final values are listed (default: the states,
+            then Booleans and Integers, ``shown`` of them).
+        units : mapping of str to str, optional
+            Units to show some signals in, ``{"J1.w": "rpm"}``; these signals
+            are listed too.  The others are shown in their display unit.
+        values : bool
+            List final values at all.
+        shown : int
+            How many signals are listed by default.
+
+        Values whose size is below the run's absolute tolerance for them
+        (:meth:`resolution`: ``rtol`` times the nominal value) are printed as
+        0, since the run cannot tell them from 0; the arrays keep them.
+        """
         lines = [f"{self.model_name}: {'ok' if self.success else 'FAILED'} — {self.message}",
                  f"  {_count(len(self.time), 'output point')}, {_count(len(self.events), 'event')}, "
                  f"{_count(len(self.modes), 'discrete state')} visited, "
@@ -651,8 +1138,33 @@ class SimulationResult:
             if key in self.stats:
                 value = self.stats[key]
                 lines.append(f"  {key}: {value:.4g}" if isinstance(value, float) else f"  {key}: {value}")
+        if values and len(self.time):
+            lines += self._final_values(signals, units or {}, shown)
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+    def _final_values(self, signals: Sequence[str] | None, units: Mapping[str, str], shown: int) -> list[str]:
+        """The summary's lines of final values (see :meth:`summary`)."""
+        chosen = list(signals) if signals is not None else self._summary_signals(shown)
+        chosen += [n for n in units if n not in chosen]
+        if not chosen:
+            return []
+        shown_in = self.shown_units(chosen, units)
+        width = max(map(len, chosen))
+        lines = [f"  final values at t = {float(self.time[-1]):.6g} s:"]
+        snapped = False
+        for name in chosen:
+            text, below = self.format_value(name, self.columns[name][-1], shown_in[name] or None)
+            snapped |= below
+            lines.append(f"    {name:<{width}}  {text}")
+        if signals is None:
+            rest = len(self._summary_signals(len(self.columns))) - len(self._summary_signals(shown))
+            if rest > 0:
+                lines.append(f"    ... and {_count(rest, 'more signal')}")
+        if snapped:
+            lines.append("    (0: smaller than the run's absolute tolerance, rtol x nominal; the arrays "
+                         "keep the value)")
+        return lines
 
 
 def _count(n: int, noun: str) -> str:

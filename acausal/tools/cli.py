@@ -97,17 +97,18 @@ def _translate(model: Model, outputs=None, cache: bool = True, parameters=None):
     return _model_code(type(model), translate, model, outputs, cache=cache, parameters=parameters)
 
 
-def _parameters(pairs: Sequence[str]) -> dict[str, float]:
-    """``["a.b=1.5", ...]`` -> ``{"a.b": 1.5}``."""
+def _parameters(pairs: Sequence[str], option: str = "--param") -> dict[str, float]:
+    """``["a.b=1.5", ...]`` -> ``{"a.b": 1.5}`` (the values of ``option``, --param or --start)."""
     out = {}
+    example = "component.parameter=2.5" if option == "--param" else "component.variable=3"
     for pair in pairs:
         name, sep, text = pair.partition("=")
         if not sep or not name.strip():
-            raise CommandError(f"--param {pair!r}: write NAME=VALUE, e.g. component.parameter=2.5")
+            raise CommandError(f"{option} {pair!r}: write NAME=VALUE, e.g. {example}")
         try:
             out[name.strip()] = float(text)
         except ValueError:
-            raise CommandError(f"--param {pair!r}: {text!r} is not a number") from None
+            raise CommandError(f"{option} {pair!r}: {text!r} is not a number") from None
     return out
 
 
@@ -378,9 +379,15 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--out", metavar="FILE.csv", help="CSV file to write; default: <Model>.csv")
     sim.add_argument("--signals", metavar="a,b,...",
                      help="comma-separated variables to write; default: all")
+    sim.add_argument("--display-unit", metavar="NAME=UNIT", action="append", default=[],
+                     help="print NAME's final value in UNIT (repeatable), e.g. J1.w=rpm, T=degC, p=bar; "
+                          "the CSV stays in the declared units")
     sim.add_argument("--param", metavar="NAME=VALUE", action="append", default=[],
                      help="a parameter's value for this run (repeatable), e.g. component.parameter=2.5; "
                           "a numeric one reuses the compiled systems, a structural one translates anew")
+    sim.add_argument("--start", metavar="NAME=VALUE", action="append", default=[],
+                     help="a variable's start value for this run (repeatable), e.g. J1.w=3; those of "
+                          "states and fixed variables reuse the compiled systems")
     _add_budgets(sim, "the run (the CSV holds what it computed)")
     sim.add_argument("--no-disk-cache", action="store_true",
                      help="compile everything: neither load nor store compiled systems on disk "
@@ -408,6 +415,9 @@ def _parser() -> argparse.ArgumentParser:
                       help=f"relative tolerance (default {COMPARE_RTOL:g}, or the experiment's "
                            f"if tighter)")
     _add_budgets(cmp_, "each model's run")
+    cmp_.add_argument("-v", "--verbose", action="store_true",
+                      help="with several models, also print each model's run summary and per-signal "
+                           "table (without: a row per model in one table, the legend once)")
     cmp_.add_argument("--no-disk-cache", action="store_true",
                       help="compile everything: neither load nor store compiled systems on disk "
                            "(as ACAUSAL_DISK_CACHE=off)")
@@ -424,7 +434,8 @@ def _parser() -> argparse.ArgumentParser:
     exp.set_defaults(run=_cmd_explain)
     commands.add_parser("bench", help="work-precision benchmark (acausal bench --help)", add_help=False)
     commands.add_parser("show", help="a component's parameters, connectors and variables "
-                                     "(acausal show PACKAGE.Class or FILE.py:Class)", add_help=False)
+                                     "(acausal show Class, PACKAGE.Class, its Modelica name or "
+                                     "FILE.py:Class)", add_help=False)
     commands.add_parser("list", help="the components of a package (acausal list PACKAGE)",
                         add_help=False)
     commands.add_parser("check", help="structural and unit checks without simulating (acausal check "
@@ -450,7 +461,9 @@ def _simulate(model, **options):
     if not stop > start:
         raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
     # translated here, so that a failure of the model's own code is a model error (status 2)
-    parameters = options.pop("parameters", None)
+    from ..compiler.translate import with_start_values
+
+    parameters = with_start_values(options.pop("parameters", None), options.pop("start", None))
     translating = time.perf_counter()
     translation = _translate(model, options.pop("outputs", None), parameters=parameters)
     translating = time.perf_counter() - translating
@@ -487,11 +500,15 @@ def _cmd_simulate(args) -> int:
         signals = [s.strip() for s in args.signals.split(",") if s.strip()]
         if not signals:
             raise CommandError("--signals names no variable")
-    if signals is not None:
+    display = _display_unit_pairs(args.display_unit)
+    if signals is not None or display:
         from ..compiler.flatten import flatten
 
-        known = {v.name for v in _model_code(cls, flatten, model).variables}
-        missing = [s for s in signals if s not in known]
+        flat = _model_code(cls, flatten, model)
+        known = {v.name for v in flat.variables}
+        if display:
+            _check_display_units(display, flat, signals, cls.__name__)
+        missing = [s for s in signals or () if s not in known]
         if missing:
             result = None
             import difflib
@@ -506,6 +523,7 @@ def _cmd_simulate(args) -> int:
         result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
                            interval=args.interval, method=args.method, rtol=args.rtol,
                            atol=args.atol, outputs=signals, parameters=_parameters(args.param) or None,
+                           start=_parameters(args.start, "--start") or None,
                            max_steps=args.max_steps, timeout=args.timeout)
     except KeyboardInterrupt as exc:
         # Ctrl-C or SIGTERM: simulate() may attach the result computed until then
@@ -519,12 +537,12 @@ def _cmd_simulate(args) -> int:
             out.parent.mkdir(parents=True, exist_ok=True)
         result.to_csv(out, signals)  # whole or not at all: a failure keeps the earlier file
     except OSError as exc:
-        print(result.summary())
+        print(result.summary(signals, units=display))
         kept = f" ({out} is as it was before)" if earlier and out.is_file() else ""
         print(f"acausal simulate: error: cannot write {out}: {exc.strerror or exc}; "
               f"the result was not saved{kept}", file=sys.stderr)
         return 1
-    print(result.summary())
+    print(result.summary(signals, units=display))
     print(f"wrote {out}")
     if _interrupted(result):
         print(f"acausal simulate: {_stopped(args)} at {_end_time(result)}; {out} holds the result "
@@ -540,6 +558,40 @@ def _cmd_simulate(args) -> int:
               f"  (the CSV holds the result up to the failure)", file=sys.stderr)
         return 1
     return 0
+
+
+def _display_unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``["J1.w=rpm", ...]`` -> ``{"J1.w": "rpm"}`` (the names and units are checked later)."""
+    out = {}
+    for pair in pairs:
+        name, sep, unit = pair.partition("=")
+        if not sep or not name.strip() or not unit.strip():
+            raise CommandError(f"--display-unit {pair!r}: write NAME=UNIT, e.g. J1.w=rpm or T=degC")
+        out[name.strip()] = unit.strip()
+    return out
+
+
+def _check_display_units(display: dict[str, str], flat, signals, model: str) -> None:
+    """Each ``--display-unit`` names a Real variable or parameter (among ``--signals`` if given)
+    whose unit converts to the one given: checked before the run, a CommandError (status 2) if not."""
+    import difflib
+
+    from ..runtime.result import convert_unit
+
+    declared = {v.name: v.unit for v in flat.variables if not v.is_discrete}
+    declared.update((p.name, p.unit) for p in flat.parameters)
+    for name, unit in display.items():
+        option = f"--display-unit {name}={unit}"
+        if name not in declared:
+            close = difflib.get_close_matches(name, sorted(declared), n=3)
+            hint = f" (did you mean {', '.join(close)}?)" if close else ""
+            raise CommandError(f"{option}: {name} is not a Real variable or parameter of {model}{hint}")
+        if signals is not None and name not in signals:
+            raise CommandError(f"{option}: {name} is not among --signals (the result holds only those)")
+        try:
+            convert_unit(1.0, declared[name], unit, name=name)
+        except ValueError as exc:
+            raise CommandError(f"{option}: {exc}") from None
 
 
 def _reproduced(model: str) -> list[str]:
@@ -561,11 +613,22 @@ def _cmd_compare(args) -> int:
     # so does a file that defines several models
     args.models = [spec for model in args.models for spec in _reproduced(model)]
     statuses = []
+    # several models: a row per model in one table and the legend once (--verbose: each model's
+    # run summary and per-signal table too, the table of models at the end)
+    report = None
+    if len(args.models) > 1:
+        from .compare import ComparisonReport, ModelOutcome
+
+        report = ComparisonReport(args.models)
+        if not args.verbose:
+            print(report.header(), flush=True)
     for number, model in enumerate(args.models, 1):
-        if len(args.models) > 1:
-            print(f"== [{number}/{len(args.models)}] {model}", flush=True)
+        if report is not None:
+            report.start(model)
+            if args.verbose:
+                print(f"== [{number}/{len(args.models)}] {model}", flush=True)
         try:
-            statuses.append(_compare_one(args, model, len(args.models) > 1))
+            statuses.append(_compare_one(args, model, len(args.models) > 1, report))
         except (CommandError, AcausalError) as exc:
             if len(args.models) == 1:
                 raise
@@ -573,11 +636,20 @@ def _cmd_compare(args) -> int:
             kind = "" if isinstance(exc, CommandError) else f"{type(exc).__name__}: "
             print(f"acausal compare: error: {kind}{exc}", file=sys.stderr)
             statuses.append(2 if isinstance(exc, (CommandError, ValueError)) else 1)
+            report.add(ModelOutcome(model, result="error", note=f"{kind}{exc}"))
         except KeyboardInterrupt:
             print(f"acausal compare: {_stopped(args)} while comparing {model}", file=sys.stderr)
             statuses.append(130)
+            if report is not None:
+                report.add(ModelOutcome(model, result="interrupted", note=_stopped(args)))
+        if report is not None and not args.verbose:
+            print(report.row(), flush=True)
         if statuses[-1] == 130:
             break
+    if report is not None:
+        if args.verbose:
+            print(report.table())
+        print(report.legend(signals=args.verbose))
     if len(args.models) > 1:
         passed = sum(s == 0 for s in statuses)
         left = len(args.models) - len(statuses)
@@ -586,8 +658,10 @@ def _cmd_compare(args) -> int:
     return 130 if 130 in statuses else max(statuses)
 
 
-def _compare_one(args, model_spec: str, several: bool) -> int:
-    from .compare import compare_signals, load_reference, plot_comparison, signal_info
+def _compare_one(args, model_spec: str, several: bool, report=None) -> int:
+    """Compare one model; with several models, add its row to ``report`` (a ComparisonReport)
+    and print its run summary and per-signal table only with ``--verbose``."""
+    from .compare import ModelOutcome, compare_signals, load_reference, plot_comparison, signal_info
 
     cls = load_model_class(model_spec)
     modelica_class = getattr(cls, "modelica_class", None)
@@ -608,14 +682,20 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
         result = getattr(exc, "result", None)  # Ctrl-C or SIGTERM, perhaps with the result until then
         if result is None:
             raise
-    print(result.summary())
+    tables = not several or args.verbose
+    if tables:
+        print(result.summary(values=False))
     if _interrupted(result):
         print(f"error: the simulation of {cls.__name__} was {_stopped(args)} at {_end_time(result)}; "
               f"not compared", file=sys.stderr)
+        if report is not None:
+            report.add(ModelOutcome(model_spec, result="interrupted",
+                                    note=f"{_stopped(args)} at {_end_time(result)}"))
         return 130
     info = signal_info(model, reference.compared)  # units, kinds and value names of the signals
     comparison = compare_signals(reference, result.time, result.columns, info=info)
-    print(comparison.table())
+    if tables:
+        print(comparison.table(legend=not several))  # several models: the legend once, at the end
     plotted = True
     if args.plot:
         folder = Path(args.plot) / cls.__name__ if several else Path(args.plot)
@@ -640,8 +720,15 @@ def _compare_one(args, model_spec: str, several: bool) -> int:
         print(f"error: the simulation of {cls.__name__} failed: {result.message}", file=sys.stderr)
     elif not comparison.passed:
         failed = ", ".join(s.name for s in comparison.failures)
-        print(f"error: {len(comparison.failures)} of {len(comparison.signals)} signals outside the "
-              f"tube: {failed}", file=sys.stderr)
+        print(f"error: {len(comparison.failures)} of {len(comparison.signals)} signals of "
+              f"{cls.__name__} outside the tube: {failed}", file=sys.stderr)
+    if report is not None:
+        stopped = budget or (result.message if not result.success else "")
+        report.add(ModelOutcome(
+            model_spec, comparison,
+            "run failed" if not result.success else "FAIL" if not comparison.passed else
+            "error" if not plotted else "pass",
+            f"stopped: {stopped}" if stopped else "" if plotted else "the plots were not written"))
     return 0 if ok else 1
 
 

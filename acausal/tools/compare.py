@@ -101,6 +101,7 @@ import zlib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from time import perf_counter
 from types import MappingProxyType
 from typing import Literal
 
@@ -115,6 +116,8 @@ __all__ = [
     "SignalInfo",
     "SignalComparison",
     "Comparison",
+    "ComparisonReport",
+    "ModelOutcome",
     "reference_dir",
     "bundled_reference_dir",
     "load_reference",
@@ -1070,6 +1073,162 @@ class Comparison:
             size = size.replace(f"dx = {dx:.4g} s", "dx")
         explained = [f"  {name}: {meaning}" for name, meaning in _COLUMNS[1:]]
         return "\n".join(["legend:", *explained, f"  {size}"])
+
+
+# ---------------------------------------------------------------------------
+# Several models: one table, one legend
+# ---------------------------------------------------------------------------
+
+#: Column headers of :class:`ComparisonReport`'s table, and what each means (its legend).
+_MODEL_COLUMNS = (
+    ("model", "the model compared"),
+    ("result", "pass: every compared signal passed; FAIL: some did not; run failed: the simulation "
+               "stopped early (what it computed was compared); error: the model could not be loaded, "
+               "translated or compared; interrupted: not compared"),
+    ("signals", "passing / compared"),
+    ("outside tube [dy]", "the worst distance of a continuous signal outside its tube, in tube "
+                          "half-heights dy (0: inside everywhere)"),
+    ("first failure [s]", "the earliest time a signal left its tube or missed a change of the reference"),
+    ("time [s]", "seconds spent on the model: loading, translating, simulating, comparing"),
+    ("note", "the signals that failed, or why the model was not compared"),
+)
+
+#: Widths of the columns after the first, fixed so that rows can be printed as models finish.
+_MODEL_WIDTHS = (11, 7, 17, 17, 8)
+
+
+@dataclass(frozen=True)
+class ModelOutcome:
+    """One model's row in a :class:`ComparisonReport`.
+
+    Attributes
+    ----------
+    model : str
+        How the model was named (``FILE.py:Class``).
+    comparison : Comparison or None
+        None when the model was not compared.
+    result : str
+        ``'pass'``, ``'FAIL'``, ``'run failed'``, ``'error'`` or ``'interrupted'``.
+    note : str
+        Why it was not compared, or what else went wrong.
+    seconds : float
+    """
+
+    model: str
+    comparison: Comparison | None = None
+    result: str = "error"
+    note: str = ""
+    seconds: float = math.nan
+
+    @property
+    def passed(self) -> bool:
+        return self.result == "pass"
+
+    def cells(self) -> tuple[str, ...]:
+        comparison = self.comparison
+        if comparison is None:
+            signals = worst = first = "-"
+        else:
+            continuous = [s.worst_violation for s in comparison.signals if not s.discrete]
+            failures = [s.first_failure_time for s in comparison.signals if s.first_failure_time is not None]
+            signals = f"{len(comparison.signals) - len(comparison.failures)}/{len(comparison.signals)}"
+            worst = _format_number(max(continuous)) if continuous else "-"
+            first = f"{min(failures):.6g}" if failures else "-"
+        note = self.note
+        if comparison is not None and comparison.failures:
+            names = [s.name for s in comparison.failures]
+            failed = "failed: " + ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+            note = f"{failed}; {note}" if note else failed
+        seconds = f"{self.seconds:.2f}" if math.isfinite(self.seconds) else "-"
+        return (self.model, self.result, signals, worst, first, seconds, _one_line(note))
+
+
+def _one_line(text: str, width: int = 120) -> str:
+    """The first line of ``text``, cut to ``width`` characters."""
+    line = text.strip().splitlines()[0] if text.strip() else ""
+    return line if len(line) <= width else line[:width - 3] + "..."
+
+
+class ComparisonReport:
+    """What ``acausal compare`` prints for several models: a row per model, one legend.
+
+    A row can be printed as soon as its model is done (:meth:`header`, then
+    :meth:`start` and :meth:`add` for each model), since the columns' widths
+    are fixed by the names of the models given; :meth:`table` is the whole
+    table.
+
+    Parameters
+    ----------
+    models : sequence of str
+        The names of the models to compare, for the width of the first column.
+    """
+
+    def __init__(self, models: Iterable[str]) -> None:
+        self.outcomes: list[ModelOutcome] = []
+        self._widths = (max([len(_MODEL_COLUMNS[0][0]), *map(len, models)]), *_MODEL_WIDTHS)
+        self._started: tuple[str, float, int] | None = None  # model, perf_counter, outcomes before
+
+    def start(self, model: str) -> None:
+        """The work on ``model`` begins (for its time column)."""
+        self._started = (model, perf_counter(), len(self.outcomes))
+
+    def _line(self, cells: Iterable[str]) -> str:
+        aligned = "<<>>>>"
+        cells = list(cells)
+        fixed = "  ".join(f"{cell:{a}{w}}" for cell, a, w in zip(cells, aligned, self._widths))
+        return f"{fixed}  {cells[-1]}".rstrip()
+
+    def header(self) -> str:
+        """The column headers and a rule under them (two lines)."""
+        names = [name for name, _ in _MODEL_COLUMNS]
+        return "\n".join([self._line(names), self._line(["-" * w for w in self._widths] + ["----"])])
+
+    def add(self, outcome: ModelOutcome) -> str:
+        """Record ``outcome``; returns its row.
+
+        Its time is the time since :meth:`start` for the model unless it
+        gives one; a second outcome for the model started replaces the first.
+        """
+        if self._started is not None and self._started[0] == outcome.model:
+            if not math.isfinite(outcome.seconds):
+                outcome = replace(outcome, seconds=perf_counter() - self._started[1])
+            del self.outcomes[self._started[2]:]
+        self.outcomes.append(outcome)
+        return self.row()
+
+    def row(self, index: int = -1) -> str:
+        """The row of an outcome added (default: the last)."""
+        return self._line(self.outcomes[index].cells())
+
+    def has(self, model: str) -> bool:
+        """Whether an outcome was added for ``model`` since it was started."""
+        return (self._started is not None and self._started[0] == model
+                and len(self.outcomes) > self._started[2])
+
+    def table(self) -> str:
+        """The header and a row per model added."""
+        return "\n".join([self.header(), *(self._line(o.cells()) for o in self.outcomes)])
+
+    @property
+    def passed(self) -> int:
+        """How many models passed."""
+        return sum(o.passed for o in self.outcomes)
+
+    def legend(self, signals: bool = False) -> str:
+        """What the columns mean and how large the tubes are; with ``signals``, also the
+        columns of the per-signal tables (``--verbose``)."""
+        tolerances = sorted({o.comparison.rel_tol for o in self.outcomes if o.comparison is not None})
+        relative = ", ".join(f"{t:g}" for t in tolerances) or f"{DEFAULT_REL_TOL:g}"
+        lines = ["legend:", *(f"  {name}: {meaning}" for name, meaning in _MODEL_COLUMNS[1:])]
+        if signals:
+            lines += ["  per-signal tables:",
+                      *(f"    {name}: {meaning}" for name, meaning in _COLUMNS[1:])]
+        lines.append(f"  tube (relative tolerance r = {relative}): half-width dx = r * the reference's time "
+                     f"range, half-height dy = r * max(y_max - y_min, |y_min|, {DEFAULT_NOMINAL:g}) of "
+                     f"the reference, per signal")
+        if not signals:
+            lines.append("  every signal of each model: --verbose, or compare one model alone")
+        return "\n".join(lines)
 
 
 def _plural(count: int, noun: str) -> str:

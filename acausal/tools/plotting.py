@@ -1,6 +1,9 @@
 """Plots of a simulation result: one panel per signal (or group), with units,
 event lines and the names of an Integer mode's values.
 
+Values are drawn in each signal's display unit (``Variable(display_unit="rpm")``)
+or in the unit asked for, ``plot(result, "J1.w", units={"J1.w": "rpm"})``.
+
 Importing this module registers :func:`plot` as the plotter of
 :meth:`acausal.SimulationResult.plot` (the runtime does not import the
 tools layer, so it cannot find it on its own)::
@@ -13,7 +16,7 @@ matplotlib is imported when a plot is made, not with this module.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 import numpy as np
 
@@ -59,23 +62,30 @@ def _groups(result: SimulationResult, names) -> list[list[str]]:
     return groups
 
 
-def _label(info: ColumnInfo) -> str:
-    return f"{info.name} [{info.unit}]" if info.unit else info.name
+def _label(info: ColumnInfo, unit: str | None = None) -> str:
+    """``name [unit]``: the unit the values are drawn in (default: the declared one)."""
+    unit = info.unit if unit is None else unit
+    return f"{info.name} [{unit}]" if unit else info.name
 
 
-def _panel(ax: "Axes", result: SimulationResult, group: list[str], events: list[float]) -> None:
+def _panel(ax: "Axes", result: SimulationResult, group: list[str], events: list[float],
+           shown: Mapping[str, str]) -> None:
     infos = [result.info(n) for n in group]
     time = np.asarray(result.time, dtype=float)
     for info in infos:
-        values = np.asarray(result.columns[info.name], dtype=float)
+        unit = shown.get(info.name, info.unit)
+        if info.is_discrete or unit == info.unit:
+            values = np.asarray(result.columns[info.name], dtype=float)
+        else:
+            values = np.asarray(result.in_unit(info.name, unit), dtype=float)
         # discrete values hold between events: a step, not a ramp
         style = "steps-post" if info.kind in ("boolean", "integer", "discrete") else "default"
-        ax.plot(time, values, drawstyle=style, label=_label(info))
+        ax.plot(time, values, drawstyle=style, label=_label(info, unit))
     for t in events:
         ax.axvline(t, color="0.6", linewidth=0.8, linestyle=":", zorder=0)
-    units = {i.unit for i in infos}
+    units = {shown.get(i.name, i.unit) for i in infos}
     if len(infos) == 1:
-        ax.set_ylabel(_label(infos[0]))
+        ax.set_ylabel(_label(infos[0], shown.get(infos[0].name)))
     else:
         ax.set_ylabel(f"[{units.pop()}]" if len(units) == 1 and "" not in units else "")
         ax.legend(loc="best", fontsize="small")
@@ -91,7 +101,8 @@ def _panel(ax: "Axes", result: SimulationResult, group: list[str], events: list[
 
 def plot(result: SimulationResult, names: str | Sequence[str | Sequence[str]] | None = None, *,
          events: bool = True, figure: "Figure | None" = None, title: str | None = None,
-         panel_height: float = 2.2, width: float = 8.0) -> "Figure":
+         panel_height: float = 2.2, width: float = 8.0, units: Mapping[str, str] | None = None,
+         display_units: bool = True) -> "Figure":
     """A figure with one panel per signal (or group of signals) against time.
 
     Parameters
@@ -112,18 +123,43 @@ def plot(result: SimulationResult, names: str | Sequence[str | Sequence[str]] | 
         Default: the model name and the run's status.
     panel_height, width : float
         Size of a new figure, in inches.
+    units : mapping of str to str, optional
+        Units to draw signals in, ``{"J1.w": "rpm", "T": "degC"}`` (Modelica
+        unit syntax, or ``rpm``, ``°C``; see
+        :func:`~acausal.runtime.result.convert_unit`).  Every name must be a
+        column of the result; names not drawn are ignored, so one mapping
+        can serve several plots.
+    display_units : bool
+        Draw the other signals in their declared display unit (True, the
+        default) or in their declared unit (False).
 
     Returns
     -------
     matplotlib.figure.Figure
-        The y axes are labelled ``name [unit]``; Booleans and Integers are
-        drawn as steps, Booleans with false/true ticks and Integers whose
-        values have names (:attr:`~acausal.runtime.result.ColumnInfo.labels`)
-        with those names as ticks.
+        The y axes are labelled ``name [unit]`` (the unit drawn in); Booleans
+        and Integers are drawn as steps, Booleans with false/true ticks and
+        Integers whose values have names
+        (:attr:`~acausal.runtime.result.ColumnInfo.labels`) with those names
+        as ticks.
+
+    Raises
+    ------
+    KeyError
+        For a name (in ``names`` or ``units``) that is not a column.
+    ValueError
+        For a unit a signal cannot be drawn in, naming both units (before
+        anything is drawn).
     """
     groups = _groups(result, names)
     if not groups:
         raise ValueError("nothing to plot: the result has no signals")
+    drawn = [name for group in groups for name in group]
+    shown = result.shown_units(drawn, display_units)
+    if units:
+        # every name must be a column (a KeyError names the close ones), and each unit must fit;
+        # the names not drawn are let be, so that one mapping can serve several plots
+        given = result.shown_units(list(units), dict(units))
+        shown.update({name: unit for name, unit in given.items() if name in shown})
     if figure is None:
         import matplotlib.pyplot as plt  # lazily: only a plot needs matplotlib
 
@@ -133,7 +169,7 @@ def plot(result: SimulationResult, names: str | Sequence[str | Sequence[str]] | 
     axes = figure.subplots(len(groups), 1, sharex=True, squeeze=False)[:, 0]
     instants = event_times(result) if events else []
     for ax, group in zip(axes, groups):
-        _panel(ax, result, group, instants)
+        _panel(ax, result, group, instants, shown)
     axes[-1].set_xlabel("time [s]")
     if title is None:
         title = f"{result.model_name or 'result'}" + ("" if result.success else f" ({result.message})")

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from acausal import Component, Eq, Experiment, Integer, Model, When, pre, simulate
-from acausal.errors import ConnectionError_
+from acausal.errors import ConnectorError
 from acausal.components.blocks import BooleanInput, BooleanOutput
 from acausal.library.blocks import Constant, Integrator, Sine, Step
 from acausal.library.blocks.booleans import (
@@ -566,5 +566,5 @@ def test_two_drivers_in_one_signal_set_are_refused():
             self.connect(self.b.y, self.not2.u)
             self.connect(self.not1.u, self.not2.u)  # joins the sets of a.y and b.y
 
-    with pytest.raises(ConnectionError_, match=r"a\.y and b\.y both drive one connection set"):
+    with pytest.raises(ConnectorError, match=r"a\.y and b\.y both drive one connection set"):
         simulate(TwoSources())

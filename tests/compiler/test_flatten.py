@@ -15,7 +15,7 @@ import sympy as sp
 
 from acausal import Component, Eq, Model, Parameter, StateSelect, Variable, der, time
 from acausal.compiler.flatten import FlatModel, flatten
-from acausal.errors import ConnectionError_, EquationError, ModelDefinitionError, ModifierError
+from acausal.errors import ConnectorError, EquationError, ModelDefinitionError, ModifierError
 from acausal.language import real_symbol
 from acausal.library.blocks import Constant
 from acausal.library.rotational import Fixed, Flange_a, Inertia, Spring, Torque
@@ -276,7 +276,7 @@ def test_a_bool_from_double_equals_is_an_equation_error_naming_the_component():
 
 
 def test_connecting_a_disabled_connector_is_a_connection_error_naming_it():
-    """Torque(useSupport=False).support does not exist in the instance: ConnectionError_ naming torque.support."""
+    """Torque(useSupport=False).support does not exist in the instance: ConnectorError naming torque.support."""
 
     class Disabled(Driven):
         def build(self):
@@ -284,7 +284,7 @@ def test_connecting_a_disabled_connector_is_a_connection_error_naming_it():
             self.housing = Fixed()
             self.connect(self.torque.support, self.housing.flange)
 
-    with pytest.raises(ConnectionError_) as info:
+    with pytest.raises(ConnectorError) as info:
         flatten(Disabled())
     message = str(info.value)
     assert "torque.support" in message and "disabled" in message

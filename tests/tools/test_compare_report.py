@@ -269,3 +269,98 @@ def test_plot_comparison_writes_one_file_per_model_and_per_signal_files_on_reque
     written = plot_comparison(ref, t, values, tmp_path / "Model.png", info=info, per_signal=True)
     assert [p.name for p in written] == ["Model.png", "J1.w.png", "clutch.mode.png"]
     assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in written)
+
+
+# ---------------------------------------------------------------------------
+# Several models: one table, the legend once (acausal compare A B ...)
+# ---------------------------------------------------------------------------
+
+FIRST = REPO / "examples" / "first.py"
+TWO_MASSES = REPO / "examples" / "two_masses.py"
+
+
+def test_a_report_has_a_row_per_model_with_what_failed():
+    from acausal.tools.compare import ComparisonReport, ModelOutcome
+
+    t = np.linspace(0.0, 1.0, 101)
+    ref = reference_of(t, {"a": t, "b": t})
+    good = compare_signals(ref, t, {"a": t, "b": t})
+    bad = compare_signals(ref, t, {"a": t, "b": t + 0.1})  # b: 0.1 off, a tube of 0.002 * 1
+    report = ComparisonReport(["good.py:Good", "bad.py:Bad", "broken.py"])
+    report.add(ModelOutcome("good.py:Good", good, "pass", seconds=0.25))
+    report.add(ModelOutcome("bad.py:Bad", bad, "FAIL", seconds=1.5))
+    report.add(ModelOutcome("broken.py", None, "error", "ReferenceDataError: no reference\n  hint: ..."))
+    lines = report.table().splitlines()
+    assert len(lines) == 2 + 3  # the header, its rule, a row per model
+    rows = {line.split()[0]: line.split() for line in lines[2:]}
+    assert rows["good.py:Good"][1:6] == ["pass", "2/2", "0", "-", "0.25"]
+    bad_row = rows["bad.py:Bad"]
+    assert bad_row[1:3] == ["FAIL", "1/2"] and float(bad_row[3]) == pytest.approx(49, abs=1)
+    assert bad_row[4] == "0" and "failed: b" in lines[3]  # b is outside the tube from the start
+    assert rows["broken.py"][1:3] == ["error", "-"] and lines[4].endswith("no reference")  # one line
+    assert report.passed == 1
+    # every column starts where its header does
+    start = lines[0].index("signals")
+    assert all(line[start - 1] == " " for line in lines[2:])
+    legend = report.legend().splitlines()
+    for column in ("result", "signals", "outside tube [dy]", "first failure [s]", "time [s]", "note"):
+        assert any(line.strip().startswith(f"{column}:") for line in legend), column
+    assert not any("max |error|" in line for line in legend)  # no per-signal table to explain
+    assert any("max |error|" in line for line in report.legend(signals=True).splitlines())
+
+
+def test_a_second_outcome_for_the_model_started_replaces_the_first():
+    from acausal.tools.compare import ComparisonReport, ModelOutcome
+
+    report = ComparisonReport(["a.py"])
+    report.start("a.py")
+    report.add(ModelOutcome("a.py", result="interrupted"))
+    report.add(ModelOutcome("a.py", result="error", note="boom"))
+    assert [o.result for o in report.outcomes] == ["error"]
+    assert report.outcomes[0].seconds >= 0  # timed from start()
+
+
+def _compare_output(capsys, *arguments) -> tuple[int, list[str]]:
+    from acausal.tools.cli import main
+
+    status = main(["compare", *arguments])
+    return status, capsys.readouterr().out.splitlines()
+
+
+def test_several_models_print_one_table_and_the_legend_once(capsys, monkeypatch):
+    monkeypatch.delenv("ACAUSAL_REFERENCE_DIR", raising=False)  # the bundled references
+    status, lines = _compare_output(capsys, str(FIRST), str(TWO_MASSES))
+    assert status == 0
+    assert lines.count("legend:") == 1
+    assert lines[0].split()[:3] == ["model", "result", "signals"]
+    rows = [line.split() for line in lines[2:4]]
+    assert [row[:3] for row in rows] == [[str(FIRST), "pass", "4/4"], [str(TWO_MASSES), "pass", "2/2"]]
+    # no per-signal tables and no run summaries: the table, the legend and the verdict
+    assert not any(line.startswith(("signal ", "inertia3.w", "mass1.T", "First: ok")) for line in lines)
+    assert lines[-1] == "== 2 of 2 models match their reference results"
+    assert len(lines) < 20
+
+
+def test_verbose_adds_each_models_tables_and_keeps_one_legend(capsys, monkeypatch):
+    monkeypatch.delenv("ACAUSAL_REFERENCE_DIR", raising=False)
+    status, lines = _compare_output(capsys, str(FIRST), str(TWO_MASSES), "--verbose")
+    assert status == 0
+    assert lines.count("legend:") == 1
+    assert lines[0] == f"== [1/2] {FIRST}" and f"== [2/2] {TWO_MASSES}" in lines
+    assert sum(line.startswith("signal ") for line in lines) == 2  # a per-signal table per model
+    assert any(line.startswith("inertia3.w ") for line in lines)
+    assert any(line.startswith("mass1.T ") for line in lines)
+    assert any(line.startswith("First: ok") for line in lines)
+    assert sum(line.split()[:1] == ["model"] for line in lines) == 1  # the table of models, at the end
+    legend = lines[lines.index("legend:"):]
+    assert any("max |error|" in line for line in legend)
+
+
+def test_a_single_model_keeps_its_table_with_the_legend(capsys, monkeypatch):
+    monkeypatch.delenv("ACAUSAL_REFERENCE_DIR", raising=False)
+    status, lines = _compare_output(capsys, str(FIRST))
+    assert status == 0
+    assert lines[0].startswith("First: ok")
+    assert any(line.startswith("signal ") for line in lines) and "legend:" in lines
+    assert lines[-1].startswith("Modelica.Mechanics.Rotational.Examples.First: 4 of 4 signals passed")
+    assert not any(line.split()[:1] == ["model"] for line in lines)
