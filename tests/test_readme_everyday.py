@@ -34,6 +34,17 @@ def test_the_everyday_block_runs(tmp_path, monkeypatch):
     np.testing.assert_array_equal(frame["J1.w"].to_numpy(), result["J1.w"][~_left_rows(result)])
     assert [ax.get_ylabel() for ax in figure.axes][:1] == ["J1.w [rad/s]"]
     assert (tmp_path / "CoupledClutches.mat").stat().st_size > 0
+    # a start value at run time: the run starts there
+    restarted = namespace["restarted"]
+    assert restarted.status == 0 and restarted["J1.w"][0] == 3.0
+    # values at any time: linear between the rows around 0.5; the left limit at an event
+    rows = ~_left_rows(result)
+    assert result.at(0.5, "J1.w") == np.interp(0.5, result.time[rows], result["J1.w"][rows])
+    # display units: rpm is 60/(2 pi) of rad/s
+    np.testing.assert_allclose(result.in_unit("J1.w", "rpm"), result["J1.w"] * 60 / (2 * np.pi))
+    rpm = namespace["rpm"]
+    assert rpm.attrs["units"]["J1.w"] == "rpm"
+    np.testing.assert_allclose(rpm["J1.w"].to_numpy(), frame["J1.w"].to_numpy() * 60 / (2 * np.pi))
     sys.modules.pop("examples.coupled_clutches", None)
 
 
