@@ -25,23 +25,12 @@ import numpy as np  # noqa: E402
 import sys  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: examples/
-from acausal import Model, simulate, translate  # noqa: E402
-from acausal.library.rotational import ConstantTorque, Inertia, QuadraticSpeedDependentTorque  # noqa: E402
+from acausal import simulate, translate  # noqa: E402
 from acausal.tools.linearize import linearize, steady_state  # noqa: E402
 from examples.clutch_drive import ClutchDrive  # noqa: E402
+from examples.fan_drive import FanDrive  # noqa: E402
 
 FIGURES = Path(__file__).resolve().parent / "figures"
-
-
-class FanDrive(Model):
-    """A constant torque against a quadratic load."""
-
-    def build(self):
-        self.drive = ConstantTorque(tau_constant=3.0)
-        self.J = Inertia(J=2.0)
-        self.load = QuadraticSpeedDependentTorque(tau_nominal=-1.5, w_nominal=10.0)
-        self.connect(self.drive.flange, self.J.flange_a)
-        self.connect(self.J.flange_b, self.load.flange)
 
 
 def frequency_response(lin, omega):

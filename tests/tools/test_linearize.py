@@ -315,6 +315,8 @@ def test_terminal_speed_against_a_quadratic_load_and_its_linearization():
 class BearingDrive(Model):
     """A constant torque on an inertia in a bearing: tau(w) = 1 + 0.1 w, static limit 1.2."""
 
+    experiment = Experiment(stop_time=1.0)
+
     def __init__(self, drive: float, **modifiers) -> None:
         self.drive = drive
         super().__init__(**modifiers)

@@ -101,23 +101,9 @@ def test_a_big_linearization_shows_the_head_of_its_matrices():
 # -- SteadyState ----------------------------------------------------------------------------------
 
 
-class BearingDrive(Model):
-    """A constant torque on an inertia in a bearing: tau(w) = 1 + 0.1 w, static limit 1.2."""
-
-    experiment = Experiment(stop_time=1.0)
-
-    def __init__(self, drive: float, **modifiers) -> None:
-        self.drive = drive
-        super().__init__(**modifiers)
-
-    def build(self):
-        self.source = Constant(k=self.drive)
-        self.torque = Torque()
-        self.J = Inertia(J=2.0, phi=dict(start=0, fixed=True), w=dict(start=0, fixed=True))
-        self.bearing = BearingFriction(tau_pos=[[0.0, 1.0], [10.0, 2.0]], peak=1.2)
-        self.connect(self.source.y, self.torque.tau)
-        self.connect(self.torque.flange, self.J.flange_a)
-        self.connect(self.J.flange_b, self.bearing.flange_a)
+# the bearing drive of the steady-state tests (tau(w) = 1 + 0.1 w, static limit 1.2, J = 2)
+sys.path.insert(0, str(Path(__file__).parent))
+from test_linearize import BearingDrive  # noqa: E402
 
 
 def test_steady_state_repr_lists_the_discrete_state_and_every_state():
