@@ -12,9 +12,11 @@ against the Modelica reference results; ``explain`` shows the stages.
 
 from . import errors
 from .errors import *  # noqa: F401,F403
+from .arrays import Array, each
 from .language import (
     Boolean,
     Component,
+    ComponentArray,
     Connector,
     Eq,
     Experiment,
@@ -61,6 +63,8 @@ __all__ = [
     "Boolean", "Component", "Connector", "Eq", "Experiment", "Flow", "If", "Integer", "Model",
     "Parameter", "Potential", "RealInput", "RealOutput", "StateSelect", "Variable", "der", "initial",
     "pre", "time", "describe",
+    # arrays (acausal.arrays has Modelica's array functions)
+    "Array", "ComponentArray", "each",
     # the hybrid language (Modelica chapter 8)
     "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "Assert", "terminate",
     "floor", "ceil", "integer", "div", "mod", "rem",

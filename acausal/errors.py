@@ -22,6 +22,8 @@ __all__ = [
     "ModifierError",
     "ConnectorError",
     "ConnectionError_",
+    "ArraySizeError",
+    "ArrayIndexError",
     "ParameterError",
     "TableError",
     "StructuralError",
@@ -98,6 +100,17 @@ class EquationError(ModelDefinitionError):
 
 class ModifierError(ModelDefinitionError, TypeError):
     """A modifier names something the component does not declare."""
+
+
+class ArraySizeError(ModelDefinitionError):
+    """Arrays of different sizes meet: in an equation, a connect(), a modifier or a product.
+
+    The message names both sizes.
+    """
+
+
+class ArrayIndexError(ModelDefinitionError, IndexError):
+    """An array is indexed outside its size (Modelica's indices count from 1), or with a non-integer."""
 
 
 class ConnectorError(ModelDefinitionError):

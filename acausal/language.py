@@ -30,16 +30,21 @@ flattening stage, when every component knows its place in the model, so
 
 from __future__ import annotations
 
+import copy
 import difflib
+import re
 import enum
 import functools
 import inspect
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator, Mapping
 
+import numpy as np
 import sympy as sp
 
-from .errors import ConnectorError, ModelDefinitionError, ModifierError
+from . import arrays
+from .arrays import Array, Each, distribute, element_name, indices, is_array_value
+from .errors import ArraySizeError, ConnectorError, ModelDefinitionError, ModifierError
 
 __all__ = [
     "time",
@@ -60,6 +65,7 @@ __all__ = [
     "Flow",
     "Connector",
     "Component",
+    "ComponentArray",
     "Model",
     "Experiment",
     "real_symbol",
@@ -100,13 +106,26 @@ for _function, _doc in (
     _function.__doc__ = _doc
 del _function, _doc
 
-def Eq(lhs, rhs) -> sp.Equality:  # noqa: N802 - the sympy name users know
-    """The equation ``lhs = rhs``.
+def Eq(lhs, rhs) -> sp.Equality | list[sp.Equality]:  # noqa: N802 - the sympy name users know
+    """The equation ``lhs = rhs``; for arrays, one equation per element.
 
     Unlike ``sympy.Eq`` it is not evaluated: sympy would try to decide
     whether the two sides are equal, which costs a query of its assumption
     system per equation (most of the flattening time of a large model).
+
+    When a side is an array (:class:`~acausal.arrays.Array`, a list, or
+    ``der(x)`` of an array) the result is the list of the elements'
+    equations, in Modelica's order; a scalar side is taken for every
+    element.  ``equations()`` may return such lists among its equations.
+
+    Raises
+    ------
+    ArraySizeError
+        For two arrays of different sizes (naming both).
     """
+    expanded = arrays.array_equations(lhs, rhs)
+    if expanded is not None:
+        return expanded
     return sp.Equality(lhs, rhs, evaluate=False)
 
 
@@ -266,11 +285,15 @@ class Declaration:
     name: str = ""
     kind: str = ""
 
-    def __init__(self, *, unit: str = "", description: str = "", condition=None) -> None:
+    def __init__(self, *, unit: str = "", description: str = "", condition=None, shape=None) -> None:
         self.unit = unit
         self.description = description
         #: Name of a structural parameter, or a callable(component) -> bool.
         self.condition = condition
+        #: None for a scalar; for an array its size per dimension, each an int, the
+        #: name of a structural parameter, Modelica's ``"size(A, 1)"`` of an array
+        #: parameter, or a function of ``value(name)`` (``3``, ``"n"``, ``(2, "n")``)
+        self.shape = shape
 
     def __set_name__(self, owner, name: str) -> None:
         self.name = name
@@ -341,6 +364,12 @@ class Parameter(Declaration):
         ``True`` (the default): flattening rejects a value (or a table entry)
         that is nan or infinite.  ``False`` for the rare parameter whose
         equations give ``inf`` a meaning.
+    shape : int, str or tuple, optional
+        For an array parameter, its size (see :class:`Variable`).  A
+        numeric parameter whose value is a list or an array
+        (``Parameter([[0, 1], [-1, 0]])``) is an array of that shape without
+        saying so; its elements are tunable parameters ``A[1,2]``, its shape
+        is structural.
     """
 
     kind = "parameter"
@@ -348,8 +377,8 @@ class Parameter(Declaration):
     def __init__(self, default: Any = None, *, unit: str = "", min: float | None = None,
                  max: float | None = None, structural: bool = False, fixed: bool = True,
                  finite: bool = True, description: str = "", condition=None,
-                 display_unit: str = "") -> None:
-        super().__init__(unit=unit, description=description, condition=condition)
+                 display_unit: str = "", shape=None) -> None:
+        super().__init__(unit=unit, description=description, condition=condition, shape=shape)
         self.display_unit = display_unit
         self.default = default
         self.min = min
@@ -388,6 +417,13 @@ class Variable(Declaration):
     component, for attributes that depend on structural parameters.
     ``display_unit`` is Modelica's ``displayUnit`` (``"rpm"``, ``"degC"``):
     the unit results show the variable in; its values stay in ``unit``.
+
+    ``shape`` makes it an array (Modelica's ``Real x[3]``): an int, the name
+    of a structural parameter, or a tuple of those for a matrix.  Its
+    elements are variables ``x[1]`` ... (``A[1,2]`` for a matrix), and
+    ``self.x`` is an :class:`~acausal.arrays.Array` of them.  An attribute
+    given as a list sets each element (``start=[1, 0, 0]``); a number or
+    :func:`~acausal.arrays.each` sets all of them.
     """
 
     kind = "continuous"
@@ -396,8 +432,8 @@ class Variable(Declaration):
                  nominal: Any = None, state_select: Any = StateSelect.default,
                  min: float | None = None, max: float | None = None,
                  description: str = "", condition=None, causality: str = "",
-                 discrete: bool = False, display_unit: str = "") -> None:
-        super().__init__(unit=unit, description=description, condition=condition)
+                 discrete: bool = False, display_unit: str = "", shape=None) -> None:
+        super().__init__(unit=unit, description=description, condition=condition, shape=shape)
         self.display_unit = display_unit
         #: Modelica's ``discrete Real``: changes only at events (assigned in a when-clause)
         self.discrete = discrete
@@ -437,17 +473,19 @@ class Variable(Declaration):
 
 
 class RealInput(Variable):
-    """A signal input connector (Modelica.Blocks.Interfaces.RealInput)."""
+    """A signal input connector (Modelica.Blocks.Interfaces.RealInput); ``RealInput(3)`` or
+    ``RealInput("nin")`` declares a vector of them."""
 
-    def __init__(self, **kw) -> None:
-        super().__init__(causality="input", **kw)
+    def __init__(self, shape=None, **kw) -> None:
+        super().__init__(causality="input", shape=shape, **kw)
 
 
 class RealOutput(Variable):
-    """A signal output connector (Modelica.Blocks.Interfaces.RealOutput)."""
+    """A signal output connector (Modelica.Blocks.Interfaces.RealOutput); ``RealOutput(3)``
+    declares a vector of them."""
 
-    def __init__(self, **kw) -> None:
-        super().__init__(causality="output", **kw)
+    def __init__(self, shape=None, **kw) -> None:
+        super().__init__(causality="output", shape=shape, **kw)
 
 
 class Boolean(Variable):
@@ -456,9 +494,9 @@ class Boolean(Variable):
     kind = "boolean"
 
     def __init__(self, *, start: bool = False, fixed: bool = False, description: str = "",
-                 condition=None, causality: str = "") -> None:
+                 condition=None, causality: str = "", shape=None) -> None:
         super().__init__(start=start, fixed=fixed, description=description, condition=condition,
-                         causality=causality)
+                         causality=causality, shape=shape)
 
     def make_symbol(self, path: str) -> sp.Symbol:
         return sp.Symbol(path)
@@ -471,9 +509,9 @@ class Integer(Variable):
 
     def __init__(self, *, start: int = 0, fixed: bool = False, min: int | None = None,
                  max: int | None = None, description: str = "", condition=None,
-                 causality: str = "") -> None:
+                 causality: str = "", shape=None) -> None:
         super().__init__(start=start, fixed=fixed, min=min, max=max, description=description,
-                         condition=condition, causality=causality)
+                         condition=condition, causality=causality, shape=shape)
 
     def make_symbol(self, path: str) -> sp.Symbol:
         return sp.Symbol(path, integer=True)
@@ -533,8 +571,8 @@ class Connector(Declaration):
     kind = "connector"
     family = "connector"
 
-    def __init__(self, *, condition=None, description: str = "") -> None:
-        super().__init__(description=description, condition=condition)
+    def __init__(self, *, condition=None, description: str = "", shape=None) -> None:
+        super().__init__(description=description, condition=condition, shape=shape)
 
     @classmethod
     def variables(cls) -> dict[str, Variable]:
@@ -733,7 +771,12 @@ def describe(subject: Any, width: int = 100) -> str:
 def _declaration_rows(klass: type["Component"], instance: "Component | None") -> dict[str, tuple[list, list]]:
     """{section title: (column names, rows)} of a component's declarations, its own first."""
     declarations = klass.declarations()
-    ordered = dict.fromkeys(name for base in klass.__mro__ for name in vars(base) if name in declarations)
+    # a sized class lists each array once, by its size (u[3]), not element by element
+    arrays = klass.array_declarations()
+    elements = {element_name(name, index): name for name, (_, shape) in arrays.items() for index in indices(shape)}
+    ordered = dict.fromkeys(name for base in klass.__mro__ for name in vars(base)
+                            if (name in declarations and name not in elements) or name in arrays)
+    ordered.update(dict.fromkeys(arrays))  # arrays a class makes without declaring them by name
     parameters: list[list[str]] = []
     connectors: list[list[str]] = []
     variables: list[list[str]] = []
@@ -741,25 +784,56 @@ def _declaration_rows(klass: type["Component"], instance: "Component | None") ->
     def bound(value: Any) -> str:
         return "" if value is None else _attribute_text(value)
 
+    def shaped(name: str, declaration: Declaration) -> str:
+        """``u[3]`` for an array of a sized class, ``u[nin]`` for one of a class."""
+        if name in arrays:
+            return element_name(name, arrays[name][1])
+        if isinstance(declaration, Parameter) and not declaration.structural and declaration.shape is None \
+                and is_array_value(declaration.default):
+            # an array parameter whose size its value gives: Modelica's A[:, :]
+            return f"{name}[{', '.join(':' for _ in np.shape(np.asarray(declaration.default, dtype=object)))}]"
+        if declaration.shape is not None:
+            dims = declaration.shape if isinstance(declaration.shape, tuple) else (declaration.shape,)
+            return f"{name}[{', '.join(d if isinstance(d, str) else str(d) if isinstance(d, int) else ':' for d in dims)}]"
+        return name
+
+    def array_values(name: str, read: Callable[[str], Any]) -> Any:
+        shape = arrays[name][1]
+        if any(element_name(name, index) not in declarations for index in indices(shape)):
+            return None  # a class not sized yet: its elements are not declared
+        return np.array([read(element_name(name, index)) for index in indices(shape)],
+                        dtype=object).reshape(shape).tolist()
+
     for name in ordered:
-        declaration = declarations[name]
+        declaration = arrays[name][0] if name in arrays else declarations[name]
+        label = shaped(name, declaration)
         notes = declaration._doc_condition()
         if isinstance(declaration, Parameter):
             value = declaration.default
-            if instance is not None and name in instance._modifiers:
+            if name in arrays:
+                value = array_values(name, lambda e: (instance._modifiers.get(e, declarations[e].default)
+                                                      if instance is not None else declarations[e].default))
+                if instance is not None and any(e in instance._modifiers for e, a in elements.items() if a == name):
+                    notes.insert(0, "modified")
+            elif instance is not None and name in instance._modifiers:
                 value = instance._modifiers[name]
                 notes.insert(0, "modified")
             if declaration.structural:
                 notes.append("structural")
             if declaration.fixed is not True:
                 notes.append(f"fixed={_value_text(declaration.fixed)}")
-            parameters.append([name, "" if value is None else _attribute_text(value), declaration.unit,
+            parameters.append([label, "" if value is None else _attribute_text(value), declaration.unit,
                                bound(declaration.min), bound(declaration.max), ", ".join(notes),
                                declaration.description])
         elif isinstance(declaration, Connector):
-            connectors.append([name, type(declaration).__name__, "", ", ".join(notes), declaration.description])
+            connectors.append([label, type(declaration).__name__, "", ", ".join(notes), declaration.description])
         elif isinstance(declaration, Variable):
             modified = instance._attribute_modifiers.get(name, {}) if instance is not None else {}
+            if name in arrays and instance is not None:
+                own = [e for e, a in elements.items() if a == name]
+                modified = {key: array_values(name, lambda e, key=key: instance.attribute(e, key))
+                            for key in _VARIABLE_ATTRIBUTES
+                            if any(key in instance._attribute_modifiers.get(e, {}) for e in own)}
 
             def attribute(key: str) -> Any:
                 return modified.get(key, getattr(declaration, key))
@@ -770,14 +844,14 @@ def _declaration_rows(klass: type["Component"], instance: "Component | None") ->
             if type(declaration) is Variable:
                 kind = "discrete Real" if declaration.discrete else "Real"
             if declaration.causality:  # signal connectors are listed with the connectors
-                connectors.append([name, kind, declaration.unit, ", ".join(notes), declaration.description])
+                connectors.append([label, kind, declaration.unit, ", ".join(notes), declaration.description])
                 continue
             fixed = attribute("fixed")
             if fixed is True:
                 notes.append("fixed")
             elif fixed is not False:
                 notes.append(f"fixed {_attribute_text(fixed)}")
-            variables.append([name, kind, declaration.unit, bound(attribute("start")), bound(attribute("min")),
+            variables.append([label, kind, declaration.unit, bound(attribute("start")), bound(attribute("min")),
                               bound(attribute("max")), ", ".join(notes), declaration.description])
     return {
         "Parameters": (["name", "value" if instance is not None else "default", "unit", "min", "max", "notes",
@@ -832,6 +906,169 @@ def _table(title: str, header: list[str], rows: list[list[str]], width: int) -> 
     return "\n".join(lines)
 
 
+# --------------------------------------------------------------------------
+# Arrays of declarations and of components
+# --------------------------------------------------------------------------
+
+
+class ArrayMember:
+    """What an array declaration becomes in a sized class: the whole array as one attribute.
+
+    The sized class (:meth:`Component.__new__`) declares every element as an
+    ordinary scalar declaration (``u[1]``, ``A[1,2]``); this descriptor
+    gives ``self.u`` as an :class:`~acausal.arrays.Array` of their symbols
+    (of bound connectors, for a connector array) and keeps the array's own
+    declaration for ``show`` and ``describe``.
+    """
+
+    def __init__(self, declaration: Declaration, shape: tuple[int, ...]) -> None:
+        self.declaration = declaration
+        self.shape = shape
+
+    def __set_name__(self, owner, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj, objtype=None):
+        if obj is None:
+            return self
+        data = np.empty(self.shape, dtype=object)
+        for index in indices(self.shape):
+            data[tuple(i - 1 for i in index)] = getattr(obj, element_name(self.name, index))
+        return Array(data, obj._path_of(self.name))
+
+
+class ComponentArray(list):
+    """An array of components, indexed from 1 as in Modelica (``self.cell[1]``).
+
+    Made by assigning a list of components in ``build()``
+    (``self.cell = [HeatCapacitor(C=1) for _ in range(n)]``), or by
+    :meth:`of`; element ``i`` is the sub-component ``cell[i]``.  Iteration,
+    ``len`` and Modelica-style slices (``cell[2:3]``, both ends included)
+    work; ``cell.T`` is the :class:`~acausal.arrays.Array` of every
+    element's ``T`` (a connector of each element gives an array of
+    connectors, which ``connect`` joins element by element).
+    """
+
+    name = ""
+
+    def __getitem__(self, key):
+        view = Array(np.array(list(self) + [None], dtype=object)[:-1], self.name)
+        picked = view[key]
+        return ComponentArray(picked.flat) if isinstance(picked, Array) else picked
+
+    def __getattr__(self, member: str):
+        if member.startswith("_"):
+            raise AttributeError(member)
+        return Array([getattr(element, member) for element in self], f"{self.name}.{member}")
+
+    @classmethod
+    def of(cls, klass: type["Component"], n: int, **modifiers: Any) -> "ComponentArray":
+        """``n`` instances of ``klass``; a modifier given as a list of ``n`` values gives one
+        to each element, any other value (or :func:`~acausal.arrays.each`) to all.
+
+        ``ComponentArray.of(Sine, 3, f=[1, 2, 3], amplitude=2)`` is Modelica's
+        ``Sine sine[3](f={1, 2, 3}, each amplitude=2)``.
+        """
+        per_element = {key: _per_element(value, n, f"{klass.__name__}[{n}].{key}")
+                       for key, value in modifiers.items()}
+        return cls(klass(**{key: values[i] for key, values in per_element.items()}) for i in range(n))
+
+
+def _per_element(value: Any, n: int, what: str) -> list[Any]:
+    """A modifier of an array of ``n`` components for each element (see :meth:`ComponentArray.of`)."""
+    if isinstance(value, dict):
+        inner = {key: _per_element(v, n, f"{what}.{key}") for key, v in value.items()}
+        return [{key: values[i] for key, values in inner.items()} for i in range(n)]
+    if isinstance(value, Each) or not is_array_value(value):
+        return [value.value if isinstance(value, Each) else value] * n
+    if len(value) != n:
+        raise ArraySizeError(f"{what} is given {len(value)} values for {n} components",
+                             hint="give one value per element, or each(value) for all of them")
+    return list(value)
+
+
+def _resolved_shape(declaration: Declaration, name: str, value: Callable[[str], Any]) -> tuple[int, ...] | None:
+    """The shape of an array declaration in an instance (None: a scalar).
+
+    ``value(p)`` reads the structural parameter ``p`` (or a parameter's own
+    value, whose shape an array parameter takes when it declares none).
+    """
+    shape = declaration.shape
+    if shape is None:
+        if isinstance(declaration, Parameter) and not declaration.structural:
+            own = value(name)
+            if is_array_value(own) and not isinstance(own, Each):
+                return tuple(np.shape(np.asarray(own.data if isinstance(own, Array) else own, dtype=object)))
+        return None
+    dims = shape if isinstance(shape, tuple) else (shape,)
+    resolved = []
+    for dim in dims:
+        size_ = _dimension(dim, value, name)
+        if isinstance(size_, (bool, np.bool_)) or not isinstance(size_, (int, np.integer)) or size_ < 0:
+            raise ModelDefinitionError(f"the size of array {name} is {size_!r}"
+                                       + (f" (the parameter {dim})" if isinstance(dim, str) else ""),
+                                       hint="an array's size is an integer >= 0, or the name of a "
+                                            "structural Integer parameter")
+        resolved.append(int(size_))
+    return tuple(resolved)
+
+
+_SIZE_OF = re.compile(r"^\s*size\(\s*([A-Za-z_]\w*)\s*,\s*(\d+)\s*\)\s*$")
+
+
+def _dimension(dim: Any, value: Callable[[str], Any], name: str) -> Any:
+    """One entry of a declared shape: an int; the name of a structural parameter; Modelica's
+    ``"size(A, 1)"`` of an array parameter's value; or a function of ``value``."""
+    if isinstance(dim, str):
+        found = _SIZE_OF.match(dim)
+        if found is None:
+            return value(dim)
+        array, k = found.group(1), int(found.group(2))
+        given = value(array)
+        dims = np.shape(np.asarray(given.data if isinstance(given, Array) else given, dtype=object))
+        if not 1 <= k <= len(dims):
+            raise ModelDefinitionError(f"the size of array {name} is {dim}, but {array} has {len(dims)} "
+                                       f"dimension{'s' if len(dims) != 1 else ''}",
+                                       hint=f"give {array} as a nested list with {k} dimensions")
+        return dims[k - 1]
+    if callable(dim):
+        return dim(value)
+    return dim
+
+
+def _element_declaration(declaration: Declaration, name: str, index: tuple[int, ...],
+                         shape: tuple[int, ...], own_value: Any) -> Declaration:
+    """The scalar declaration of element ``index`` of the array ``name``."""
+    element = copy.copy(declaration)
+    element.shape = None
+    position = int(np.ravel_multi_index(tuple(i - 1 for i in index), shape)) if shape else 0
+    if isinstance(declaration, Parameter):
+        element.default = _pick(own_value, position, shape, name)
+    elif isinstance(declaration, Variable):
+        for attribute in ("start", "nominal", "min", "max", "fixed"):
+            setattr(element, attribute, _element_attribute(getattr(declaration, attribute), position,
+                                                           shape, f"{name}.{attribute}"))
+    element.__set_name__(None, element_name(name, index))
+    return element
+
+
+def _pick(value: Any, position: int, shape: tuple[int, ...], what: str) -> Any:
+    if value is None:
+        return None
+    return distribute(value, shape, what)[position]
+
+
+def _element_attribute(value: Any, position: int, shape: tuple[int, ...], what: str) -> Any:
+    """An attribute of one element: a list is per element; a function of the component is
+    evaluated then picked; anything else is every element's."""
+    if callable(value) and not isinstance(value, (sp.Basic, Each)):
+        return lambda component: _pick(value(component), position, shape, what)
+    return _pick(value, position, shape, what)
+
+
+_SIZED: dict[tuple, type] = {}
+
+
 class Component:
     """A component: declarations, equations and (optionally) sub-components.
 
@@ -859,6 +1096,62 @@ class Component:
             own = own._own
         cls.__doc__ = _ComponentDoc(cls, own)
 
+    def __new__(cls, *args: Any, **modifiers: Any):
+        """An instance of ``cls``, or of its *sized* class when it declares arrays.
+
+        The sized class declares every element of every array as a scalar
+        (``u[1]``, ``A[1,2]``), with the sizes the structural parameters and
+        the modifiers given here (an array parameter's value) make; one
+        sized class per base class and sizes.  Everything after the language
+        sees scalars only.
+        """
+        base = vars(cls).get("_unsized", cls)
+        declared = [(name, d) for name, d in base.declarations().items()
+                    if d.shape is not None or (isinstance(d, Parameter) and not d.structural)]
+        if not declared:
+            return object.__new__(cls)
+        everything = base.declarations()
+
+        def value(name: str) -> Any:
+            if name in modifiers:
+                return modifiers[name]
+            if name not in everything:
+                raise ModelDefinitionError(f"{base.__name__}: an array size names {name!r}, which it "
+                                           f"does not declare", hint="name a structural parameter")
+            found = everything[name]
+            return found.default if isinstance(found, Parameter) else None
+
+        shapes = {}
+        for name, declaration in declared:
+            shape = _resolved_shape(declaration, name, value)
+            if shape is not None:
+                shapes[name] = shape
+        if not shapes:
+            return object.__new__(cls)
+        key = (base, tuple(shapes.items()))
+        klass = _SIZED.get(key)
+        if klass is None:
+            namespace: dict[str, Any] = {"__module__": base.__module__, "__qualname__": base.__qualname__,
+                                         "_unsized": base, "_array_shapes": dict(shapes)}
+            own_doc = vars(base).get("__doc__")
+            namespace["__doc__"] = getattr(own_doc, "_own", own_doc)
+            for name, shape in shapes.items():
+                declaration = everything[name]
+                own = value(name) if isinstance(declaration, Parameter) else None
+                if isinstance(declaration, Parameter) and own is None:
+                    own = declaration.default
+                for index in indices(shape):
+                    namespace[element_name(name, index)] = _element_declaration(declaration, name, index,
+                                                                                shape, own)
+                namespace[name] = ArrayMember(declaration, shape)
+            klass = _SIZED[key] = type(base.__name__, (base,), namespace)
+            for name in shapes:
+                namespace[name].__set_name__(klass, name)
+        return object.__new__(klass)
+
+    #: In a sized class: the shape of each array it declares, ``{"u": (3,)}``.
+    _array_shapes: Mapping[str, tuple[int, ...]] = {}
+
     def __init__(self, **modifiers: Any) -> None:
         object.__setattr__(self, "_name", "")
         object.__setattr__(self, "_parent", None)
@@ -871,6 +1164,8 @@ class Component:
         #: (Modelica's ``m(clutch(fn_max=100))``).  Sub-components exist only once
         #: build() has run: each gets its entry when build() assigns it.
         object.__setattr__(self, "_nested_modifiers", {})
+        #: Arrays of sub-components by name (their elements are children ``name[i]``).
+        object.__setattr__(self, "_component_arrays", {})
         declarations = self.declarations()
         for key, value in modifiers.items():
             self._apply_modifier(key, value, declarations)
@@ -885,7 +1180,37 @@ class Component:
             for key, value in vars(klass).items():
                 if isinstance(value, Declaration):
                     found[key] = value
+                elif isinstance(value, ArrayMember):
+                    found.pop(key, None)  # declared element by element in this (sized) class
         return found
+
+    @classmethod
+    def array_declarations(cls) -> dict[str, tuple[Declaration, tuple[int, ...]]]:
+        """The arrays of a sized class: ``{name: (declaration, shape)}``, in declaration order."""
+        return {name: (vars(cls)[name].declaration, shape) for name, shape in cls._array_shapes.items()}
+
+    def _apply_array_modifier(self, key: str, value: Any, declarations: dict[str, Declaration]) -> None:
+        """A modifier of a whole array, given to its elements (a list element by element,
+        a number or :func:`~acausal.arrays.each` to all)."""
+        declaration, shape = type(self).array_declarations()[key]
+        what = f"{self._modifier_owner()}.{key}"
+        names = [element_name(key, index) for index in indices(shape)]
+        if isinstance(declaration, Parameter):
+            if isinstance(value, dict):
+                raise ModifierError(f"{what} is a parameter: give it a value, not {value!r}")
+            for name, element in zip(names, distribute(value, shape, what)):
+                self._apply_modifier(name, element, declarations)
+        elif isinstance(declaration, Variable):
+            if not isinstance(value, dict):
+                raise ModifierError(f"{what} is an array of variables: modify its attributes with a dict",
+                                    hint=f"{type(self).__name__}({key}=dict(start=[...]))")
+            per_attribute = {attribute: distribute(v, shape, f"{what}.{attribute}")
+                             for attribute, v in value.items()}
+            for position, name in enumerate(names):
+                self._apply_modifier(name, {a: values[position] for a, values in per_attribute.items()},
+                                     declarations)
+        else:
+            raise ModifierError(f"{what} is an array of connectors and takes no modifier")
 
     def _apply_modifier(self, key: str, value: Any, declarations: dict[str, Declaration]) -> None:
         """Apply the modifier ``key=value``: a parameter's value, a variable's attributes
@@ -897,7 +1222,16 @@ class Component:
         """
         owner = self._modifier_owner()
         where = type(self).__name__
+        if key in type(self)._array_shapes:
+            self._apply_array_modifier(key, value, declarations)
+            return
         if key not in declarations:
+            if isinstance(value, dict) and key in self._component_arrays:
+                for element, modifiers in zip(self._component_arrays[key],
+                                              _per_element(value, len(self._component_arrays[key]),
+                                                           f"{owner}.{key}")):
+                    self._apply_modifier(element.name, modifiers, declarations)
+                return
             if isinstance(value, dict) and key in self._children:
                 self._nested_modifiers[key] = _merged(self._nested_modifiers.get(key, {}), value)
                 self._children[key]._apply_modifiers(value)
@@ -969,7 +1303,7 @@ class Component:
             For a modifier naming no declaration and no sub-component.
         """
         for key in self._nested_modifiers:
-            if key not in self._children:
+            if key not in self._children and key not in self._component_arrays:
                 raise self._unknown_modifier(key, self._nested_modifiers[key])
 
     def _modifier_value(self, name: str, default: Any) -> Any:
@@ -992,6 +1326,12 @@ class Component:
     # -- tree -------------------------------------------------------------
 
     def __setattr__(self, key: str, value: Any) -> None:
+        # a list of new components is an array of components; a list of components this
+        # model already has (kept for convenience) stays a plain attribute
+        if isinstance(value, (list, tuple)) and value and not key.startswith("_") \
+                and all(isinstance(v, Component) and v._parent is None for v in value):
+            self._add_component_array(key, value)
+            return
         if isinstance(value, Component):
             if value._parent is not None:
                 raise ModelDefinitionError(
@@ -1018,6 +1358,24 @@ class Component:
                 # after the modifiers build() gave it: the outer modifier wins, as in Modelica
                 value._apply_modifiers(nested)
         object.__setattr__(self, key, value)
+
+    def _add_component_array(self, key: str, elements) -> None:
+        """``self.key = [c1, c2, ...]``: the sub-components ``key[1]``, ``key[2]``, ... and the
+        :class:`ComponentArray` ``self.key`` (a modifier of ``key`` reaches every element)."""
+        if key in self._component_arrays or key in self._children:
+            raise ModelDefinitionError(f"{type(self).__name__}.{key} is already a sub-component or an "
+                                       f"array of them", hint=f"give the second one another name")
+        array = ComponentArray(elements)
+        array.name = self._path_of(key)
+        nested = self._nested_modifiers.get(key)
+        self._component_arrays[key] = array
+        for i, element in enumerate(elements, start=1):
+            setattr(self, f"{key}[{i}]", element)
+        if nested:
+            # the outer modifier, element by element (a list gives one value to each)
+            for element, modifiers in zip(elements, _per_element(nested, len(elements), array.name)):
+                element._apply_modifiers(modifiers)
+        object.__setattr__(self, key, array)
 
     @property
     def name(self) -> str:
@@ -1068,8 +1426,32 @@ class Component:
         return []
 
     def connect(self, a, b) -> None:
-        """Modelica's ``connect(a, b)`` between two connectors or signals."""
-        self._connections.append((a, b))
+        """Modelica's ``connect(a, b)`` between two connectors or signals.
+
+        Two arrays of them (``mux.y`` and ``demux.u``, ``cell.port`` of an
+        array of components, slices such as ``cell[1:3].port``) are
+        connected element by element; their sizes must agree.
+
+        Raises
+        ------
+        ArraySizeError
+            For two arrays of different sizes, or an array and a scalar.
+        """
+        left, right = isinstance(a, (Array, list, tuple)), isinstance(b, (Array, list, tuple))
+        if not (left or right):
+            self._connections.append((a, b))
+            return
+        shape_a = Array(a).shape if left else ()
+        shape_b = Array(b).shape if right else ()
+        if shape_a != shape_b:
+            def named(x, shape):
+                return (f"{getattr(x, 'name', '') or 'an array'} of size [{', '.join(map(str, shape))}]"
+                        if shape else f"the scalar {getattr(x, 'path', x)}")
+            raise ArraySizeError(f"{self._modifier_owner()}: connect({named(a, shape_a)}, {named(b, shape_b)})",
+                                 hint="connect arrays of one size, or their elements one by one "
+                                      "(connect(a[1], b[2]))")
+        for x, y in zip(Array(a).flat, Array(b).flat):
+            self._connections.append((x, y))
 
     def __repr__(self) -> str:
         """The constructor call with the modifiers, e.g. ``Clutch(fn_max=100)``.
@@ -1145,7 +1527,7 @@ def with_structural(model: Component, values: Mapping[str, Any]) -> Component:
     """
     fresh = object.__new__(type(model))
     tree = {"_name", "_parent", "_children", "_connections", "_built", "_modifiers", "_attribute_modifiers",
-            "_nested_modifiers"}
+            "_nested_modifiers", "_component_arrays"}
     for key, value in vars(model).items():
         if key in tree or key in model._children or _holds_components(value):
             continue  # what build() makes is made again

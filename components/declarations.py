@@ -16,7 +16,7 @@ from typing import Any, Callable, Mapping
 import sympy as sp
 
 from acausal.errors import ModelDefinitionError, ModifierError
-from acausal.language import Component, Declaration
+from acausal.language import ArrayMember, Component, Declaration
 
 __all__ = ["VectorBlock", "DerivedDefaults"]
 
@@ -34,6 +34,11 @@ class VectorBlock(Component):
     Modelica does (``stateSpace.x[1]``).  A modifier of a whole array is
     applied to each element (Modelica's ``each``); a list of dicts gives one
     per element; ``**{"x[2]": dict(start=1)}`` modifies a single element.
+
+    It is the language's arrays (``Variable(shape=...)``) for arrays whose
+    elements differ in more than their index (a description per element):
+    ``self.u`` is the :class:`~acausal.arrays.Array` of the elements and
+    ``acausal show`` lists ``u[3]`` as one entry, as for a declared array.
     """
 
     #: array name -> size, in the sized subclasses.
@@ -71,8 +76,27 @@ class VectorBlock(Component):
             doc = namespace["__doc__"]
             if doc is not None and not isinstance(doc, str):
                 namespace["__doc__"] = getattr(doc, "_own", None)
+            shapes = {name: (int(size),) for name, (size, _) in arrays.items()}
+            namespace["_array_shapes"] = shapes
+            for name, shape in shapes.items():
+                # the whole array as one attribute, described by its first element
+                namespace[name] = ArrayMember(namespace[f"{name}[1]"] if shape[0] else Declaration(), shape)
             klass = _SIZED[key] = type(base.__name__, (base,), namespace)
+            for name in shapes:
+                namespace[name].__set_name__(klass, name)
         return object.__new__(klass)
+
+    @classmethod
+    def array_declarations(cls):
+        """The arrays, with the sizes the defaults give for a class that is not sized yet."""
+        if "_unsized" in vars(cls):
+            return super().array_declarations()
+        defaults = cls.declarations()
+        found = {}
+        for name, (size, make) in cls.arrays(lambda p: defaults[p].default).items():
+            declaration = make(1) if size else Declaration()
+            found[name] = (declaration, (int(size),))
+        return found
 
     def __init__(self, **modifiers: Any) -> None:
         sizes = type(self)._array_sizes

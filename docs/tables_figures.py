@@ -47,7 +47,7 @@ def interpolations() -> Model:
                 setattr(self, kind.name, table)
                 setattr(self, f"d_{kind.name}", derivative)
                 self.connect(self.clock.y, table.u)
-                self.connect(getattr(table, "y[1]"), derivative.u)
+                self.connect(table.y[1], derivative.u)
 
     return SixInterpolations()
 

@@ -538,7 +538,7 @@ def table_models(rows: int) -> dict:
             self.f = CombiTable1Ds(table=curve)
 
         def equations(self):
-            return [Eq(self.f.u, self.x), Eq(der(self.x), -getattr(self.f, "y[1]") + 0.5 * self.x)]
+            return [Eq(self.f.u, self.x), Eq(der(self.x), -self.f.y[1] + 0.5 * self.x)]
 
     class TimeAkima(Model):
         experiment = Experiment(stop_time=10.0, interval=0.01)
@@ -548,7 +548,7 @@ def table_models(rows: int) -> dict:
             self.s = CombiTimeTable(table=signal, smoothness=Smoothness.ContinuousDerivative)
 
         def equations(self):
-            return [Eq(der(self.x), getattr(self.s, "y[1]"))]
+            return [Eq(der(self.x), self.s.y[1])]
 
     class Loop2D(Model):
         experiment = Experiment(stop_time=10.0, interval=0.01)

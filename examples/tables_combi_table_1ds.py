@@ -48,7 +48,7 @@ class TestDer(Test):
     def build(self):
         super().build()
         self.d_t_new = Der()
-        self.connect(getattr(self.t_new, "y[1]"), self.d_t_new.u)
+        self.connect(self.t_new.y[1], self.d_t_new.u)
 
 
 class TestDer2(TestDer):
@@ -63,7 +63,7 @@ class TestDer2(TestDer):
         """``t_new.y[2]`` differentiated twice too (``d_t_new2``, ``d2_t_new2``: Test4, 6, 29)."""
         self.d_t_new2 = Der()
         self.d2_t_new2 = Der()
-        self.connect(getattr(self.t_new, "y[2]"), self.d_t_new2.u)
+        self.connect(self.t_new.y[2], self.d_t_new2.u)
         self.connect(self.d_t_new2.y, self.d2_t_new2.u)
 
 

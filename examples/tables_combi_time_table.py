@@ -48,7 +48,7 @@ class TestDer(Test):
     def build(self):
         super().build()
         self.d_t_new = Der()
-        self.connect(getattr(self.t_new, "y[1]"), self.d_t_new.u)
+        self.connect(self.t_new.y[1], self.d_t_new.u)
 
 
 class TestDer2(TestDer):
@@ -65,7 +65,7 @@ class TestDer2(TestDer):
         setattr(self, f"t_new{suffix}", table)
         setattr(self, f"d_t_new{suffix}", d)
         setattr(self, f"d2_t_new{suffix}", d2)
-        self.connect(getattr(table, "y[1]"), d.u)
+        self.connect(table.y[1], d.u)
         self.connect(d.y, d2.u)
 
 

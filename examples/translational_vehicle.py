@@ -63,8 +63,8 @@ class Vehicle(Model):
         self.gain1 = Gain(k=2)
 
         table = self.timeTableTorqueInclination
-        self.connect(getattr(table, "y[1]"), self.gain.u)
-        self.connect(getattr(table, "y[2]"), self.vehicle.inclination)
+        self.connect(table.y[1], self.gain.u)
+        self.connect(table.y[2], self.vehicle.inclination)
         self.connect(self.gain.y, self.torque.tau)
         self.connect(self.torque.flange, self.vehicle.flangeR)
         self.connect(self.torque1.flange, self.vehicle1.flangeR)

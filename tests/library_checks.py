@@ -31,8 +31,16 @@ def collect(component, method="equations"):
     for klass in reversed(type(component).__mro__):
         own = vars(klass).get(method)
         if own is not None:
-            items.extend(own(component))
+            items.extend(_spliced(own(component)))
     return items
+
+
+def _spliced(items) -> list:
+    """An array equation (a list of element equations) counts as its elements, as flattening splices it."""
+    out = []
+    for item in items or ():
+        out.extend(_spliced(item) if isinstance(item, (list, tuple)) else [item])
+    return out
 
 
 def enabled_declarations(component):

@@ -164,6 +164,24 @@ def test_every_exported_class_passes_the_declaration_checks(name, klass):
     check_declarations(klass())
 
 
+@pytest.mark.parametrize("name, klass", sorted(exported_classes().items()), ids=sorted(exported_classes()))
+def test_every_array_a_class_declares_is_shown_with_its_size(name, klass):
+    """``acausal show`` (describe) lists each array once, ``u[3]`` for an instance, ``u[nin]`` or
+    ``u[3]`` for the class, and not element by element."""
+    from acausal import describe
+
+    instance = klass()
+    arrays = type(instance).array_declarations()
+    for text in (describe(instance, width=400), describe(klass, width=400)):
+        rows = [line.split()[0] for line in text.splitlines() if line.startswith("  ") and line.split()]
+        for array, (_, shape) in arrays.items():
+            if not all(shape):
+                continue  # an empty array (a default size 0) has nothing to show
+            assert any(row.startswith(f"{array}[") for row in rows), f"{name}: {array} not shown\n{text}"
+            first = f"{array}[{','.join('1' * len(shape))}]"
+            assert first not in rows or shape == (1,) * len(shape), f"{name}: {array} listed element by element"
+
+
 def test_modifiers_are_applied():
     x = attach(Inertia(J=2, w=dict(start=10, fixed=True), stateSelect=StateSelect.always))
     assert x.parameter_binding("J") == 2

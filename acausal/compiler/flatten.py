@@ -921,6 +921,8 @@ class _Flattener:
                     continue
                 if not isinstance(items, (list, tuple)):
                     items = [items]
+                # an array equation is a list of its elements' equations (Eq of arrays)
+                items = _scalar_items(items)
                 for index, item in enumerate(items):
                     origin = Origin(component.path, type(component).__name__, klass.__name__, index,
                                     item)
@@ -1710,6 +1712,19 @@ def _user_frame(exc: BaseException) -> traceback.FrameSummary | None:
         if not filename.startswith(_NOT_USER_CODE) and not frame.filename.startswith("<frozen"):
             return frame
     return frames[0] if frames else None
+
+
+def _scalar_items(items) -> list:
+    """``equations()``'s items with the lists an array equation makes spliced in, in order."""
+    if not any(isinstance(item, (list, tuple)) for item in items):
+        return list(items)
+    out: list = []
+    for item in items:
+        if isinstance(item, (list, tuple)):
+            out.extend(_scalar_items(item))
+        else:
+            out.append(item)
+    return out
 
 
 def _equations_failed(exc: Exception, component: Component, klass: type, method_name: str) -> EquationError:

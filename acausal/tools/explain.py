@@ -40,6 +40,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from ..arrays import array_groups
 from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
 from ..names import parse
 from ..language import Component
@@ -333,9 +336,16 @@ def _write_flat(w: _Writer, translation: Translation) -> None:
     w.line()
     if flat.parameters:
         w.line(f"Parameters ({len(flat.parameters)}):")
-        for p in flat.parameters:
+        by_name = {p.name: p for p in flat.parameters}
+        for name, shape, members in array_groups(by_name):
+            p = by_name[members[0]]
             unit = f" [{p.unit}]" if p.unit else ""
-            w.line(f"  {p.name} = {_format_value(p.value)}{unit}")
+            if shape is None:
+                w.line(f"  {p.name} = {_format_value(p.value)}{unit}")
+            else:  # an array: one line, its size and its values
+                values = np.array([_format_value(by_name[m].value) for m in members], dtype=object)
+                w.line(f"  {name}[{', '.join(map(str, shape))}] = "
+                       f"{str(values.reshape(shape).tolist()).replace(chr(39), '')}{unit}")
         w.line()
     fixed = [v for v in flat.variables if v.fixed]
     if fixed:

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
+from ..arrays import array_groups
 from ..compiler.algebraic import Assign, LinearSolve, NewtonSolve
 from ..compiler.translate import ModeSystem, Translation
 from ..fileio import atomic_write
@@ -563,10 +564,22 @@ def _flat_section(page: _Page, c: _Context, link: _Linker) -> None:
     if flat.parameters:
         page.add(f"<h3>Parameters ({len(flat.parameters)})</h3><table><tr><th>name</th><th>value</th>"
                  "<th>unit</th></tr>")
-        for p in flat.parameters:
+        by_name = {p.name: p for p in flat.parameters}
+
+        def row(p) -> str:
             value = f"{p.value:g}" if isinstance(p.value, float) else p.value
-            page.add(f'<tr{page.id_attr(c.targets.get(p.name))}><td><code>{_esc(p.name)}</code></td>'
-                     f"<td>{_esc(value)}</td><td>{_esc(p.unit or '')}</td></tr>")
+            return (f'<tr{page.id_attr(c.targets.get(p.name))}><td><code>{_esc(p.name)}</code></td>'
+                    f"<td>{_esc(value)}</td><td>{_esc(p.unit or '')}</td></tr>")
+
+        for name, shape, members in array_groups(by_name):
+            if shape is None:
+                page.add(row(by_name[name]))
+                continue
+            # an array: one row with its size, its elements in a nested table that opens
+            inner = "".join(row(by_name[m]) for m in members)
+            page.add(f"<tr><td colspan=\"3\"><details><summary><code>{_esc(name)}"
+                     f"[{', '.join(map(str, shape))}]</code> ({len(members)} elements)</summary>"
+                     f"<table>{inner}</table></details></td></tr>")
         page.add("</table>")
     fixed = [v for v in flat.variables if v.fixed]
     if fixed:

@@ -7,9 +7,9 @@ and records in ``firstTrigger`` whether the current sample is the first.
 
 The blocks with array connectors or states (:class:`TransferFunction`,
 :class:`StateSpace`) name their elements as Modelica does (``x[1]``,
-``y[1]``): read them with ``getattr(block, "x[1]")`` or
+``y[1]``): read them with ``block.x[1]`` or
 :meth:`~acausal.components.declarations.VectorBlock.vector`, connect to
-``getattr(block, "u[1]")``.  A modifier of the whole array applies to each
+``block.u[1]``.  A modifier of the whole array applies to each
 element (Modelica's ``each``): ``StateSpace(..., x=dict(start=0, fixed=True))``.
 """
 

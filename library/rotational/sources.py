@@ -211,7 +211,7 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
     three inputs are meant to be consistent (``u[2]`` the derivative of
     ``u[1]``, ``u[3]`` of ``u[2]``), but need not be (e.g. an angle with zero
     speed and acceleration to compute position-dependent terms only).
-    Connect to ``getattr(move, "u[1]")``.
+    Connect to ``move.u[1]``.
     """
 
     phi = Variable(unit="rad", description="Rotation angle of flange with respect to support")

@@ -81,7 +81,8 @@ def test_describe_shows_every_parameter_with_default_and_unit(klass):
     lines = describe(klass, width=400).splitlines()  # wide: one line per declaration
 
     def row(name: str) -> str:
-        found = [line for line in lines if line.startswith(f"  {name}  ")]
+        # an array is one row, its name followed by its size: u[nin], x[size(A, 1)]
+        found = [line for line in lines if re.match(rf"  {re.escape(name)}(\[[^\]]*\])?  ", line)]
         assert found, f"describe({klass.__name__}) does not list {name}"
         return found[0] + "  "
 
@@ -89,7 +90,7 @@ def test_describe_shows_every_parameter_with_default_and_unit(klass):
         if parameter.unit:
             assert f"  {parameter.unit}  " in row(name), row(name)
         if parameter.default is not None:
-            assert row(name)[2 + len(name):].strip(), row(name)
+            assert row(name).split("  ", 2)[2].strip(), row(name)
     for name, declaration in klass.declarations().items():
         if isinstance(declaration, (Variable, Connector)):
             row(name)

@@ -327,7 +327,7 @@ def test_move_follows_angle_speed_and_acceleration():
             self.move = Move()
             self.inertia = Inertia(J=J)
             for k, source in enumerate((self.angle, self.speed, self.acceleration), start=1):
-                self.connect(source.y, getattr(self.move, f"u[{k}]"))
+                self.connect(source.y, self.move.u[k])
             self.connect(self.move.flange, self.inertia.flange_a)
 
     result = simulate(Moved())
@@ -373,7 +373,7 @@ def test_move_refuses_a_third_derivative():
             self.move = Move()
             self.inertia = Inertia(J=1)
             for k, source in enumerate((self.angle, self.speed, self.acceleration), start=1):
-                self.connect(source.y, getattr(self.move, f"u[{k}]"))
+                self.connect(source.y, self.move.u[k])
             self.connect(self.move.flange, self.inertia.flange_a)
 
         def equations(self):
@@ -396,7 +396,7 @@ def test_move_compiles_from_the_disk_cache(tmp_path, monkeypatch):
             self.move = Move()
             self.inertia = Inertia(J=2)
             for k, source in enumerate((self.angle, self.speed, self.acceleration), start=1):
-                self.connect(source.y, getattr(self.move, f"u[{k}]"))
+                self.connect(source.y, self.move.u[k])
             self.connect(self.move.flange, self.inertia.flange_a)
 
     results = []
@@ -726,7 +726,7 @@ def test_rel_acc_sensor_on_a_known_motion():
             self.move = Move()
             self.sensor = RelAccSensor()
             for k, source in enumerate((self.angle, self.speed, self.acceleration), start=1):
-                self.connect(source.y, getattr(self.move, f"u[{k}]"))
+                self.connect(source.y, self.move.u[k])
             self.connect(self.constant.y, self.accelerate.a_ref)
             self.connect(self.accelerate.flange, self.sensor.flange_a)
             self.connect(self.move.flange, self.sensor.flange_b)

@@ -58,7 +58,7 @@ REST = dict(start=0, fixed=True)
 
 def _u(component, i):
     """Element ``u[i]`` of Move's input vector."""
-    return getattr(component, f"u[{i}]")
+    return component.u[i]
 
 
 # --------------------------------------------------------------------------
