@@ -260,6 +260,9 @@ class Array:
                 return list(range(start - 1, stop, step)) if step > 0 else list(range(start - 1, stop - 2, step))
             start = 1 if key.start is None else key.start
             stop = n if key.stop is None else key.stop
+            if stop < start:
+                self._check(start - 1 if start > n else start, n + 1, dim)  # the bounds still count from 1
+                return slice(0, 0)  # Modelica's a:b with b < a is empty
             for bound in (start, stop):
                 self._check(bound, n, dim)
             return slice(start - 1, stop)  # Modelica's a:b includes b

@@ -1036,6 +1036,14 @@ def _dimension(dim: Any, value: Callable[[str], Any], name: str) -> Any:
     return dim
 
 
+def _size_names(shape: Any) -> list[str]:
+    """The structural parameters a declared shape names (``"n"``; not ``"size(A, 1)"``)."""
+    if shape is None:
+        return []
+    dims = shape if isinstance(shape, tuple) else (shape,)
+    return [d for d in dims if isinstance(d, str) and not _SIZE_OF.match(d)]
+
+
 def _element_declaration(declaration: Declaration, name: str, index: tuple[int, ...],
                          shape: tuple[int, ...], own_value: Any) -> Declaration:
     """The scalar declaration of element ``index`` of the array ``name``."""
@@ -1131,15 +1139,20 @@ class Component:
         key = (base, tuple(shapes.items()))
         klass = _SIZED.get(key)
         if klass is None:
+            sized_by = {d: value(d) for _, decl in declared for d in _size_names(decl.shape)}
             namespace: dict[str, Any] = {"__module__": base.__module__, "__qualname__": base.__qualname__,
-                                         "_unsized": base, "_array_shapes": dict(shapes)}
+                                         "_unsized": base, "_array_shapes": dict(shapes),
+                                         "_sized_by": sized_by}
             own_doc = vars(base).get("__doc__")
             namespace["__doc__"] = getattr(own_doc, "_own", own_doc)
             for name, shape in shapes.items():
                 declaration = everything[name]
-                own = value(name) if isinstance(declaration, Parameter) else None
-                if isinstance(declaration, Parameter) and own is None:
-                    own = declaration.default
+                # the class's own default, never this instance's modifier (the sized class is
+                # shared by every instance of these sizes; modifiers are applied per instance)
+                own = declaration.default if isinstance(declaration, Parameter) else None
+                if own is not None and (isinstance(own, Each) or not is_array_value(own)) is False \
+                        and tuple(np.shape(np.asarray(own, dtype=object))) != shape:
+                    own = None  # a default of another size: the value given where it is made counts
                 for index in indices(shape):
                     namespace[element_name(name, index)] = _element_declaration(declaration, name, index,
                                                                                 shape, own)
@@ -1245,6 +1258,12 @@ class Component:
             if isinstance(value, dict):
                 raise ModifierError(f"{owner}.{key} is a parameter: give it a value, not {value!r}",
                                     hint=f"{where}({key}=1.0)")
+            sized_by = vars(type(self)).get("_sized_by", {})
+            if key in sized_by and not _same(value, sized_by[key]):
+                raise ModifierError(
+                    f"{owner}.{key} = {value!r} sizes arrays that were made with {key} = {sized_by[key]!r}",
+                    hint=f"give {key} where the component is created ({where}({key}={value!r})): array "
+                         f"sizes are fixed when the component is made")
             self._modifiers[key] = value
         elif isinstance(declaration, Variable):
             if not isinstance(value, dict):

@@ -3,16 +3,23 @@
 from __future__ import annotations
 
 import enum
+from typing import Any, Callable, Mapping
 
+import numpy as np
 import sympy as sp
 
-from acausal.components.blocks import SISO, BooleanInput
+from acausal.arrays import Array, transpose
+from acausal.components.blocks import MIMO, SISO, BooleanInput
 from acausal.components.declarations import DerivedDefaults
+from acausal.errors import ArraySizeError, ModifierError
 from acausal.hybrid import Assert, When, noEvent, reinit
-from acausal.language import Eq, If, Parameter, RealInput, der
+from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, der
 from acausal.components.logic import is_initial
 
-__all__ = ["Init", "Integrator", "LimIntegrator", "FirstOrder", "Der"]
+__all__ = ["Init", "Integrator", "LimIntegrator", "FirstOrder", "Der", "TransferFunction", "StateSpace"]
+
+#: Modelica.Constants.eps: the difference between 1 and the next float.
+EPS = 2.2204460492503131e-16
 
 
 class Init(enum.IntEnum):
@@ -166,3 +173,308 @@ class Der(SISO):
 
     def equations(self):
         return [Eq(self.y, der(self.u))]
+
+
+# --------------------------------------------------------------------------
+# Linear systems: sizes from the coefficient arrays
+# --------------------------------------------------------------------------
+
+
+def _array_shape(value: Any, what: str) -> tuple[int, ...]:
+    """The shape of a parameter value given as nested lists, a numpy array or an :class:`Array`.
+
+    Raises
+    ------
+    ArraySizeError
+        For rows of different lengths.
+    """
+    data = value.data if isinstance(value, Array) else value
+    try:
+        array = np.asarray(data, dtype=object)
+    except ValueError as exc:  # numpy refuses some ragged nestings outright
+        raise ArraySizeError(f"{what} has rows of different lengths",
+                             hint="give a matrix as a list of equally long rows") from exc
+    if array.ndim and any(isinstance(item, (list, tuple, np.ndarray, Array)) for item in array.reshape(-1)):
+        raise ArraySizeError(f"{what} has rows of different lengths",
+                             hint="give a matrix as a list of equally long rows")
+    return tuple(array.shape)
+
+
+def _matrix_shape(value: Any, what: str) -> tuple[int, int]:
+    """``(rows, columns)`` of a matrix parameter value (an error for anything but a matrix)."""
+    shape = _array_shape(value, what)
+    if len(shape) != 2:
+        raise ArraySizeError(f"{what} is a matrix, the value given has size [{', '.join(map(str, shape))}]",
+                             hint="give a matrix as a list of rows: a column is [[1], [1]], a row [[1, 1]]")
+    return shape[0], shape[1]
+
+
+def _vector_length(value: Any, what: str) -> int:
+    """The length of a vector parameter value (an error for anything but a non-empty vector)."""
+    shape = _array_shape(value, what)
+    if len(shape) != 1:
+        raise ArraySizeError(f"{what} is a vector, the value given has size [{', '.join(map(str, shape))}]",
+                             hint="give the coefficients as a list, e.g. [1, 1] for s + 1")
+    if shape[0] == 0:
+        raise ArraySizeError(f"{what} is empty", hint="give at least one coefficient")
+    return shape[0]
+
+
+class _SizedByValues(Component):
+    """A block whose array sizes follow from the values of its array parameters.
+
+    Modelica's ``parameter Integer nx = size(A, 1)`` and ``MIMO(final
+    nin = size(B, 2))``: :meth:`derived_sizes` computes the structural
+    Integer parameters from the values given at construction (or the
+    declared defaults), and they are set as modifiers before the arrays are
+    sized.  A modifier giving one of them another value is an error (they
+    are ``final`` in Modelica).
+
+    The core sizes arrays by structural parameters that a modifier or a
+    declared default gives; it has no derived structural defaults, so this
+    class supplies them in ``__new__`` and ``__init__``.
+    """
+
+    @classmethod
+    def derived_sizes(cls, value: Callable[[str], Any]) -> dict[str, tuple[int, str]]:
+        """``{structural parameter: (size, what it is)}``; ``value(p)`` reads parameter ``p``'s value.
+
+        Raises
+        ------
+        ArraySizeError
+            For values whose sizes do not fit together.
+        """
+        return {}
+
+    def __new__(cls, *args: Any, **modifiers: Any):
+        return super().__new__(cls, *args, **cls._with_derived_sizes(modifiers))
+
+    def __init__(self, **modifiers: Any) -> None:
+        modifiers = type(self)._with_derived_sizes(modifiers)
+        # Every array parameter gets its value as a modifier: the core's sized class (one per
+        # base class and shapes) takes its elements' defaults from the values given to the
+        # first instance of those shapes, which a later instance would otherwise inherit.
+        base = vars(type(self)).get("_unsized", type(self))
+        for name in type(self)._array_shapes:
+            declaration = base.declarations().get(name)
+            if isinstance(declaration, Parameter) and name not in modifiers:
+                modifiers[name] = declaration.default
+        super().__init__(**modifiers)
+
+    @classmethod
+    def _with_derived_sizes(cls, modifiers: Mapping[str, Any]) -> dict[str, Any]:
+        """``modifiers`` with the derived sizes added (checking those given against them)."""
+        base = vars(cls).get("_unsized", cls)
+        declarations = base.declarations()
+
+        def value(name: str) -> Any:
+            return modifiers[name] if name in modifiers else declarations[name].default
+
+        sizes = base.derived_sizes(value)
+        for name, (size, source) in sizes.items():
+            if name in modifiers and modifiers[name] != size:
+                raise ModifierError(f"{base.__name__}.{name} = {modifiers[name]!r}, but {source} is {size}",
+                                    hint=f"leave {name} out: {base.__name__} takes it from {source}")
+        return {**modifiers, **{name: size for name, (size, _) in sizes.items()}}
+
+
+_SIZES_HINT = "A is nx x nx, B nx x nin, C nout x nx and D nout x nin"
+
+
+def _is_init(block: Component, init: Init) -> bool:
+    """Whether ``block.initType`` is ``init``."""
+    return _init_type(block.initType) is init
+
+
+class StateSpace(_SizedByValues, MIMO):
+    """Linear state space system (Modelica.Blocks.Continuous.StateSpace).
+
+    ``der(x) = A*x + B*u`` and ``y = C*x + D*u``, with ``nx = size(A, 1)``
+    states, ``nin = size(B, 2)`` inputs and ``nout = size(C, 1)`` outputs.
+    The sizes follow from the matrices given, as nested lists of rows::
+
+        StateSpace(A=[[0, 1], [-4, -0.4]], B=[[0], [1]], C=[[1, 0]])
+
+    ``D`` defaults to zeros.  The elements are named as in Modelica
+    (``x[1]``, ``u[1]``, ``A[2,1]``): the matrix elements are tunable
+    parameters, their sizes structural.  Matrices whose sizes do not fit
+    together are an :class:`~acausal.errors.ArraySizeError` naming both
+    sizes.
+
+    ``initType`` (``NoInit`` by default, as in the MSL):
+
+    * ``NoInit``: ``x_start`` is only the guess of the states.
+    * ``SteadyState``: ``der(x) = 0`` at the start.
+    * ``InitialState``: ``x = x_start``.
+    * ``InitialOutput``: as in MSL 4.1.0, ``x`` is
+      ``Modelica.Math.Matrices.equalityLeastSquares(A, -B*u, C, y_start - D*u)``:
+      among the states with ``y = y_start``, those of least ``|der(x)|``.
+      It is written as its optimality conditions,
+      ``transpose(A)*(A*x + B*u) + transpose(C)*multiplier = 0`` and
+      ``y = y_start``, with the Lagrange multipliers ``multiplier[1..nout]``:
+      constants (``der(multiplier) = 0``) that the initialization
+      determines and that exist with this initType only (Modelica would
+      declare them ``parameter Real multiplier[nout](each fixed=false)``;
+      here a parameter cannot be conditional).  The states are unique when
+      ``C`` has full row rank and ``[A; C]`` full column rank, which
+      equalityLeastSquares requires too.
+    """
+
+    A = Parameter([[1.0, 0.0], [0.0, 1.0]], description="Matrix A of state space model (e.g., A=[[1, 0], [0, 1]])")
+    B = Parameter([[1.0], [1.0]], description="Matrix B of state space model (e.g., B=[[1], [1]])")
+    C = Parameter([[1.0, 1.0]], description="Matrix C of state space model (e.g., C=[[1, 1]])")
+    D = Parameter(0.0, shape=("nout", "nin"), description="Matrix D of state space model (default zeros)")
+    initType = Parameter(Init.NoInit, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3: initial state, "
+                                     "4: initial output)")
+    x_start = Parameter(0.0, shape="nx", description="Initial or guess values of states")
+    y_start = Parameter(0.0, shape="nout",
+                        description="Initial values of outputs (remaining states are in steady state if possible)")
+    nx = Parameter(2, structural=True, description="Number of states (= size(A, 1), set from A)")
+    x = RealOutput("nx", start=lambda block: block.x_start, description="State vector")
+    multiplier = Variable(shape="nout", condition=lambda block: _is_init(block, Init.InitialOutput),
+                          description="Lagrange multipliers of the least-squares initialization, constant "
+                                      "(initType = InitialOutput only)")
+
+    @classmethod
+    def derived_sizes(cls, value: Callable[[str], Any]) -> dict[str, tuple[int, str]]:
+        """``nx``, ``nin`` and ``nout`` from the shapes of ``A``, ``B`` and ``C``, checked with ``D``'s."""
+        name = cls.__name__
+        a_rows, a_cols = _matrix_shape(value("A"), f"{name}.A")
+        b_rows, b_cols = _matrix_shape(value("B"), f"{name}.B")
+        c_rows, c_cols = _matrix_shape(value("C"), f"{name}.C")
+        if a_cols != a_rows:
+            raise ArraySizeError(f"{name}: A is {a_rows} x {a_cols}, it must be square (nx x nx)", hint=_SIZES_HINT)
+        if b_rows != a_rows:
+            raise ArraySizeError(f"{name}: B has {b_rows} rows, A has {a_rows} (both are nx, the number of states)",
+                                 hint=_SIZES_HINT)
+        if c_cols != a_rows:
+            raise ArraySizeError(f"{name}: C has {c_cols} columns, A has {a_rows} rows (both are nx, the number "
+                                 f"of states)", hint=_SIZES_HINT)
+        d = value("D")
+        if isinstance(d, (list, tuple, np.ndarray, Array)):
+            d_rows, d_cols = _matrix_shape(d, f"{name}.D")
+            if (d_rows, d_cols) != (c_rows, b_cols):
+                raise ArraySizeError(f"{name}: D is {d_rows} x {d_cols}, but nout x nin is {c_rows} x {b_cols} "
+                                     f"(the rows of C, the columns of B)", hint=_SIZES_HINT)
+        return {"nx": (a_rows, "the number of rows of A"),
+                "nin": (b_cols, "the number of columns of B"),
+                "nout": (c_rows, "the number of rows of C")}
+
+    def equations(self) -> list:
+        equations = [Eq(der(self.x), self.A @ self.x + self.B @ self.u),
+                     Eq(self.y, self.C @ self.x + self.D @ self.u)]
+        if _is_init(self, Init.InitialOutput):
+            equations.append(Eq(der(self.multiplier), 0))
+        return equations
+
+    def initial_equations(self) -> list:
+        init = _init_type(self.initType)
+        if init is Init.SteadyState:
+            return [Eq(der(self.x), 0)]
+        if init is Init.InitialState:
+            return [Eq(self.x, self.x_start)]
+        if init is Init.InitialOutput:
+            derivative = self.A @ self.x + self.B @ self.u
+            return [Eq(transpose(self.A) @ derivative + transpose(self.C) @ self.multiplier, 0),
+                    Eq(self.y, self.y_start)]
+        return []
+
+
+def _a_end(block: Component) -> sp.Expr:
+    """MSL's ``a_end``: ``a[end]``, or 1 when it is (almost) zero or negative (scaling of ``x``)."""
+    a = block.a.flat
+    last = a[-1]
+    return sp.Piecewise((last, last > 100 * EPS * sp.sqrt(sp.Add(*[c**2 for c in a]))), (1.0, True))
+
+
+def _padded_numerator(block: Component) -> list[Any]:
+    """MSL's ``bb``: the numerator coefficients padded with leading zeros to the length of ``a``."""
+    b = block.b.flat
+    return [sp.Integer(0)] * (block.na - block.nb) + b
+
+
+class TransferFunction(_SizedByValues, DerivedDefaults, SISO):
+    """Linear transfer function (Modelica.Blocks.Continuous.TransferFunction).
+
+    ::
+
+               b[1]*s^(nb-1) + b[2]*s^(nb-2) + ... + b[nb]
+        y(s) = ------------------------------------------- * u(s)
+               a[1]*s^(na-1) + a[2]*s^(na-2) + ... + a[na]
+
+    ``TransferFunction(b=[2, 4], a=[1, 3])`` is ``(2*s + 4)/(s + 3)``.  The
+    ``nx = na - 1`` states ``x`` are those of the controller canonical form;
+    as in the MSL the block integrates the scaled states ``x_scaled = x*a_end``
+    (``a_end = a[na]`` unless that is almost zero) and ``x_start`` is given
+    for ``x``.  With ``nx = 0`` the block is the gain ``y = b[1]/a[1]*u``.
+    ``b`` may not have more coefficients than ``a`` (a proper transfer
+    function).  The coefficients are tunable parameters ``a[1]`` ...; their
+    numbers structural.
+
+    ``initType`` (``NoInit`` by default, as in the MSL): ``SteadyState``:
+    ``der(x_scaled) = 0``; ``InitialState``: ``x = x_start``;
+    ``InitialOutput``: ``y = y_start`` and the derivatives of ``y`` up to
+    the ``nx-1``-th are zero (``der(x_scaled[2:nx]) = 0``); without states
+    (``nx = 0``) that over-determines the initialization, as in Modelica.
+    """
+
+    b = Parameter([1.0], description="Numerator coefficients of transfer function (e.g., 2*s+3 is specified "
+                                     "as [2, 3])")
+    a = Parameter([1.0], description="Denominator coefficients of transfer function (e.g., 5*s+6 is "
+                                     "specified as [5, 6])")
+    initType = Parameter(Init.NoInit, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3: initial state, "
+                                     "4: initial output)")
+    x_start = Parameter(0.0, shape="nx", description="Initial or guess values of states")
+    y_start = Parameter(0.0, description="Initial value of output (derivatives of y are zero up to nx-1-th "
+                                         "derivative)")
+    na = Parameter(1, structural=True, description="Size of Denominator of transfer function (set from a)")
+    nb = Parameter(1, structural=True, description="Size of Numerator of transfer function (set from b)")
+    nx = Parameter(0, structural=True, description="Number of states, na - 1 (set from a)")
+    a_end = Parameter(None, description="a[na], or 1 if that is (almost) zero: the scaling of x_scaled")
+    d = Parameter(None, description="Direct feed-through of u to y, bb[1]/a[1]")
+    x = RealOutput("nx", start=lambda block: block.x_start,
+                   description="State of transfer function from controller canonical form")
+    x_scaled = Variable(shape="nx", start=lambda block: block.x_start * block.a_end,
+                        description="Scaled vector x")
+
+    derived_defaults = {"a_end": _a_end, "d": lambda block: _padded_numerator(block)[0] / block.a[1]}
+
+    @classmethod
+    def derived_sizes(cls, value: Callable[[str], Any]) -> dict[str, tuple[int, str]]:
+        """``na``, ``nb`` and ``nx`` from the lengths of ``a`` and ``b`` (at most as many in ``b`` as in ``a``)."""
+        name = cls.__name__
+        na = _vector_length(value("a"), f"{name}.a")
+        nb = _vector_length(value("b"), f"{name}.b")
+        if nb > na:
+            raise ArraySizeError(f"{name}: the transfer function is not proper: b has {nb} coefficients, "
+                                 f"a has {na}", hint="give a at least as many coefficients as b")
+        return {"na": (na, "the number of coefficients of a"), "nb": (nb, "the number of coefficients of b"),
+                "nx": (na - 1, "the number of coefficients of a minus 1")}
+
+    def equations(self) -> list:
+        nx, na = self.nx, self.na
+        if nx == 0:
+            return [Eq(self.y, self.d * self.u)]
+        a, x_scaled = self.a, self.x_scaled
+        bb = Array(_padded_numerator(self))
+        equations = [Eq(der(x_scaled[1]), (-(a[2:na] @ x_scaled) + self.a_end * self.u) / a[1])]
+        if nx > 1:  # the chain of integrators; Modelica's x_scaled[2:nx] is empty for nx = 1
+            equations.append(Eq(der(x_scaled[2:nx]), x_scaled[1:nx - 1]))
+        equations += [Eq(self.y, ((bb[2:na] - self.d * a[2:na]) @ x_scaled) / self.a_end + self.d * self.u),
+                      Eq(self.x, x_scaled / self.a_end)]
+        return equations
+
+    def initial_equations(self) -> list:
+        init = _init_type(self.initType)
+        if init is Init.SteadyState and self.nx > 0:
+            return [Eq(der(self.x_scaled), 0)]
+        if init is Init.InitialState and self.nx > 0:
+            return [Eq(self.x_scaled, self.x_start * self.a_end)]
+        if init is Init.InitialOutput:
+            equations = [Eq(self.y, self.y_start)]
+            if self.nx > 1:
+                equations.append(Eq(der(self.x_scaled[2:self.nx]), 0))
+            return equations
+        return []

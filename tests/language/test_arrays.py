@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from acausal import (ArrayIndexError, ArraySizeError, Component, ConnectorError, Eq, Experiment, Model, Parameter,
+from acausal import (ArrayIndexError, ArraySizeError, Component, ConnectorError, Eq, Experiment, Model, ModifierError, Parameter,
                      RealInput, RealOutput, Variable, der, simulate)
 from acausal.arrays import (Array, cat, each, fill, identity, max as amax, min as amin, ones, product, scalar, size,
                             sum as asum, transpose, vector, zeros)
@@ -313,3 +313,36 @@ def test_explain_shows_an_array_parameter_once_with_its_size_and_values(tmp_path
     assert "plant.A[1,1] =" not in text
     page = (tmp_path / "page" / "index.html").read_text()
     assert "<summary><code>plant.A[2, 2]</code> (4 elements)" in page
+
+
+def test_an_instance_s_values_do_not_become_the_defaults_of_the_next():
+    """The sized class is shared by every instance of one size: each keeps its own values."""
+
+    class Pair(Component):
+        v = Parameter([0.0, 0.0])
+
+    assert Pair(v=[1.0, 2.0]).parameter_binding("v[1]") == 1.0
+    assert Pair().parameter_binding("v[1]") == 0.0
+    assert type(Pair(v=[5.0, 6.0])) is type(Pair())
+
+
+def test_an_empty_slice_is_empty_as_in_modelica():
+    assert Array([1])[2:1].shape == (0,)
+    assert asum(Array([1, 2, 3])[3:2]) == 0
+
+
+def test_a_size_changed_from_outside_after_the_arrays_were_made_is_refused():
+    class Sized(Component):
+        n = Parameter(2, structural=True)
+        x = Variable(shape="n")
+
+        def equations(self):
+            return [Eq(der(self.x), -self.x)]
+
+    class Holder(Model):
+        def build(self):
+            self.s = Sized()
+
+    with pytest.raises(ModifierError, match=r"Holder.s.n = 3 sizes arrays that were made with n = 2"):
+        simulate(Holder(s=dict(n=3)))
+    assert len(Sized(n=3).x) == 3     # given where it is made, it sizes the arrays
