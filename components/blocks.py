@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from acausal.language import Boolean, Component, Integer, Parameter, RealInput, RealOutput
 
-__all__ = ["SO", "SignalSource", "SI2SO", "SISO", "BooleanInput", "BooleanOutput", "IntegerInput",
-           "IntegerOutput", "PartialBooleanSISO", "PartialBooleanSI2SO", "PartialBooleanSI3SO"]
+__all__ = ["SO", "SignalSource", "SI2SO", "SISO", "MO", "MISO", "SIMO", "MIMO", "MIMOs", "MI2MO",
+           "PartialRealMISO", "BooleanInput", "BooleanOutput", "IntegerInput", "IntegerOutput",
+           "PartialBooleanSISO", "PartialBooleanSI2SO", "PartialBooleanSI3SO"]
 
 
 def BooleanInput(**kw) -> Boolean:  # noqa: N802 - Modelica's connector name
@@ -53,6 +54,76 @@ class SISO(Component):
     """Single input, single output (Modelica.Blocks.Interfaces.SISO): ``u`` and ``y``."""
 
     u = RealInput(description="Connector of Real input signal")
+    y = RealOutput(description="Connector of Real output signal")
+
+
+class MO(Component):
+    """Multiple output continuous control block (Modelica.Blocks.Interfaces.MO): the output vector ``y[nout]``."""
+
+    nout = Parameter(1, structural=True, min=1, description="Number of outputs")
+    y = RealOutput("nout", description="Connector of Real output signals")
+
+
+class MISO(Component):
+    """Multiple input single output continuous control block (Modelica.Blocks.Interfaces.MISO):
+    the input vector ``u[nin]`` and the output ``y``."""
+
+    nin = Parameter(1, structural=True, description="Number of inputs")
+    u = RealInput("nin", description="Connector of Real input signals")
+    y = RealOutput(description="Connector of Real output signal")
+
+
+class SIMO(Component):
+    """Single input multiple output continuous control block (Modelica.Blocks.Interfaces.SIMO):
+    the input ``u`` and the output vector ``y[nout]``."""
+
+    nout = Parameter(1, structural=True, description="Number of outputs")
+    u = RealInput(description="Connector of Real input signal")
+    y = RealOutput("nout", description="Connector of Real output signals")
+
+
+class MIMO(Component):
+    """Multiple input multiple output continuous control block (Modelica.Blocks.Interfaces.MIMO):
+    the input vector ``u[nin]`` and the output vector ``y[nout]``."""
+
+    nin = Parameter(1, structural=True, description="Number of inputs")
+    nout = Parameter(1, structural=True, description="Number of outputs")
+    u = RealInput("nin", description="Connector of Real input signals")
+    y = RealOutput("nout", description="Connector of Real output signals")
+
+
+class MIMOs(Component):
+    """Multiple input multiple output continuous control block with as many inputs as outputs
+    (Modelica.Blocks.Interfaces.MIMOs): ``u[n]`` and ``y[n]``."""
+
+    n = Parameter(1, structural=True, description="Number of inputs (= number of outputs)")
+    u = RealInput("n", description="Connector of Real input signals")
+    y = RealOutput("n", description="Connector of Real output signals")
+
+
+class MI2MO(Component):
+    """Two multiple inputs, one multiple output continuous control block
+    (Modelica.Blocks.Interfaces.MI2MO): ``u1[n]``, ``u2[n]`` and ``y[n]``."""
+
+    n = Parameter(1, structural=True, description="Dimension of input and output vectors")
+    u1 = RealInput("n", description="Connector 1 of Real input signals")
+    u2 = RealInput("n", description="Connector 2 of Real input signals")
+    y = RealOutput("n", description="Connector of Real output signals")
+
+
+class PartialRealMISO(Component):
+    """Partial block with a RealVectorInput and a RealOutput signal (Modelica.Blocks.Interfaces.PartialRealMISO):
+    the input vector ``u[nu]`` and the output ``y``.
+
+    The MSL sizes ``u`` by connecting to it (``connectorSizing``); acausal
+    needs ``nu`` given.
+    """
+
+    significantDigits = Parameter(3, structural=True, min=1,  # noqa: N815 - Modelica's name
+                                  description="Number of significant digits to be shown in dynamic diagram "
+                                              "layer for y")
+    nu = Parameter(0, structural=True, min=0, description="Number of input connections")
+    u = RealInput("nu", description="Connector of Real input signals")
     y = RealOutput(description="Connector of Real output signal")
 
 

@@ -55,6 +55,7 @@ EXAMPLES = [
     ("translational_brake", "Brake", None),
     ("translational_vehicle", "Vehicle", None),
     ("blocks_integer_table", "IntegerTableTest", None),
+    ("blocks_mux_demux", "MuxDemux", None),
     # ModelicaTest.Tables: the tests whose table is given in the model (those read from
     # files are in tests/blocks/test_tables_1d_files.py and test_tables_2d_files.py)
     ("tables_combi_table_1ds", "Test1", None),

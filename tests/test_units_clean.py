@@ -25,7 +25,7 @@ from acausal.compiler.flatten import flatten
 from acausal.compiler.units import check_units
 from acausal.errors import UnitWarning
 from acausal.language import Model, Parameter, Variable
-from acausal.library.blocks import BooleanConstant, Constant
+from acausal.library.blocks import BooleanConstant, Constant, IntegerTable
 from library_checks import exported_classes
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -51,7 +51,8 @@ def _harness(klass: type) -> Model:
             for key, declaration in self.x.declarations().items():
                 if (isinstance(declaration, Variable) and declaration.causality == "input"
                         and declaration.enabled(self.x)):
-                    source = BooleanConstant() if declaration.kind == "boolean" else Constant()
+                    source = (BooleanConstant() if declaration.kind == "boolean" else
+                              IntegerTable(table=[[0.0, 1]]) if declaration.kind == "integer" else Constant())
                     setattr(self, f"source_{key}", source)
                     self.connect(source.y, getattr(self.x, key))
 

@@ -16,6 +16,11 @@ from .logical import (And, AssertCondition, Change, Edge, FallingEdge, Greater, 
                       LogicalSwitch, Nand, Nor, Not, OnDelay, OnOffController, Or, Pre, RSFlipFlop, Switch,
                       TerminateSimulation, Timer, TriggeredTrapezoid, Xor, ZeroCrossing)
 from .math import Add, Atan, Feedback, Gain, Product, RealToInteger, Sin
+from .math import LinearDependency, MatrixGain, Max, Min, MinMax, MultiProduct, MultiSum, MultiSwitch, Sum
+from .routing import (BooleanPassThrough, BooleanReplicator, DeMultiplex, DeMultiplex2, DeMultiplex3, DeMultiplex4,
+                      DeMultiplex5, DeMultiplex6, Extractor, ExtractSignal, IntegerPassThrough, IntegerReplicator,
+                      Multiplex, Multiplex2, Multiplex3, Multiplex4, Multiplex5, Multiplex6, RealPassThrough,
+                      Replicator)
 from .nonlinear import DeadZone, Limiter, LimiterHomotopy, SlewRateLimiter, VariableLimiter, VariableLimiterHomotopy
 from .tables import CombiTable1Ds, CombiTable1Dv, CombiTable2Ds, CombiTable2Dv
 from .types import Regularization
@@ -36,3 +41,9 @@ __all__ = ["Constant", "ContinuousClock", "Step", "Ramp", "Sine", "Cosine", "Exp
            "GreaterEqualThreshold", "GreaterThreshold", "Hysteresis", "Less", "LessEqual", "LessEqualThreshold",
            "LessThreshold", "LogicalSwitch", "Nand", "Nor", "Not", "OnDelay", "OnOffController", "Or", "Pre",
            "RSFlipFlop", "Switch", "TerminateSimulation", "Timer", "TriggeredTrapezoid", "Xor", "ZeroCrossing"]
+__all__ += ["MatrixGain", "MultiSum", "MultiProduct", "MultiSwitch", "Sum", "Max", "Min", "MinMax",
+            "LinearDependency"]
+__all__ += ["Replicator", "IntegerReplicator", "BooleanReplicator", "ExtractSignal", "Extractor",
+            "Multiplex", "Multiplex2", "Multiplex3", "Multiplex4", "Multiplex5", "Multiplex6",
+            "DeMultiplex", "DeMultiplex2", "DeMultiplex3", "DeMultiplex4", "DeMultiplex5", "DeMultiplex6",
+            "RealPassThrough", "IntegerPassThrough", "BooleanPassThrough"]
