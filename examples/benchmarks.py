@@ -44,6 +44,10 @@ module (with ``examples/`` on ``sys.path``) and uses:
 ``scaling_model(n, stop_time)``, ``SCALING_DESCRIPTION``, ``SCALING_SIZE_LABEL``
     The model of size ``n`` of the *scaling* section (the drive train
     without heat ports) and the words describing it in the table and plot.
+``array_scaling_case()``
+    The array case of the *scaling* section: the heat rod of
+    ``examples/heat_rod.py`` (``n`` cells built with arrays), translated for
+    growing ``n`` to show that translation time grows linearly.
 ``storm_model(n)`` and the ``STORM_*`` constants
     The model of the *storm* section: ``n`` independent stick-slip units
     (independent parts, each with its own modes and events), simulated for
@@ -563,3 +567,10 @@ def table_models(rows: int) -> dict:
                     Eq(der(self.x), -self.g.y + 0.5 * self.x)]
 
     return {"1-D in a loop": Loop1D, "time table, Akima": TimeAkima, "2-D in a loop": Loop2D}
+
+
+def array_scaling_case():
+    """The *scaling* section's array case: the heat rod of ``examples/heat_rod.py``."""
+    from heat_rod import scaling_case
+
+    return scaling_case()

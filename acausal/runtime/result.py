@@ -29,6 +29,11 @@ stay in the declared units.
 :meth:`SimulationResult.at` reads values at any time in the run's span:
 linear between output rows, the left or right limit at an event.
 
+Arrays (``Variable(shape=3)``, arrays of components) are stored one column
+per element (``x[1]``, ``cell[2].T``) and read back whole by the name
+without indices: ``result["cell.T"]`` is a ``(len(time), n)`` array (see
+:class:`SimulationResult`).
+
 Plotting lives in the tools layer (:func:`acausal.tools.plotting.plot`);
 :meth:`SimulationResult.plot` calls the plotter registered with
 :func:`register_plotter`.
@@ -143,6 +148,12 @@ class ColumnInfo:
     nominal : float
         Declared nominal value (1 when none): with the run's tolerance, the
         size below which a summary prints the value as 0.
+    shape : tuple of int
+        ``()`` for a column.  For the name of an array whose elements are
+        columns (``"cell.T"`` for ``cell[1].T`` ... ``cell[n].T``, see
+        :meth:`SimulationResult.elements`), its size, ``(n,)`` or ``(n, m)``;
+        the other attributes are then those the elements share (``""``, or
+        the default, where they differ).
     """
 
     name: str
@@ -152,6 +163,7 @@ class ColumnInfo:
     labels: tuple[tuple[int, str], ...] = ()
     display_unit: str = ""
     nominal: float = 1.0
+    shape: tuple[int, ...] = ()
 
     @property
     def is_discrete(self) -> bool:
@@ -159,9 +171,12 @@ class ColumnInfo:
         return self.kind in ("boolean", "integer")
 
     def line(self) -> str:
-        """One line: ``name [unit] kind: description (labels) (display unit ...)``."""
+        """One line: ``name [unit] kind: description (labels) (display unit ...)``; an
+        array's says its size, ``cell.T [K] continuous, array of 10: ...``."""
         unit = f" [{self.unit}]" if self.unit else ""
         text = f"{self.name}{unit} {self.kind}"
+        if self.shape:
+            text += f", array of {'x'.join(map(str, self.shape))}"
         if self.description:
             text += f": {self.description}"
         if self.labels:
@@ -452,6 +467,62 @@ def register_plotter(plotter: Callable[..., Any]) -> None:
 
 
 # ---------------------------------------------------------------------------
+# Arrays: names whose elements are columns
+# ---------------------------------------------------------------------------
+
+#: An index in a name: ``[3]``, ``[1,2]`` (a name asked for may write ``[1, 2]``).
+_INDEX = re.compile(r"\[\s*(\d+(?:\s*,\s*\d+)*)\s*\]")
+
+#: Where the indices of a name were: ``(position in the name without them, indices)``.
+_Indices = tuple[tuple[int, tuple[int, ...]], ...]
+
+
+def _split_indices(name: str) -> tuple[str, _Indices]:
+    """``name`` without its indices, and where they were.
+
+    ``cell[2].x[1]`` gives ``("cell.x", ((4, (2,)), (6, (1,))))``: each
+    position counts in the name without indices, so that the indices of two
+    names of one array line up.
+    """
+    pieces: list[str] = []
+    groups: list[tuple[int, tuple[int, ...]]] = []
+    end = length = 0
+    for match in _INDEX.finditer(name):
+        piece = name[end:match.start()]
+        pieces.append(piece)
+        length += len(piece)
+        groups.append((length, tuple(int(i) for i in match.group(1).split(","))))
+        end = match.end()
+    pieces.append(name[end:])
+    return "".join(pieces), tuple(groups)
+
+
+@dataclass(frozen=True)
+class _ArrayColumns:
+    """The columns an array name stands for, in Modelica's (row-major) order, and its size."""
+
+    name: str
+    shape: tuple[int, ...]
+    elements: tuple[str, ...]
+
+
+def _free_indices(groups: _Indices, fixed: _Indices) -> tuple[int, ...] | None:
+    """The indices of a column left open by the indices ``fixed`` of a name asked for
+    (None: the column is not an element of that name).
+
+    ``cell[2].x`` (fixed ``((4, (2,)),)``) leaves ``(3,)`` of ``cell[2].x[3]`` open;
+    ``A[1]`` leaves ``(2,)`` of ``A[1,2]`` (a row of a matrix).
+    """
+    own = dict(groups)
+    given = dict(fixed)
+    for position, indices in fixed:
+        found = own.get(position)
+        if found is None or found[:len(indices)] != indices:
+            return None
+    return tuple(i for position, indices in groups for i in indices[len(given.get(position, ())):])
+
+
+# ---------------------------------------------------------------------------
 # The result
 # ---------------------------------------------------------------------------
 
@@ -467,6 +538,18 @@ class SimulationResult:
     is kept.  Variables are read by dotted name, ``result["inertia1.w"]``:
     Booleans come back as bool arrays, Integers as int arrays, the rest as
     float arrays (:attr:`columns` holds them all as float).
+
+    Arrays are stored element by element, one column each, under Modelica's
+    names (``x[1]``, ``A[1,2]``, ``cell[3].T``), and read back whole by the
+    name without the indices: ``result["x"]`` is ``(len(time), n)``,
+    ``result["A"]`` ``(len(time), n, m)``, ``result["cell.T"]`` (an array of
+    components) ``(len(time), n)``, elements in index order.  A row or an
+    element's array is read with its leading indices given (``A[1]``,
+    ``cell[2].x``).  :attr:`arrays` lists them; :meth:`info`, :meth:`unit`,
+    :meth:`describe`, :meth:`in_unit`, :meth:`at` and :meth:`final` take
+    array names, and the name lists of :meth:`to_pandas`, :meth:`to_csv`,
+    :meth:`to_mat`, :meth:`summary` and :meth:`plot` stand an array name for
+    its elements.  A name that is a column is always read as that column.
 
     Attributes
     ----------
@@ -527,7 +610,135 @@ class SimulationResult:
 
     @property
     def names(self) -> tuple[str, ...]:
+        """Every column's name, in the order of :attr:`columns` (array names: :attr:`arrays`)."""
         return tuple(self.columns)
+
+    # -- arrays ------------------------------------------------------------------------
+
+    def _array_table(self) -> tuple[dict[str, list[tuple[str, _Indices]]],
+                                    dict[str, _ArrayColumns | KeyError | None]]:
+        """The columns with indices by their name without them, and the names resolved so
+        far (an array, the error of elements that fill none, or None); built on first use,
+        again when columns were added."""
+        cached = self.__dict__.get("_arrays")
+        if cached is None or cached[0] != len(self.columns):
+            table: dict[str, list[tuple[str, _Indices]]] = {}
+            for column in self.columns:
+                if "[" in column:
+                    key, groups = _split_indices(column)
+                    if groups:
+                        table.setdefault(key, []).append((column, groups))
+            cached = (len(self.columns), table, {})
+            object.__setattr__(self, "_arrays", cached)  # a cache, not a field: frozen stays frozen
+        return cached[1], cached[2]
+
+    def __getstate__(self) -> dict:
+        state = dict(self.__dict__)
+        state.pop("_arrays", None)  # a copy builds its own
+        return state
+
+    def _array(self, name: str) -> _ArrayColumns | None:
+        """The array ``name`` stands for, None when it names none.
+
+        ``cell.T`` for the columns ``cell[1].T`` ... ``cell[n].T``; ``x`` for
+        ``x[1]`` ...; ``A`` for ``A[1,1]`` ... ``A[n,m]``; ``cell.x`` for
+        ``cell[i].x[j]`` (size ``(n, m)``); ``A[2]`` for a row and ``cell[2].x``
+        for one element's array; ``der(x)`` for ``der(x[1])`` ...
+
+        Raises
+        ------
+        KeyError
+            When the elements found do not fill a rectangular array (arrays
+            of different sizes in the elements of an array of components).
+        """
+        table, resolved = self._array_table()
+        if name in resolved:
+            found = resolved[name]
+        else:
+            found = resolved[name] = self._resolve_array(name, table)
+        if isinstance(found, KeyError):
+            raise found
+        return found
+
+    def _resolve_array(self, name: str, table: Mapping[str, list[tuple[str, _Indices]]]
+                       ) -> _ArrayColumns | KeyError | None:
+        key, fixed = _split_indices(name)
+        found = []
+        for column, groups in table.get(key, ()):
+            free = _free_indices(groups, fixed)
+            if free:
+                found.append((free, column))
+        if not found:
+            return None
+        found.sort()  # numeric: x[10] after x[9]
+        complete = len({len(free) for free, _ in found}) == 1
+        shape = tuple(max(free[d] for free, _ in found) for d in range(len(found[0][0]))) if complete else ()
+        # indices from 1, each once, every one up to the largest: a full array
+        complete = complete and (min(min(free) for free, _ in found) >= 1
+                                 and len({free for free, _ in found}) == len(found) == math.prod(shape))
+        if not complete:
+            return KeyError(f"{name!r} names {len(found)} elements of {self.model_name or 'this model'} "
+                            f"({found[0][1]} ... {found[-1][1]}) that do not fill a rectangular array; "
+                            f"read them by name")
+        return _ArrayColumns(name, shape, tuple(column for _, column in found))
+
+    @property
+    def arrays(self) -> dict[str, tuple[int, ...]]:
+        """Every array whose elements are columns, by name, with its size.
+
+        ``{"cell.T": (10,), "x": (3,), "A": (2, 2), "der(x)": (3,)}``: the
+        names :meth:`__getitem__`, :meth:`at`, :meth:`info` and the others
+        read as one array (rows and elements' arrays, ``A[1]``, ``cell[2].x``,
+        are not listed but read too).
+        """
+        table, _ = self._array_table()
+        shapes = {}
+        for key in table:
+            if key in self.columns:
+                continue
+            try:
+                found = self._array(key)
+            except KeyError:
+                continue  # elements of different sizes: no array
+            if found is not None:
+                shapes[key] = found.shape
+        return shapes
+
+    def elements(self, name: str) -> tuple[str, ...]:
+        """The columns ``name`` stands for, in Modelica's order (row-major, indices numeric).
+
+        ``result.elements("cell.T")`` is ``("cell[1].T", ..., "cell[10].T")``;
+        for a column, ``(name,)``.
+
+        Raises
+        ------
+        KeyError
+            For a name that is neither a column nor an array, with the close names.
+        """
+        if name in self.columns:
+            return (name,)
+        found = self._array(name)
+        if found is None:
+            raise self._unknown(name)
+        return found.elements
+
+    def _expand(self, names: Sequence[str]) -> list[str]:
+        """``names`` with every array name replaced by its elements (other names kept, for
+        the caller's KeyError)."""
+        out: list[str] = []
+        for name in names:
+            found = None
+            if name not in self.columns:
+                try:
+                    found = self._array(name)
+                except KeyError:
+                    pass
+            out.extend(found.elements if found is not None else (name,))
+        return out
+
+    def _expand_units(self, units: Mapping[str, str]) -> dict[str, str]:
+        """A mapping of names to units with every array name replaced by its elements."""
+        return {element: unit for name, unit in units.items() for element in self._expand([name])}
 
     # -- reading columns ---------------------------------------------------------------
 
@@ -536,58 +747,133 @@ class SimulationResult:
         import difflib
 
         known = list(self.columns)
-        close = difflib.get_close_matches(name, known, n=3)
+        table, _ = self._array_table()
+        arrays = [key for key in table if key not in self.columns]
+        close = difflib.get_close_matches(name, known + arrays, n=3)
         if not close:
             # a name given without its component path ("w"), or with another case
             tail = [n for n in known if n.rpartition(".")[2] == name.rpartition(".")[2]]
-            folded = [n for n in known if n.lower() == name.lower()]
+            folded = [n for n in known + arrays if n.lower() == name.lower()]
             close = (folded + tail)[:3]
         hint = f"; did you mean {', '.join(close)}?" if close else ""
+        key, indices = _split_indices(name)
+        if indices and key in table:  # an index out of range
+            try:
+                found = self._array(key)
+            except KeyError:
+                found = None
+            if found is not None:
+                hint = (f"; {key} is an array of {'x'.join(map(str, found.shape))}, "
+                        f"{found.elements[0]} ... {found.elements[-1]}")
         if name.lower() == TIME_NAME:
             hint = "; the time is result.time"
         return KeyError(f"{name!r} is not a variable of {self.model_name or 'this model'}{hint}")
 
+    def _kind(self, column: str) -> str:
+        """The kind of a column (without building the descriptions when they are not built)."""
+        table = self.column_info
+        if isinstance(table, _ColumnTable):
+            return table.kind(column)
+        found = table.get(column)
+        return found.kind if found is not None else "continuous"
+
     def __getitem__(self, name: str) -> np.ndarray:
+        """The values of the column ``name``, or of the array ``name`` as one array.
+
+        An array's values have the shape ``(len(time),) + size``: ``result["cell.T"]``
+        is ``(len(time), n)`` for the columns ``cell[1].T`` ... ``cell[n].T``, ``result["A"]``
+        ``(len(time), n, m)`` for ``A[1,1]`` ... ``A[n,m]`` (see :attr:`arrays`).
+        """
         try:
             values = self.columns[name]
         except KeyError:
-            raise self._unknown(name) from None
-        table = self.column_info
-        if isinstance(table, _ColumnTable):
-            kind = table.kind(name)  # without building the descriptions
-        else:
-            found = table.get(name)
-            kind = found.kind if found is not None else "continuous"
-        return _typed(values, kind)
+            found = self._array(name)
+            if found is None:
+                raise self._unknown(name) from None
+            return self._array_values(found)
+        return _typed(values, self._kind(name))
+
+    def _array_values(self, found: _ArrayColumns) -> np.ndarray:
+        """The elements' columns as one array, ``(len(time),) + size``: bool or int when all
+        elements are Booleans or Integers, else float."""
+        kinds = {self._kind(column) for column in found.elements}
+        kind = kinds.pop() if len(kinds) == 1 else "continuous"
+        data = np.column_stack([np.asarray(self.columns[column], dtype=float) for column in found.elements])
+        return _typed(data, kind).reshape((data.shape[0],) + found.shape)
 
     def __contains__(self, name: str) -> bool:
-        return name in self.columns
+        """Whether ``name`` is a column or an array (what ``result[name]`` reads)."""
+        if name in self.columns:
+            return True
+        try:
+            return self._array(name) is not None
+        except KeyError:
+            return False
 
-    def final(self, name: str) -> float:
-        return float(self[name][-1])
+    def final(self, name: str) -> float | np.ndarray:
+        """The last value of ``name`` as float; for an array, a float array of its size."""
+        values = self[name]
+        return float(values[-1]) if values.ndim == 1 else np.asarray(values[-1], dtype=float)
 
     def info(self, name: str) -> ColumnInfo:
-        """What the column ``name`` is (``"time"`` included).
+        """What the column ``name`` is (``"time"`` included), or the array ``name``.
+
+        An array's :class:`ColumnInfo` has its size as ``shape`` and what its
+        elements share: their unit, description, kind, display unit.
 
         Raises
         ------
         KeyError
-            For a name that is not a column, with the close names.
+            For a name that is neither a column nor an array, with the close names.
         """
         if name == TIME_NAME and name not in self.columns:
             return ColumnInfo(TIME_NAME, TIME_UNIT, "time", "continuous")
         if name not in self.columns:
-            raise self._unknown(name)
+            found = self._array(name)
+            if found is None:
+                raise self._unknown(name)
+            return self._array_info(found)
         found = self.column_info.get(name)
         return found if found is not None else ColumnInfo(name)
 
+    def _array_info(self, found: _ArrayColumns) -> ColumnInfo:
+        infos = [self.info(column) for column in found.elements]
+
+        def shared(attribute: str, default: Any) -> Any:
+            values = {getattr(info, attribute) for info in infos}
+            return values.pop() if len(values) == 1 else default
+
+        return ColumnInfo(found.name, shared("unit", ""), shared("description", ""),
+                          shared("kind", "continuous"), shared("labels", ()), shared("display_unit", ""),
+                          shared("nominal", 1.0), found.shape)
+
+    def _one_unit(self, name: str, info: ColumnInfo) -> None:
+        """Raise a ValueError when ``name`` is an array whose elements have different units."""
+        if not info.shape or info.unit:
+            return
+        units = sorted({self.info(column).unit for column in self.elements(name)})
+        if len(units) > 1:
+            raise ValueError(f"the elements of {name} have different units ({', '.join(map(repr, units))}): "
+                             f"read them one by one (result.elements({name!r}))")
+
     def unit(self, name: str) -> str:
-        """The declared unit of ``name`` (``""`` when it has none)."""
-        return self.info(name).unit
+        """The declared unit of ``name`` (``""`` when it has none); of an array, its elements' unit.
+
+        Raises
+        ------
+        KeyError
+            For an unknown name.
+        ValueError
+            For an array whose elements have different units.
+        """
+        info = self.info(name)
+        self._one_unit(name, info)
+        return info.unit
 
     def describe(self, name: str) -> str:
         """One line: name, unit, kind and description, e.g.
-        ``inertia1.w [rad/s] continuous: Absolute angular velocity of component``."""
+        ``inertia1.w [rad/s] continuous: Absolute angular velocity of component``; an array's
+        says its size, ``cell.T [K] continuous, array of 10: Temperature of element``."""
         return self.info(name).line()
 
     # -- units -------------------------------------------------------------------------
@@ -597,9 +883,11 @@ class SimulationResult:
 
         A declared display unit that cannot show the column's unit (a typo,
         another quantity) is not used: a ``UserWarning`` says why, and the
-        declared unit is returned.  Booleans and Integers: ``""``.
+        declared unit is returned.  Booleans and Integers: ``""``.  An
+        array's is its elements' (a ValueError when their units differ).
         """
         info = self.info(name)
+        self._one_unit(name, info)
         if info.is_discrete:
             return ""
         if not info.display_unit or info.display_unit == info.unit:
@@ -615,20 +903,25 @@ class SimulationResult:
     def in_unit(self, name: str, unit: str | None = None) -> np.ndarray:
         """The values of ``name`` converted to ``unit`` (default: its :meth:`display_unit`).
 
-        ``result.in_unit("J1.w", "rpm")``; ``result.in_unit("time", "min")``.
-        The result itself keeps its values in the declared units.
+        ``result.in_unit("J1.w", "rpm")``; ``result.in_unit("time", "min")``;
+        ``result.in_unit("cell.T", "degC")`` converts every element of an
+        array (shaped as ``result["cell.T"]``).  The result itself keeps its
+        values in the declared units.
 
         Raises
         ------
         KeyError
-            For a name that is not a column.
+            For a name that is neither a column nor an array.
         ValueError
             For a unit that does not measure what the column's unit measures
-            (naming both), for an unknown unit, and for a unit asked of a
-            Boolean or Integer.
+            (naming both), for an unknown unit, for a unit asked of a
+            Boolean or Integer, and for an array whose elements have
+            different units.
         """
         info = self.info(name)
-        values = np.asarray(self.time, dtype=float) if name not in self.columns else self[name]
+        self._one_unit(name, info)
+        time_asked = name == TIME_NAME and name not in self.columns
+        values = np.asarray(self.time, dtype=float) if time_asked else self[name]
         target = self.display_unit(name) if unit is None else unit
         if info.is_discrete:
             if unit is not None and unit not in ("", "1"):
@@ -647,6 +940,7 @@ class SimulationResult:
         Parameters
         ----------
         names : sequence of str, optional
+            Column names; an array name stands for its elements.
         units : bool or mapping of str to str
             True: each column's declared display unit (its unit when it has
             none); False: the declared units; a mapping: the declared display
@@ -664,8 +958,8 @@ class SimulationResult:
         ValueError
             For a unit a column cannot be shown in, naming both units.
         """
-        chosen = list(self.columns) if names is None else list(names)
-        given = dict(units) if isinstance(units, Mapping) else {}
+        chosen = list(self.columns) if names is None else self._expand(names)
+        given = self._expand_units(units) if isinstance(units, Mapping) else {}
         for name, unit in given.items():
             if not isinstance(unit, str):
                 raise TypeError(f"the unit of {name} must be a str, not {type(unit).__name__}")
@@ -719,7 +1013,9 @@ class SimulationResult:
             Times within the run's span, ``time[0] <= t <= time[-1]``.
         names : str or sequence of str, optional
             One column (the values are returned as they are) or several
-            (default: every column; a dict is returned).
+            (default: every column; a dict is returned).  An array name
+            (``"cell.T"``, see :attr:`arrays`) gives its elements' values
+            as one array.
         side : {'right', 'left'}
             Which limit an event instant gives.
 
@@ -727,8 +1023,11 @@ class SimulationResult:
         -------
         float, bool, int or ndarray, or dict of them
             For one name: a value (a number ``t``) or an array shaped as
-            ``t``; for several: a dict of those by name.  In the declared units
-            (:meth:`in_unit` converts).  Booleans as bool, Integers as int.
+            ``t``; for an array name, an array shaped as ``t`` followed by the
+            array's size (``result.at(2.0, "cell.T")`` has the ``n`` values
+            at ``t = 2``); for several: a dict of those by name.  In the
+            declared units (:meth:`in_unit` converts).  Booleans as bool,
+            Integers as int.
 
         Raises
         ------
@@ -737,16 +1036,20 @@ class SimulationResult:
             is not a finite number, an unknown ``side``, or a result without
             output points.
         KeyError
-            For a name that is not a column.
+            For a name that is neither a column nor an array.
         """
         if side not in ("right", "left"):
             raise ValueError(f"side={side!r}: choose 'right' (the values just after an event) or "
                              f"'left' (just before it)")
         single = isinstance(names, str)
         chosen = list(self.columns) if names is None else [names] if single else list(names)
+        arrays: dict[str, _ArrayColumns] = {}
         for name in chosen:
             if name not in self.columns:
-                raise self._unknown(name)  # with the close names
+                found = self._array(name)
+                if found is None:
+                    raise self._unknown(name)  # with the close names
+                arrays[name] = found
         time = np.asarray(self.time, dtype=float)
         if len(time) == 0:
             raise ValueError(f"{self.model_name or 'the result'} has no output points to read")
@@ -769,19 +1072,29 @@ class SimulationResult:
         span = time[following] - time[before]
         with np.errstate(invalid="ignore", divide="ignore"):
             weight = np.where(exact | (span <= 0), 0.0, (flat - time[before]) / span)
-        out = {}
-        for name in chosen:
-            info = self.info(name)
-            values = np.asarray(self.columns[name])
+
+        def picked(column: str) -> np.ndarray:
+            """The values of ``column`` at the times asked, shaped as ``t``."""
+            info = self.info(column)
+            values = np.asarray(self.columns[column])
             if info.kind == "continuous":
                 low, high = values[before], values[following]
                 # exactly a row's value at a row (no 0 * inf); linear between rows
-                picked = np.where(weight == 0.0, low, low + (high - low) * weight)
+                chosen_values = np.where(weight == 0.0, low, low + (high - low) * weight)
             else:
-                picked = values[before]
-            picked = _typed(np.asarray(picked, dtype=float), info.kind).reshape(query.shape)
-            # one time: a Python number (float, bool, int), as the docstring says
-            out[name] = picked[()].item() if query.ndim == 0 else picked
+                chosen_values = values[before]
+            return _typed(np.asarray(chosen_values, dtype=float), info.kind).reshape(query.shape)
+
+        out = {}
+        for name in chosen:
+            if name in arrays:  # the elements' values along a last axis (or axes) of the array's size
+                found = arrays[name]
+                stacked = np.stack([picked(column) for column in found.elements], axis=-1)
+                out[name] = stacked.reshape(query.shape + found.shape)
+            else:
+                values = picked(name)
+                # one time: a Python number (float, bool, int), as the docstring says
+                out[name] = values[()].item() if query.ndim == 0 else values
         return out[chosen[0]] if single else out
 
     # -- printing values -----------------------------------------------------------
@@ -869,7 +1182,8 @@ class SimulationResult:
         Parameters
         ----------
         names : sequence of str, optional
-            Columns to include (default: all, parameters too).
+            Columns to include (default: all, parameters too); an array name
+            (``"cell.T"``) stands for its elements' columns.
         events : {'keep', 'last', 'first'}
             ``'keep'``: every row, an event instant appearing twice or more
             (left limit first, right limit last) so the index has duplicates;
@@ -906,7 +1220,7 @@ class SimulationResult:
 
         if events not in ("keep", "last", "first"):
             raise ValueError(f"events={events!r}: choose 'keep', 'last' or 'first'")
-        chosen = list(self.columns) if names is None else list(names)
+        chosen = list(self.columns) if names is None else self._expand(names)
         for name in chosen:
             self.info(name)  # a clear KeyError for an unknown name
         if event_column is not None and event_column in chosen:
@@ -944,11 +1258,30 @@ class SimulationResult:
 
         See :func:`acausal.tools.plotting.plot` for the options; that module
         registers itself when imported (``import acausal.tools.plotting``).
+        An array name (``"cell.T"``) is a panel with every element; in a
+        group of names, its elements join the group (as do the keys of
+        ``units=``).
         """
         if not _PLOTTER:
             raise RuntimeError("no plotter is registered: import acausal.tools.plotting first "
                                "(or call acausal.tools.plotting.plot(result, names))")
-        return _PLOTTER[0](self, names, **options)
+        if isinstance(options.get("units"), Mapping):
+            options["units"] = self._expand_units(options["units"])
+        return _PLOTTER[0](self, self._panels(names), **options)
+
+    def _panels(self, names: str | Sequence[str | Sequence[str]] | None) -> Any:
+        """The names :meth:`plot` gives the plotter: an array name as a panel of its elements."""
+        if names is None:
+            return None
+
+        def entry(name: str) -> str | list[str]:
+            elements = self._expand([name])
+            return name if elements == [name] else elements
+
+        if isinstance(names, str):
+            shown = entry(names)
+            return shown if isinstance(shown, str) else [shown]
+        return [entry(n) if isinstance(n, str) else self._expand(list(n)) for n in names]
 
     # -- display -----------------------------------------------------------------------
 
@@ -1011,7 +1344,7 @@ class SimulationResult:
         ----------
         path : str or Path
         signals : sequence of str, optional
-            Columns to write (default: all).
+            Columns to write (default: all); an array name stands for its elements.
         metadata : bool
             Also write, after the header, the rows ``#unit``, ``#kind`` and
             ``#description`` (their first cell names them, the others hold
@@ -1026,7 +1359,7 @@ class SimulationResult:
             fails (an exception, a full disk, an interrupt), an earlier file
             at ``path`` is left as it was (:func:`acausal.fileio.atomic_write`).
         """
-        names = list(self.columns) if signals is None else list(signals)
+        names = list(self.columns) if signals is None else self._expand(signals)
         for n in names:
             self[n]  # clear KeyError for unknown names
 
@@ -1062,7 +1395,7 @@ class SimulationResult:
         ----------
         path : str or Path
         signals : sequence of str, optional
-            Columns to write (default: all).
+            Columns to write (default: all); an array name stands for its elements.
 
         Returns
         -------
@@ -1071,7 +1404,7 @@ class SimulationResult:
         """
         import scipy.io
 
-        names = list(self.columns) if signals is None else list(signals)
+        names = list(self.columns) if signals is None else self._expand(signals)
         for n in names:
             self[n]  # clear KeyError for unknown names
         if len(self.time) == 0:
@@ -1117,7 +1450,8 @@ class SimulationResult:
         ----------
         signals : sequence of str, optional
             The signals whose final values are listed (default: the states,
-            then Booleans and Integers, ``shown`` of them).
+            then Booleans and Integers, ``shown`` of them); an array name
+            stands for its elements.
         units : mapping of str to str, optional
             Units to show some signals in, ``{"J1.w": "rpm"}``; these signals
             are listed too.  The others are shown in their display unit.
@@ -1145,7 +1479,8 @@ class SimulationResult:
 
     def _final_values(self, signals: Sequence[str] | None, units: Mapping[str, str], shown: int) -> list[str]:
         """The summary's lines of final values (see :meth:`summary`)."""
-        chosen = list(signals) if signals is not None else self._summary_signals(shown)
+        units = self._expand_units(units)
+        chosen = self._expand(signals) if signals is not None else self._summary_signals(shown)
         chosen += [n for n in units if n not in chosen]
         if not chosen:
             return []

@@ -16,7 +16,9 @@ stop_time)`` with ``SCALING_DESCRIPTION`` and ``SCALING_SIZE_LABEL``,
 ``storm_model(n)`` with ``STORM_DESCRIPTION``, ``STORM_SIZE_LABEL``,
 ``STORM_EVENTS_GROWTH``, ``STORM_WATCHED``, ``STORM_STOP_TIME`` and
 ``STORM_INTERVAL``, and ``floor_case()`` (a :class:`FloorCase`: one of its
-cases written by hand without the engine).
+cases written by hand without the engine); optionally ``array_scaling_case()``
+(an :class:`ArrayScalingCase`; without it, ``scaling_case()`` of
+``examples/heat_rod.py``).
 
 Eight sections (``--only`` picks some: ``work-precision``, ``effects``,
 ``commands``, ``scaling``, ``soak``, ``parameters``, ``storm``,
@@ -62,6 +64,14 @@ printed at the end:
 4. **Scaling** (``scaling.md``, ``scaling.csv``, ``scaling.png``): the
    suite's ``scaling_model`` for growing ``N``; translation stage times and
    a short simulation; the growth exponent ``b`` of ``time = a N^b``.
+   Then the *array case* (:class:`ArrayScalingCase`, :func:`array_scaling_case`:
+   the heat rod of ``examples/heat_rod.py``, built with arrays of
+   components; :func:`run_array_scaling`, ``scaling_arrays.csv`` and a
+   section of ``scaling.md``): translated for N = 10, 30, 100, 300, 1000
+   (10, 30, 100 with ``--quick``), each in a fresh process; the
+   translation seconds per N and per element, the slope of log(time)
+   against log(N) (1 for linear time), and a short run whose conserved
+   quantity (the heat) stored must equal what came in.
 
 5. **Soak** (``soak.md``, ``soak.csv``, ``soak.png``; :func:`run_soak`):
    the suite's ``soak_case()`` simulated 200 times (21 with ``--quick``,
@@ -132,6 +142,8 @@ __all__ = [
     "SECTIONS", "run_parameter_change", "SoakRun", "SoakSummary", "SoakResult", "run_soak", "write_soak",
     "storm_point", "run_storm", "storm_fits", "write_storm", "run_import_floors", "command_floor_ratios",
     "FloorCase", "HAND_CODED_FLOOR_REPEATS", "run_hand_coded_floor", "run_floors", "write_floors",
+    "FULL_ARRAY_SCALING", "QUICK_ARRAY_SCALING", "ArrayScalingCase", "array_scaling_case", "array_scaling_point",
+    "run_array_scaling", "array_scaling_fits",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -607,16 +619,17 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
 
 
 def _point_in_subprocess(call: str, timeout: float, env_extra: dict | None = None):
-    """Run ``call`` (``scaling_point(...)`` or ``storm_point(...)``, given ``progress=report``)
-    in a fresh process, the collector set as in an ``acausal`` command (fewer pauses,
-    landing in fewer stages at random).
+    """Run ``call`` (``scaling_point(...)``, ``array_scaling_point(...)`` or ``storm_point(...)``,
+    given ``progress=report``) in a fresh process, the collector set as in an ``acausal``
+    command (fewer pauses, landing in fewer stages at random).
 
     Returns ``(report, failure, wall, timed_out)``: the last report printed (the
     point, or on a timeout the last progress), the failure's last stderr line
     (None when it exited 0), the wall seconds, and whether the timeout ended it.
     """
     code = ("import gc, json, sys; sys.path.insert(0, {root!r}); from acausal.tools.collector import GC_THRESHOLD; "
-            "gc.set_threshold(*GC_THRESHOLD); from acausal.tools.bench import scaling_point, storm_point; "
+            "gc.set_threshold(*GC_THRESHOLD); "
+            "from acausal.tools.bench import array_scaling_point, scaling_point, storm_point; "
             "report = lambda p: print('@@' + json.dumps(p), flush=True); "
             "report({call})").format(root=str(ROOT), call=call)
     env = dict(os.environ)
@@ -790,6 +803,248 @@ def run_scaling(sizes: Sequence[int], stop_time: float = 0.2, isolate: bool = Fa
         if point["status"] != "ok":
             stopped = f"N={n} {point['status']}"
     return points
+
+
+# ---------------------------------------------------------------------------
+# Scaling with arrays: a model of any size that conserves a quantity
+# ---------------------------------------------------------------------------
+
+#: Sizes of the array case the scaling section translates, full and ``--quick``.
+FULL_ARRAY_SCALING = (10, 30, 100, 300, 1000)
+QUICK_ARRAY_SCALING = (10, 30, 100)
+#: Output intervals of the array case's short run after translating.
+ARRAY_SCALING_POINTS = 500
+#: Wall-time budget of one array case point in its fresh process.
+ARRAY_SCALING_BUDGET_SECONDS = 300.0
+#: Translation whose log-log slope against N exceeds this grows clearly faster than linearly.
+LINEAR_SLOPE_LIMIT = 1.3
+#: The quantities of an array case point fitted as ``seconds ≈ a N^b``.
+ARRAY_SCALING_FITTED = ("translation", "flatten", "compile", "translation_all", "simulate")
+
+
+@dataclass(frozen=True)
+class ArrayScalingCase:
+    """The scaling section's array case: a model of any size built with arrays, conserving a quantity.
+
+    Attributes
+    ----------
+    name : str
+        The model's name in the table.
+    make : callable
+        ``make(n)``: the model of size ``n``.
+    description : str
+        What the model is, for ``scaling.md`` (Markdown).
+    size_label : str
+        What N counts (``"cells"``).
+    quantity : str
+        The conserved quantity, and ``unit`` its unit.
+    unit : str
+    balance : callable
+        ``balance(result)``: ``(stored, came_in, rate_error)``, the quantity
+        stored since the start and the quantity that came in (a quadrature
+        of its inflow over the output points) at every output point, and the
+        largest mismatch of their rates relative to the largest inflow.
+    stop_time : float
+        Seconds simulated after translating (RK45, :data:`ARRAY_SCALING_POINTS`
+        output intervals).
+    """
+
+    name: str
+    make: Callable[[int], Model]
+    description: str
+    size_label: str
+    quantity: str
+    unit: str
+    balance: Callable[..., tuple]
+    stop_time: float = 1.0
+
+
+def array_scaling_case() -> ArrayScalingCase:
+    """The scaling section's array case: the suite's ``array_scaling_case()``."""
+    return suite().array_scaling_case()
+
+
+def array_scaling_point(n: int, case: ArrayScalingCase | None = None, rtol: float = 1e-6,
+                        progress: Callable[[dict], None] | None = None) -> dict:
+    """Translate the array case of size ``n``, then simulate it briefly and check its balance.
+
+    Parameters
+    ----------
+    n : int
+        The size (``case.make(n)``).
+    case : ArrayScalingCase, optional
+        Default :func:`array_scaling_case`.
+    rtol : float
+        Relative tolerance of the short run (RK45).
+    progress : callable, optional
+        Receives the point measured so far after each phase (so a point stopped by a
+        time budget keeps what it finished).
+
+    Returns
+    -------
+    dict
+        ``model``, ``n``; ``flatten`` (building, flattening and partitioning
+        the model), ``compile`` (the stages of its first system),
+        ``translation`` (their sum, as the drive train's *translation (1
+        mode)*) and ``translation_all`` (with the initialization system), in
+        seconds; ``seconds_per_element`` (``translation / n``); ``states``,
+        ``equations``; ``simulate`` (the run's wall seconds); ``came_in`` and
+        ``stored`` (the conserved quantity at the end of the run, see
+        :class:`ArrayScalingCase`), ``balance_error``
+        (``|stored - came_in| / |came_in|``) and ``rate_balance_error``;
+        ``wall``, ``max_rss_mb``, ``status``.
+    """
+    from ..runtime.initialization import initialize
+
+    case = case or array_scaling_case()
+    progress = progress or (lambda _p: None)
+    point: dict = {"model": case.name, "n": n, "status": "ok"}
+    wall0 = time.perf_counter()
+
+    def report(phase: str) -> None:
+        point["phase"] = phase
+        point["max_rss_mb"] = _rss_mb()
+        point["wall"] = time.perf_counter() - wall0
+        progress(dict(point))
+
+    gc.collect()
+    t0 = time.perf_counter()
+    translation = _fresh_translate(case.make(n))
+    point["flatten"] = time.perf_counter() - t0
+    report("flattened; compiling")
+    evaluator = _evaluator(translation)
+    initialize(translation, evaluator, translation.flat.experiment.start_time)
+    system = _first_system(translation)
+    point["compile"] = system.seconds
+    point["translation"] = point["flatten"] + system.seconds
+    point["translation_all"] = translation.translation_seconds
+    point["seconds_per_element"] = point["translation"] / n
+    point["states"] = len(system.structure.states)
+    point["equations"] = len(system.equations)
+    report("simulating")
+    result, point["simulate"] = _timed_simulate(translation, method="RK45", rtol=rtol, stop_time=case.stop_time,
+                                                interval=case.stop_time / ARRAY_SCALING_POINTS)
+    if result.status != 0:
+        point["status"] = f"failed: {result.message}"
+    else:
+        stored, came_in, rate_error = case.balance(result)
+        point["came_in"] = float(came_in[-1])
+        point["stored"] = float(stored[-1])
+        point["balance_error"] = abs(point["stored"] - point["came_in"]) / abs(point["came_in"])
+        point["rate_balance_error"] = float(rate_error)
+    point["wall"] = time.perf_counter() - wall0
+    point["max_rss_mb"] = _rss_mb()
+    point.pop("phase", None)
+    return point
+
+
+def _array_scaling_point_subprocess(n: int, timeout: float) -> dict:
+    report, failure, wall, timed_out = _point_in_subprocess(f"array_scaling_point({n}, progress=report)", timeout)
+    if timed_out:
+        partial = report or {"n": n}
+        phase = partial.pop("phase", "")
+        partial.update(status=f"stopped after {timeout:.0f} s" + (f" ({phase})" if phase else ""), wall=wall)
+        return partial
+    if report is not None and failure is None:
+        return report
+    return {"n": n, "status": failure or "failed: no report", "wall": wall}
+
+
+def run_array_scaling(sizes: Sequence[int] = FULL_ARRAY_SCALING, case: ArrayScalingCase | None = None,
+                      isolate: bool = False, budget: float = ARRAY_SCALING_BUDGET_SECONDS,
+                      log: Callable[[str], None] | None = None) -> list[dict]:
+    """Points of the array case (:func:`array_scaling_point`) for ``sizes``, each with ``local_slope``.
+
+    With ``isolate`` each point runs in a fresh process (sympy's caches cold, as a
+    user's first translation; the default case only) under ``budget`` seconds.
+    After a point that does not finish the larger sizes are skipped.
+    ``local_slope`` is the slope of log(translation) against log(N) from the
+    previous size (NaN for the first).
+    """
+    if isolate and case is not None:
+        raise ValueError("a case of its own runs in this process (isolate=False): a fresh process "
+                         "makes the default case")
+    log = log or (lambda _s: None)
+    name = (case or array_scaling_case()).name
+    points: list[dict] = []
+    stopped = None
+    for n in sizes:
+        if stopped is not None:
+            points.append({"model": name, "n": n, "status": f"skipped ({stopped})"})
+            continue
+        if isolate:
+            point = _array_scaling_point_subprocess(n, budget)
+        else:
+            try:
+                point = array_scaling_point(n, case)
+            except Exception as exc:  # noqa: BLE001 - recorded, the bench goes on
+                point = {"n": n, "status": f"failed: {type(exc).__name__}: {exc}"}
+        point.setdefault("model", name)
+        previous = next((p for p in reversed(points) if _finite(p.get("translation"))), None)
+        point["local_slope"] = (fit_power_law([previous["n"], n], [previous["translation"], point["translation"]])[1]
+                                if previous is not None and _finite(point.get("translation")) else math.nan)
+        points.append(point)
+        log(f"  {name} N={n}: translation {point.get('translation', math.nan):.2f}s "
+            f"({1000 * point.get('seconds_per_element', math.nan):.2f} ms per element), simulate "
+            f"{point.get('simulate', math.nan):.2f}s, balance error {point.get('balance_error', math.nan):.1e} "
+            f"({point['status']})")
+        if point["status"] != "ok":
+            stopped = f"N={n} {point['status']}"
+    return points
+
+
+def _finite(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def array_scaling_fits(points: Sequence[dict]) -> dict[str, tuple[float, float]]:
+    """``{quantity: (a, b)}`` of ``seconds ≈ a N^b`` (least squares in log-log) for
+    :data:`ARRAY_SCALING_FITTED`; ``b`` is the slope (1 for linear time)."""
+    fits = {}
+    for key in ARRAY_SCALING_FITTED:
+        measured = [p for p in points if _finite(p.get(key))]
+        if len(measured) >= 2:
+            fits[key] = fit_power_law([p["n"] for p in measured], [p[key] for p in measured])
+    return fits
+
+
+def _array_scaling_markdown(points: Sequence[dict], fits: dict, case: ArrayScalingCase,
+                            isolated: bool = True) -> str:
+    """The array case's part of ``scaling.md``: a row per N, the slopes, and a verdict."""
+    rows = [(p["n"], p.get("states", math.nan), p.get("equations", math.nan), p.get("flatten", math.nan),
+             p.get("compile", math.nan), p.get("translation", math.nan), p.get("translation_all", math.nan),
+             1000.0 * p.get("seconds_per_element", math.nan), p.get("local_slope", math.nan),
+             p.get("simulate", math.nan), p.get("came_in", math.nan), p.get("stored", math.nan),
+             p.get("balance_error", math.nan), p.get("rate_balance_error", math.nan), p.get("wall", math.nan),
+             p.get("max_rss_mb", math.nan), p.get("status", "")) for p in points]
+    table = _md_table((f"N ({case.size_label})", "states", "equations", "flatten+partition [s]", "compile [s]",
+                       "translation [s]", "translation + initialization [s]", "translation per element [ms]",
+                       "slope from previous N", f"simulate {case.stop_time:g} s [s]",
+                       f"{case.quantity} in [{case.unit}]", f"{case.quantity} stored [{case.unit}]",
+                       "balance error", "rate balance error", "wall [s]", "max RSS [MB]", "status"), rows)
+    fit_rows = []
+    for key, (a, b) in fits.items():
+        ns = [p["n"] for p in points if _finite(p.get(key))]
+        fit_rows.append((key, _fmt(a), _fmt(b), ", ".join(map(str, ns))))
+    fit_table = _md_table(("quantity", "a", "slope b (time ≈ a·N^b)", "fitted on N ="), fit_rows)
+    slope = fits.get("translation", (math.nan, math.nan))[1]
+    if not math.isfinite(slope):
+        verdict = "Too few sizes finished to fit the slope."
+    elif slope > LINEAR_SLOPE_LIMIT:
+        verdict = (f"**Translation grows faster than linearly: slope {slope:.2f} > {LINEAR_SLOPE_LIMIT:g}** "
+                   "(linear time gives 1).")
+    else:
+        verdict = f"Translation grows as N^{slope:.2f}: linear time gives a slope of 1."
+    return "\n".join([
+        f"## {case.name}: a model built with arrays", "",
+        case.description + " " +
+        ("Each size in a fresh process. " if isolated else "In the bench's own process (sympy's caches warm). ") +
+        "Translation = flatten+partition (building the model's instances included) + compiling its first "
+        "system; + initialization adds the initialization system. Then a "
+        f"{case.stop_time:g} s run (RK45, rtol 1e-6, {ARRAY_SCALING_POINTS} output intervals): the balance "
+        f"error is |stored - in| / |in| of the {case.quantity} at its end (what came in: trapezoid rule over "
+        "the output points), the rate balance error the largest mismatch of the rates relative to the "
+        "largest inflow.", "", verdict, "", table, "", fit_table, ""])
 
 
 # ---------------------------------------------------------------------------
@@ -2123,6 +2378,10 @@ class BenchResult:
     #: The storm section's points (:func:`run_storm`) and the floors section's rows (:func:`run_floors`).
     storm: list = field(default_factory=list)
     floors: list = field(default_factory=list)
+    #: The scaling section's array case points (:func:`run_array_scaling`) and their fits
+    #: (:func:`array_scaling_fits`).
+    array_scaling: list = field(default_factory=list)
+    array_scaling_fits: dict = field(default_factory=dict)
 
     @property
     def records(self) -> list[RunRecord]:
@@ -2200,7 +2459,8 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
               repeats: int | None = None, isolate_scaling: bool = True,
               commands: bool = True, soak_runs: int | None = None, verbose: bool = False,
               parameters: bool = True, storm: bool = True, storm_sizes: Sequence[int] | None = None,
-              floors: bool = True, table_sizes: bool = True) -> BenchResult:
+              floors: bool = True, table_sizes: bool = True,
+              array_sizes: Sequence[int] | None = None) -> BenchResult:
     """Run the benchmark and write its tables and plots into ``out_dir``.
 
     Parameters
@@ -2222,6 +2482,10 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     storm_sizes : optional
         The storm's N (default 3, 6 quick; 5 ... 200 full); each N <= 6
         (quick) or 20 (full) also without clusters.
+    array_sizes : optional
+        The sizes of the scaling section's array case (:func:`run_array_scaling`;
+        default 10, 30, 100 quick, 10 ... 1000 full, when the scaling section
+        runs at all; ``()`` for none), isolated as the scaling points.
     isolate_scaling : bool
         Run each scaling point in a fresh process (default), so that every
         translation starts with sympy's caches cold, as a user's first
@@ -2246,6 +2510,9 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
     else:
         names = suite().QUICK_CASES if quick else tuple(all_cases)
     sizes = tuple(scaling_sizes) if scaling_sizes is not None else (QUICK_SCALING if quick else FULL_SCALING)
+    if array_sizes is None:
+        array_sizes = (QUICK_ARRAY_SCALING if quick else FULL_ARRAY_SCALING) if sizes else ()
+    array_sizes = tuple(array_sizes)
     if soak_runs is None:
         soak_runs = QUICK_SOAK_RUNS if quick else FULL_SOAK_RUNS
     log = (lambda s: print(s, flush=True)) if verbose else (lambda _s: None)
@@ -2293,11 +2560,14 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         start = (time.perf_counter(), cpu())
         command_records = run_commands(command_repeats, log=log)
         section("commands", start)
-    if sizes:
+    if sizes or array_sizes:
         log("scaling")
     start = (time.perf_counter(), cpu())
     points = run_scaling(sizes, isolate=isolate_scaling, log=log) if sizes else []
-    if sizes:
+    array_case = array_scaling_case() if array_sizes else None
+    array_points = run_array_scaling(array_sizes, isolate=isolate_scaling, log=log) if array_sizes else []
+    array_fits = array_scaling_fits(array_points)
+    if sizes or array_sizes:
         section("scaling", start)
 
     def timed(label: str, run: Callable[[], object]):
@@ -2375,9 +2645,14 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         table("effects", _effects_markdown(effect_records), [vars(r) for r in effect_records])
     if command_records:
         table("commands", _commands_markdown(command_records), command_records)
-    if points:
-        table("scaling", _scaling_markdown(points, fits, isolate_scaling), points)
-        path = _plot_scaling(points, fits, out_dir / "scaling.png")
+    if points or array_points:
+        markdown = _scaling_markdown(points, fits, isolate_scaling) if points else "# Scaling\n"
+        if array_points:
+            markdown += "\n" + _array_scaling_markdown(array_points, array_fits, array_case, isolate_scaling)
+            files["scaling_arrays.csv"] = out_dir / "scaling_arrays.csv"
+            _write_dict_csv(files["scaling_arrays.csv"], array_points)
+        table("scaling", markdown, points)
+        path = _plot_scaling(points, fits, out_dir / "scaling.png") if points else None
         if path is not None:
             files["scaling.png"] = path
     if parameter_rows:
@@ -2398,7 +2673,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         tables["soak"] = _soak_markdown(soak).split("\n## Runs")[0].rstrip() + "\n"
     wall = time.perf_counter() - wall0
     return BenchResult(quick, runs, effect_records, points, fits, files, tables, wall, skipped, soak,
-                       storm_points, floor_rows)
+                       storm_points, floor_rows, array_points, array_fits)
 
 
 def _split(text: str) -> list[str]:
@@ -2433,7 +2708,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                                                  "same work without the engine), and what a table's "
                                                  "size costs.")
     parser.add_argument("--quick", action="store_true",
-                        help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40; storm N = 3, 6)")
+                        help="a reduced bench (4 cases, rtol 1e-3/1e-6/1e-9, N = 10, 40; arrays N = 10, 30, "
+                             "100; storm N = 3, 6)")
     parser.add_argument("--out", metavar="DIR",
                         help=f"output folder (default {default_out()}, the user's cache folder)")
     parser.add_argument("--methods", metavar="M,...",

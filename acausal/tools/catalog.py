@@ -265,6 +265,10 @@ def names() -> Names:
         msl = msl_name(klass)
         if path.startswith(f"{COMPONENTS}.") and msl and msl.rsplit(".", 1)[-1] == klass.__name__:
             index.msl.setdefault(msl, klass)
+        elif path.startswith(f"{LIBRARY}.") and msl and msl.rsplit(".", 1)[-1] == klass.__name__:
+            # a class its package does not export under that name (Blocks.Continuous.StateSpace
+            # beside the exported Blocks.Discrete.StateSpace): found by its MSL name too
+            index.msl.setdefault(msl, klass)
     for path in [*index.modules, *index.classes]:
         for spelling in index.spell(path):
             index.spellings.setdefault(spelling, path)

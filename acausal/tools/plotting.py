@@ -54,12 +54,13 @@ def _groups(result: SimulationResult, names) -> list[list[str]]:
                   and not n.startswith("der(")][:DEFAULT_SIGNALS]
         return [[n] for n in chosen]
     if isinstance(names, str):
-        return [[names]]
+        names = [names]
     groups = [[entry] if isinstance(entry, str) else list(entry) for entry in names]
     for group in groups:
         for name in group:
             result.info(name)  # a KeyError with the close names for an unknown one
-    return groups
+    # an array name (cell.T) is one panel of its elements
+    return [[element for name in group for element in result.elements(name)] for group in groups]
 
 
 def _label(info: ColumnInfo, unit: str | None = None) -> str:

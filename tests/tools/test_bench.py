@@ -318,3 +318,48 @@ def test_the_tables_section_measures_every_size(tmp_path, capsys):
         assert f"| {rows:,} |" in text
     assert "failed" not in text and (tmp_path / "tables.png").stat().st_size > 0
     assert "What a table's size costs" in capsys.readouterr().out
+
+
+def _rod_heat_stored(n: int, t: float) -> float:
+    """The exact heat ``HeatRod(n)`` stores in ``t`` seconds, sum C (T_i(t) - T0), with its defaults.
+
+    ``T[1] = T_hot``; ``u = T[2:] - T_hot`` solves ``du/dt = (G/C) K u`` (K the second
+    difference, insulated at the far end), ``u(t) = expm(t (G/C) K) u(0)``.
+    """
+    import scipy.linalg
+
+    from examples.heat_rod import HeatRod
+
+    L, A, rho_c, k = HeatRod.L.default, HeatRod.A.default, HeatRod.rho_c.default, HeatRod.k.default
+    T0, T_hot = HeatRod.T0.default, HeatRod.T_hot.default
+    dx = L / n
+    C, G = rho_c * A * dx, k * A / dx
+    K = -2.0 * np.eye(n - 1) + np.eye(n - 1, k=1) + np.eye(n - 1, k=-1)
+    K[-1, -1] = -1.0
+    u = scipy.linalg.expm(t * G / C * K) @ np.full(n - 1, T0 - T_hot)
+    return float(C * np.sum(u - (T0 - T_hot)))
+
+
+def test_heat_rod_scaling_rows_keep_the_energy_balance():
+    """The scaling section's array case, the heat rod: a row per N, translated, and its short run
+    stores exactly the heat that came in (the exact solution's)."""
+    case = bench.array_scaling_case()
+    assert case.name == "HeatRod" and (case.quantity, case.unit) == ("heat", "J")
+    points = bench.run_array_scaling((5, 10), isolate=False)
+    assert [(p["model"], p["n"], p["status"]) for p in points] == [("HeatRod", 5, "ok"), ("HeatRod", 10, "ok")]
+    for p in points:
+        n = p["n"]
+        assert p["states"] == n - 1  # cell[1] follows the fixed temperature
+        assert 0 < p["flatten"] < p["translation"] <= p["translation_all"]
+        assert p["seconds_per_element"] == pytest.approx(p["translation"] / n)
+        # the heat that came in is the heat stored, and both are the exact solution's
+        exact = _rod_heat_stored(n, case.stop_time)
+        assert p["stored"] == pytest.approx(exact, rel=1e-5)
+        assert p["came_in"] == pytest.approx(exact, rel=1e-5)
+        assert p["balance_error"] < 1e-6 and p["rate_balance_error"] < 1e-9
+    assert math.isnan(points[0]["local_slope"]) and math.isfinite(points[1]["local_slope"])
+    fits = bench.array_scaling_fits(points)
+    assert set(fits) == set(bench.ARRAY_SCALING_FITTED) and all(math.isfinite(b) for _, b in fits.values())
+    text = bench._array_scaling_markdown(points, fits, case, isolated=False)
+    assert "## HeatRod: a model built with arrays" in text and "| 5 |" in text and "| 10 |" in text
+    assert "N (cells)" in text and "heat stored [J]" in text and "slope b (time ≈ a·N^b)" in text

@@ -92,6 +92,13 @@ def test_show_finds_every_listed_class_by_what_list_prints_and_by_its_msl_name(p
     by_name: dict[str, set[type]] = {}
     for package, name in printed:
         by_name.setdefault(name, set()).add(_exported(package, name))
+    # a class a library module defines without its package exporting it under that name
+    # (blocks.continuous.StateSpace beside the exported discrete one) shares the bare name too
+    from acausal.tools.catalog import names
+
+    for path, klass in names().classes.items():
+        if path.startswith("acausal.library.") and klass.__name__ in by_name:
+            by_name[klass.__name__].add(klass)
     failures = []
     for package, name in printed:
         klass = _exported(package, name)
