@@ -1077,6 +1077,41 @@ def _element_attribute(value: Any, position: int, shape: tuple[int, ...], what: 
 _SIZED: dict[tuple, type] = {}
 
 
+def _sized_class(base: type, shapes: tuple, sized_by: tuple) -> type:
+    """The subclass of ``base`` that declares every element of its arrays of ``shapes``
+    (``((name, shape), ...)``) as a scalar; one per base class and sizes (see
+    :meth:`Component.__new__`)."""
+    key = (base, shapes)
+    klass = _SIZED.get(key)
+    if klass is not None:
+        return klass
+    everything = base.declarations()
+    namespace: dict[str, Any] = {"__module__": base.__module__, "__qualname__": base.__qualname__,
+                                 "_unsized": base, "_array_shapes": dict(shapes), "_sized_by": dict(sized_by)}
+    own_doc = vars(base).get("__doc__")
+    namespace["__doc__"] = getattr(own_doc, "_own", own_doc)
+    for name, shape in shapes:
+        declaration = everything[name]
+        # the class's own default, never an instance's modifier (the sized class is
+        # shared by every instance of these sizes; modifiers are applied per instance)
+        own = declaration.default if isinstance(declaration, Parameter) else None
+        if own is not None and (isinstance(own, Each) or not is_array_value(own)) is False \
+                and tuple(np.shape(np.asarray(own, dtype=object))) != shape:
+            own = None  # a default of another size: the value given where it is made counts
+        for index in indices(shape):
+            namespace[element_name(name, index)] = _element_declaration(declaration, name, index, shape, own)
+        namespace[name] = ArrayMember(declaration, shape)
+    klass = _SIZED[key] = type(base.__name__, (base,), namespace)
+    for name, _ in shapes:
+        namespace[name].__set_name__(klass, name)
+    return klass
+
+
+def _new_sized(base: type, shapes: tuple, sized_by: tuple) -> "Component":
+    """An empty instance of a sized class, for unpickling (its state follows)."""
+    return object.__new__(_sized_class(base, shapes, sized_by))
+
+
 class Component:
     """A component: declarations, equations and (optionally) sub-components.
 
@@ -1136,34 +1171,22 @@ class Component:
                 shapes[name] = shape
         if not shapes:
             return object.__new__(cls)
-        key = (base, tuple(shapes.items()))
-        klass = _SIZED.get(key)
-        if klass is None:
-            sized_by = {d: value(d) for _, decl in declared for d in _size_names(decl.shape)}
-            namespace: dict[str, Any] = {"__module__": base.__module__, "__qualname__": base.__qualname__,
-                                         "_unsized": base, "_array_shapes": dict(shapes),
-                                         "_sized_by": sized_by}
-            own_doc = vars(base).get("__doc__")
-            namespace["__doc__"] = getattr(own_doc, "_own", own_doc)
-            for name, shape in shapes.items():
-                declaration = everything[name]
-                # the class's own default, never this instance's modifier (the sized class is
-                # shared by every instance of these sizes; modifiers are applied per instance)
-                own = declaration.default if isinstance(declaration, Parameter) else None
-                if own is not None and (isinstance(own, Each) or not is_array_value(own)) is False \
-                        and tuple(np.shape(np.asarray(own, dtype=object))) != shape:
-                    own = None  # a default of another size: the value given where it is made counts
-                for index in indices(shape):
-                    namespace[element_name(name, index)] = _element_declaration(declaration, name, index,
-                                                                                shape, own)
-                namespace[name] = ArrayMember(declaration, shape)
-            klass = _SIZED[key] = type(base.__name__, (base,), namespace)
-            for name in shapes:
-                namespace[name].__set_name__(klass, name)
+        sized_by = {d: value(d) for _, decl in declared for d in _size_names(decl.shape)}
+        klass = _sized_class(base, tuple(shapes.items()), tuple(sized_by.items()))
         return object.__new__(klass)
 
     #: In a sized class: the shape of each array it declares, ``{"u": (3,)}``.
     _array_shapes: Mapping[str, tuple[int, ...]] = {}
+
+    def __reduce_ex__(self, protocol):
+        # an instance of a sized class pickles by its base class and sizes (the sized class
+        # is made at run time, so pickle cannot find it by its name)
+        reduced = super().__reduce_ex__(protocol)
+        klass = type(self)
+        if "_unsized" not in vars(klass) or "_sized_by" not in vars(klass):
+            return reduced
+        sized = (klass._unsized, tuple(klass._array_shapes.items()), tuple(klass._sized_by.items()))
+        return (_new_sized, sized, *reduced[2:])
 
     def __init__(self, **modifiers: Any) -> None:
         object.__setattr__(self, "_name", "")

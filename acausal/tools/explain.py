@@ -350,8 +350,14 @@ def _write_flat(w: _Writer, translation: Translation) -> None:
     fixed = [v for v in flat.variables if v.fixed]
     if fixed:
         w.line("Start values with fixed=True (initial conditions):")
-        for v in fixed:
-            w.line(f"  {v.name} = {_format_value(v.start)}")
+        by_name = {v.name: v for v in fixed}
+        for name, shape, members in array_groups(by_name):
+            if shape is None:
+                w.line(f"  {name} = {_format_value(by_name[name].start)}")
+            else:  # an array: one line, its size and its start values
+                values = np.array([_format_value(by_name[m].start) for m in members], dtype=object)
+                w.line(f"  {name}[{', '.join(map(str, shape))}] = "
+                       f"{str(values.reshape(shape).tolist()).replace(chr(39), '')}")
         w.line()
     width = len(str(len(flat.equations)))
     w.line(f"Flat equations ({len(flat.equations)}):")

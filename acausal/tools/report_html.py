@@ -584,9 +584,19 @@ def _flat_section(page: _Page, c: _Context, link: _Linker) -> None:
     fixed = [v for v in flat.variables if v.fixed]
     if fixed:
         page.add("<h3>Start values with fixed=true (initial conditions)</h3><ul>")
-        for v in fixed:
+        by_name = {v.name: v for v in fixed}
+
+        def item(v) -> str:
             start = f"{v.start:g}" if isinstance(v.start, float) else v.start
-            page.add(f"<li>{link.name(v.name)} = {_esc(start)}</li>")
+            return f"<li>{link.name(v.name)} = {_esc(start)}</li>"
+
+        for name, shape, members in array_groups(by_name):
+            if shape is None:
+                page.add(item(by_name[name]))
+            else:  # an array: one entry with its size, its elements when opened
+                page.add(f"<li><details><summary><code>{_esc(name)}[{', '.join(map(str, shape))}]</code> "
+                         f"({len(members)} elements)</summary><ul>"
+                         + "".join(item(by_name[m]) for m in members) + "</ul></details></li>")
         page.add("</ul>")
     page.add(f"<h3>Flat equations ({len(flat.equations)})</h3>")
     page.add("<table><tr><th>#</th><th>component</th><th>from</th><th>equation as written</th></tr>")

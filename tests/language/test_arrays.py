@@ -311,8 +311,10 @@ def test_explain_shows_an_array_parameter_once_with_its_size_and_values(tmp_path
     text = str(explain(FreeOscillator(), out_dir=tmp_path, html=tmp_path / "page"))
     assert "plant.A[2, 2] = [[0, 1], [-4, -0.4]]" in text      # the values Linear declares
     assert "plant.A[1,1] =" not in text
+    assert "plant.x[2] = [1, 0]" in text                          # its fixed start values, [1, 0]
     page = (tmp_path / "page" / "index.html").read_text()
     assert "<summary><code>plant.A[2, 2]</code> (4 elements)" in page
+    assert "<summary><code>plant.x[2]</code> (2 elements)" in page
 
 
 def test_an_instance_s_values_do_not_become_the_defaults_of_the_next():
@@ -346,3 +348,15 @@ def test_a_size_changed_from_outside_after_the_arrays_were_made_is_refused():
     with pytest.raises(ModifierError, match=r"Holder.s.n = 3 sizes arrays that were made with n = 2"):
         simulate(Holder(s=dict(n=3)))
     assert len(Sized(n=3).x) == 3     # given where it is made, it sizes the arrays
+
+
+def test_a_model_with_arrays_pickles_and_runs_the_same_after(tmp_path):
+    """Sized classes are made at run time; their instances still pickle (multiprocessing, caches)."""
+    import pickle
+
+    model = FreeOscillator()
+    copy = pickle.loads(pickle.dumps(model))
+    plant = pickle.loads(pickle.dumps(Linear(x=dict(start=[0.5, 0.0]))))
+    assert type(plant) is type(Linear()) and plant.attribute("x[1]", "start") == 0.5
+    first, second = simulate(model, stop_time=1.0), simulate(copy, stop_time=1.0)
+    assert np.array_equal(first["plant.x[1]"], second["plant.x[1]"])
