@@ -794,7 +794,7 @@ def _declaration_rows(klass: type["Component"], instance: "Component | None") ->
             return f"{name}[{', '.join(':' for _ in np.shape(np.asarray(declaration.default, dtype=object)))}]"
         if declaration.shape is not None:
             dims = declaration.shape if isinstance(declaration.shape, tuple) else (declaration.shape,)
-            return f"{name}[{', '.join(d if isinstance(d, str) else str(d) if isinstance(d, int) else ':' for d in dims)}]"
+            return f"{name}[{', '.join(_dimension_text(d) for d in dims)}]"
         return name
 
     def array_values(name: str, read: Callable[[str], Any]) -> Any:
@@ -1036,12 +1036,12 @@ def _dimension(dim: Any, value: Callable[[str], Any], name: str) -> Any:
     return dim
 
 
-def _size_names(shape: Any) -> list[str]:
-    """The structural parameters a declared shape names (``"n"``; not ``"size(A, 1)"``)."""
-    if shape is None:
-        return []
-    dims = shape if isinstance(shape, tuple) else (shape,)
-    return [d for d in dims if isinstance(d, str) and not _SIZE_OF.match(d)]
+def _dimension_text(dim: Any) -> str:
+    """How ``show`` writes one declared dimension: ``3``, ``n``, ``size(A, 1)``, or the ``text``
+    a function of the sizes carries (``n1 + n2``; ``:`` without one)."""
+    if isinstance(dim, (str, int)):
+        return str(dim)
+    return str(getattr(dim, "text", ":"))
 
 
 def _element_declaration(declaration: Declaration, name: str, index: tuple[int, ...],
@@ -1154,8 +1154,10 @@ class Component:
         if not declared:
             return object.__new__(cls)
         everything = base.declarations()
+        read: list[str] = []  # what the sizes are read from
 
         def value(name: str) -> Any:
+            read.append(name)
             if name in modifiers:
                 return modifiers[name]
             if name not in everything:
@@ -1171,7 +1173,9 @@ class Component:
                 shapes[name] = shape
         if not shapes:
             return object.__new__(cls)
-        sized_by = {d: value(d) for _, decl in declared for d in _size_names(decl.shape)}
+        # the structural parameters the sizes were read from: changing one later is refused
+        sized_by = {d: value(d) for d in dict.fromkeys(read)
+                    if isinstance(everything.get(d), Parameter) and everything[d].structural}
         klass = _sized_class(base, tuple(shapes.items()), tuple(sized_by.items()))
         return object.__new__(klass)
 

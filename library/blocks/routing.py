@@ -160,57 +160,29 @@ class DeMultiplex(Component):
         return [Eq(self.y, self.u)]
 
 
+def _total(parts: int):
+    """The size ``n1 + ... + n<parts>`` of a concatenated vector (a shape read from the sizes)."""
+    def size(value) -> int:
+        return sum(value(f"n{i}") for i in range(1, parts + 1))
+
+    size.text = " + ".join(f"n{i}" for i in range(1, parts + 1))  # how show writes it
+    return size
+
+
 class _Concatenation(Component):
     """A block with a vector that is the concatenation of ``parts`` vectors of sizes
-    ``n1``, ``n2``, ...: its size ``n`` is a structural parameter set from them.
-
-    ``n`` is completed in the modifiers before the instance is sized
-    (:meth:`Component.__new__`) and applied; given with a value other than
-    ``n1 + n2 + ...`` it is an error.
-    """
+    ``n1``, ``n2``, ... (Modelica's ``y[n1 + n2]``)."""
 
     #: The number of concatenated vectors (n1 ... n<parts>).
     parts: ClassVar[int] = 0
-
-    def __new__(cls, *args: Any, **modifiers: Any):
-        return super().__new__(cls, *args, **cls._with_size(modifiers))
-
-    def __init__(self, **modifiers: Any) -> None:
-        super().__init__(**type(self)._with_size(modifiers))
-
-    @classmethod
-    def _part_names(cls) -> list[str]:
-        return [f"n{i}" for i in range(1, cls.parts + 1)]
-
-    @classmethod
-    def _with_size(cls, modifiers: dict[str, Any]) -> dict[str, Any]:
-        """``modifiers`` with ``n = n1 + n2 + ...`` (from the modifiers or the defaults)."""
-        declarations = cls.declarations()
-        sizes = [modifiers.get(name, declarations[name].default) for name in cls._part_names()]
-        for name, size in zip(cls._part_names(), sizes):
-            if isinstance(size, bool) or not isinstance(size, int) or size < 0:
-                raise ModifierError(f"{cls.__name__}.{name} = {size!r}: a vector size is an integer >= 0")
-        total = sum(sizes)
-        if "n" in modifiers and modifiers["n"] != total:
-            raise ArraySizeError(f"{cls.__name__}: n = {modifiers['n']!r}, but the parts have sizes "
-                                 f"{' + '.join(map(str, sizes))} = {total}",
-                                 hint="n is set from n1, n2, ...; leave it out")
-        return {**modifiers, "n": total}
 
     def _parts(self, prefix: str) -> list[Array]:
         """The concatenated vectors ``prefix1``, ``prefix2``, ... of this instance."""
         return [getattr(self, f"{prefix}{i}") for i in range(1, self.parts + 1)]
 
 
-def _size(part: int, of: str) -> Parameter:
-    """The structural size ``n<part>`` of the ``of`` ("input" or "output") vector number ``part``."""
-    return Parameter(1, structural=True, min=0, description=f"Dimension of {of} signal connector {part}")
-
-
 class _Multiplex(_Concatenation):
     """Base of Multiplex2 ... Multiplex6: ``y = [u1; u2; ...]``."""
-
-    y = RealOutput("n", description="Connector of Real output signals")
 
     def equations(self):
         return [Eq(self.y, cat(1, *self._parts("u")))]
@@ -219,173 +191,38 @@ class _Multiplex(_Concatenation):
 class _DeMultiplex(_Concatenation):
     """Base of DeMultiplex2 ... DeMultiplex6: ``[u] = [y1; y2; ...]``."""
 
-    u = RealInput("n", description="Connector of Real input signals")
-
     def equations(self):
         return [Eq(cat(1, *self._parts("y")), self.u)]
 
 
-class Multiplex2(_Multiplex):
-    """Multiplexer block for two input connectors (Modelica.Blocks.Routing.Multiplex2):
-    ``y[n1 + n2] = [u1; u2]``."""
-
-    parts = 2
-    n = Parameter(2, structural=True, description="Dimension of y, n1 + n2 (set from them)")
-    n1 = _size(1, "input")
-    n2 = _size(2, "input")
-    u1 = RealInput("n1", description="Connector of Real input signals 1")
-    u2 = RealInput("n2", description="Connector of Real input signals 2")
+_ORDINALS = {2: "two", 3: "three", 4: "four", 5: "five", 6: "six"}
 
 
-class Multiplex3(_Multiplex):
-    """Multiplexer block for three input connectors (Modelica.Blocks.Routing.Multiplex3):
-    ``y[n1 + n2 + n3] = [u1; u2; u3]``."""
-
-    parts = 3
-    n = Parameter(3, structural=True, description="Dimension of y, n1 + n2 + n3 (set from them)")
-    n1 = _size(1, "input")
-    n2 = _size(2, "input")
-    n3 = _size(3, "input")
-    u1 = RealInput("n1", description="Connector of Real input signals 1")
-    u2 = RealInput("n2", description="Connector of Real input signals 2")
-    u3 = RealInput("n3", description="Connector of Real input signals 3")
-
-
-class Multiplex4(_Multiplex):
-    """Multiplexer block for four input connectors (Modelica.Blocks.Routing.Multiplex4):
-    ``y[n1 + ... + n4] = [u1; u2; u3; u4]``."""
-
-    parts = 4
-    n = Parameter(4, structural=True, description="Dimension of y, n1 + ... + n4 (set from them)")
-    n1 = _size(1, "input")
-    n2 = _size(2, "input")
-    n3 = _size(3, "input")
-    n4 = _size(4, "input")
-    u1 = RealInput("n1", description="Connector of Real input signals 1")
-    u2 = RealInput("n2", description="Connector of Real input signals 2")
-    u3 = RealInput("n3", description="Connector of Real input signals 3")
-    u4 = RealInput("n4", description="Connector of Real input signals 4")
+def _concatenation(base: type, parts: int) -> type:
+    """Multiplex<parts> or DeMultiplex<parts>, as the MSL declares it: sizes ``n1`` ...,
+    vectors ``u1`` ... (or ``y1`` ...) and the whole vector ``y[n1 + ...]`` (or ``u``)."""
+    mux = base is _Multiplex
+    name = f"{'Multiplex' if mux else 'DeMultiplex'}{parts}"
+    listed = "; ".join(f"{'u' if mux else 'y'}{i}" for i in range(1, parts + 1))
+    total = " + ".join(f"n{i}" for i in range(1, parts + 1)) if parts < 4 else f"n1 + ... + n{parts}"
+    doc = (f"{'Multiplexer' if mux else 'DeMultiplexer'} block for {_ORDINALS[parts]} "
+           f"{'input' if mux else 'output'} connectors (Modelica.Blocks.Routing.{name}): "
+           + (f"``y[{total}] = [{listed}]``." if mux else f"``[u] = [{listed}]``, ``u`` of size ``{total}``."))
+    namespace: dict[str, Any] = {"__module__": __name__, "__qualname__": name, "__doc__": doc, "parts": parts}
+    part, whole = (RealInput, RealOutput) if mux else (RealOutput, RealInput)
+    kind = "input" if mux else "output"
+    for i in range(1, parts + 1):
+        namespace[f"n{i}"] = Parameter(1, structural=True, min=0, description=f"Dimension of {kind} signal connector {i}")
+    for i in range(1, parts + 1):
+        namespace[f"{'u' if mux else 'y'}{i}"] = part(f"n{i}", description=f"Connector of Real {kind} signals {i}")
+    namespace["y" if mux else "u"] = whole(_total(parts), description=f"Connector of Real "
+                                                                     f"{'output' if mux else 'input'} signals")
+    return type(name, (base,), namespace)
 
 
-class Multiplex5(_Multiplex):
-    """Multiplexer block for five input connectors (Modelica.Blocks.Routing.Multiplex5):
-    ``y[n1 + ... + n5] = [u1; u2; u3; u4; u5]``."""
-
-    parts = 5
-    n = Parameter(5, structural=True, description="Dimension of y, n1 + ... + n5 (set from them)")
-    n1 = _size(1, "input")
-    n2 = _size(2, "input")
-    n3 = _size(3, "input")
-    n4 = _size(4, "input")
-    n5 = _size(5, "input")
-    u1 = RealInput("n1", description="Connector of Real input signals 1")
-    u2 = RealInput("n2", description="Connector of Real input signals 2")
-    u3 = RealInput("n3", description="Connector of Real input signals 3")
-    u4 = RealInput("n4", description="Connector of Real input signals 4")
-    u5 = RealInput("n5", description="Connector of Real input signals 5")
-
-
-class Multiplex6(_Multiplex):
-    """Multiplexer block for six input connectors (Modelica.Blocks.Routing.Multiplex6):
-    ``y[n1 + ... + n6] = [u1; u2; u3; u4; u5; u6]``."""
-
-    parts = 6
-    n = Parameter(6, structural=True, description="Dimension of y, n1 + ... + n6 (set from them)")
-    n1 = _size(1, "input")
-    n2 = _size(2, "input")
-    n3 = _size(3, "input")
-    n4 = _size(4, "input")
-    n5 = _size(5, "input")
-    n6 = _size(6, "input")
-    u1 = RealInput("n1", description="Connector of Real input signals 1")
-    u2 = RealInput("n2", description="Connector of Real input signals 2")
-    u3 = RealInput("n3", description="Connector of Real input signals 3")
-    u4 = RealInput("n4", description="Connector of Real input signals 4")
-    u5 = RealInput("n5", description="Connector of Real input signals 5")
-    u6 = RealInput("n6", description="Connector of Real input signals 6")
-
-
-class DeMultiplex2(_DeMultiplex):
-    """DeMultiplexer block for two output connectors (Modelica.Blocks.Routing.DeMultiplex2):
-    ``[u] = [y1; y2]``, ``u`` of size ``n1 + n2``."""
-
-    parts = 2
-    n = Parameter(2, structural=True, description="Dimension of u, n1 + n2 (set from them)")
-    n1 = _size(1, "output")
-    n2 = _size(2, "output")
-    y1 = RealOutput("n1", description="Connector of Real output signals 1")
-    y2 = RealOutput("n2", description="Connector of Real output signals 2")
-
-
-class DeMultiplex3(_DeMultiplex):
-    """DeMultiplexer block for three output connectors (Modelica.Blocks.Routing.DeMultiplex3):
-    ``[u] = [y1; y2; y3]``, ``u`` of size ``n1 + n2 + n3``."""
-
-    parts = 3
-    n = Parameter(3, structural=True, description="Dimension of u, n1 + n2 + n3 (set from them)")
-    n1 = _size(1, "output")
-    n2 = _size(2, "output")
-    n3 = _size(3, "output")
-    y1 = RealOutput("n1", description="Connector of Real output signals 1")
-    y2 = RealOutput("n2", description="Connector of Real output signals 2")
-    y3 = RealOutput("n3", description="Connector of Real output signals 3")
-
-
-class DeMultiplex4(_DeMultiplex):
-    """DeMultiplexer block for four output connectors (Modelica.Blocks.Routing.DeMultiplex4):
-    ``[u] = [y1; y2; y3; y4]``, ``u`` of size ``n1 + ... + n4``."""
-
-    parts = 4
-    n = Parameter(4, structural=True, description="Dimension of u, n1 + ... + n4 (set from them)")
-    n1 = _size(1, "output")
-    n2 = _size(2, "output")
-    n3 = _size(3, "output")
-    n4 = _size(4, "output")
-    y1 = RealOutput("n1", description="Connector of Real output signals 1")
-    y2 = RealOutput("n2", description="Connector of Real output signals 2")
-    y3 = RealOutput("n3", description="Connector of Real output signals 3")
-    y4 = RealOutput("n4", description="Connector of Real output signals 4")
-
-
-class DeMultiplex5(_DeMultiplex):
-    """DeMultiplexer block for five output connectors (Modelica.Blocks.Routing.DeMultiplex5):
-    ``[u] = [y1; y2; y3; y4; y5]``, ``u`` of size ``n1 + ... + n5``."""
-
-    parts = 5
-    n = Parameter(5, structural=True, description="Dimension of u, n1 + ... + n5 (set from them)")
-    n1 = _size(1, "output")
-    n2 = _size(2, "output")
-    n3 = _size(3, "output")
-    n4 = _size(4, "output")
-    n5 = _size(5, "output")
-    y1 = RealOutput("n1", description="Connector of Real output signals 1")
-    y2 = RealOutput("n2", description="Connector of Real output signals 2")
-    y3 = RealOutput("n3", description="Connector of Real output signals 3")
-    y4 = RealOutput("n4", description="Connector of Real output signals 4")
-    y5 = RealOutput("n5", description="Connector of Real output signals 5")
-
-
-class DeMultiplex6(_DeMultiplex):
-    """DeMultiplexer block for six output connectors (Modelica.Blocks.Routing.DeMultiplex6):
-    ``[u] = [y1; y2; y3; y4; y5; y6]``, ``u`` of size ``n1 + ... + n6``."""
-
-    parts = 6
-    n = Parameter(6, structural=True, description="Dimension of u, n1 + ... + n6 (set from them)")
-    n1 = _size(1, "output")
-    n2 = _size(2, "output")
-    n3 = _size(3, "output")
-    n4 = _size(4, "output")
-    n5 = _size(5, "output")
-    n6 = _size(6, "output")
-    y1 = RealOutput("n1", description="Connector of Real output signals 1")
-    y2 = RealOutput("n2", description="Connector of Real output signals 2")
-    y3 = RealOutput("n3", description="Connector of Real output signals 3")
-    y4 = RealOutput("n4", description="Connector of Real output signals 4")
-    y5 = RealOutput("n5", description="Connector of Real output signals 5")
-    y6 = RealOutput("n6", description="Connector of Real output signals 6")
-
-
-# -- pass-through ---------------------------------------------------------------------------
+Multiplex2, Multiplex3, Multiplex4, Multiplex5, Multiplex6 = (_concatenation(_Multiplex, k) for k in range(2, 7))
+DeMultiplex2, DeMultiplex3, DeMultiplex4, DeMultiplex5, DeMultiplex6 = (
+    _concatenation(_DeMultiplex, k) for k in range(2, 7))
 
 
 class RealPassThrough(SISO):
