@@ -647,8 +647,13 @@ def _point_in_subprocess(call: str, timeout: float, env_extra: dict | None = Non
 
 
 def _scaling_point_subprocess(n: int, stop_time: float, timeout: float) -> dict:
-    report, failure, wall, timed_out = _point_in_subprocess(
-        f"scaling_point({n}, {stop_time!r}, progress=report)", timeout)
+    return _measured_point(n, f"scaling_point({n}, {stop_time!r}, progress=report)", timeout)
+
+
+def _measured_point(n: int, call: str, timeout: float) -> dict:
+    """The point ``call`` measures in a fresh process; what it finished, with the reason, when it
+    stops early or fails."""
+    report, failure, wall, timed_out = _point_in_subprocess(call, timeout)
     if timed_out:
         partial = report or {"n": n}
         phase = partial.pop("phase", "")
@@ -939,15 +944,7 @@ def array_scaling_point(n: int, case: ArrayScalingCase | None = None, rtol: floa
 
 
 def _array_scaling_point_subprocess(n: int, timeout: float) -> dict:
-    report, failure, wall, timed_out = _point_in_subprocess(f"array_scaling_point({n}, progress=report)", timeout)
-    if timed_out:
-        partial = report or {"n": n}
-        phase = partial.pop("phase", "")
-        partial.update(status=f"stopped after {timeout:.0f} s" + (f" ({phase})" if phase else ""), wall=wall)
-        return partial
-    if report is not None and failure is None:
-        return report
-    return {"n": n, "status": failure or "failed: no report", "wall": wall}
+    return _measured_point(n, f"array_scaling_point({n}, progress=report)", timeout)
 
 
 def run_array_scaling(sizes: Sequence[int] = FULL_ARRAY_SCALING, case: ArrayScalingCase | None = None,
