@@ -48,6 +48,8 @@ class FlowToPotentialAdaptor(_Adaptor):
     The subclass sets ``y`` to its flange's potential and ``u`` to its flow.
     """
 
+    modelica_name = "Modelica.Blocks.Interfaces.Adaptors.FlowToPotentialAdaptor"
+
     use_pder, use_pder2 = _derivative_switches("output")
 
     def equations(self):
@@ -86,6 +88,8 @@ class PotentialToFlowAdaptor(_Adaptor):
     the model is refused with a StructuralError whose hint is ``pder_hint``.
     The subclass sets ``y`` to its flange's flow and ``u`` to its potential.
     """
+
+    modelica_name = "Modelica.Blocks.Interfaces.Adaptors.PotentialToFlowAdaptor"
 
     #: Whether a derivative beyond pder (pder2) is der() of that input (see prescribed()).
     differentiate_last = False

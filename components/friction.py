@@ -88,6 +88,8 @@ class PartialFriction(Component):
        Hawaii, August 1999.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialFriction"
+
     hints = {
         "mode": "elements that can lock the same relative motion (two friction elements, or a "
                 "bearing and a brake, on one rigid shaft) leave the split of the holding torque "

@@ -44,6 +44,8 @@ class Flange(Connector):
     torque, N.m; positive when it acts on the component the flange belongs to).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.Flange"
+
     family = "rotational"
     phi = Potential(unit="rad", description="Absolute rotation angle of flange")
     tau = Flow(unit="N.m", description="Cut torque in the flange")
@@ -52,17 +54,25 @@ class Flange(Connector):
 class Flange_a(Flange):  # noqa: N801 - Modelica name
     """Driving flange (Modelica.Mechanics.Rotational.Interfaces.Flange_a), identical to Flange."""
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.Flange_a"
+
 
 class Flange_b(Flange):  # noqa: N801 - Modelica name
     """Driven flange (Modelica.Mechanics.Rotational.Interfaces.Flange_b), identical to Flange."""
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.Flange_b"
 
 
 class Support(Flange):
     """Support/housing flange (Modelica.Mechanics.Rotational.Interfaces.Support), identical to Flange."""
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.Support"
+
 
 class PartialTwoFlanges(Component):
     """Two flanges and no equations (Modelica.Mechanics.Rotational.Interfaces.PartialTwoFlanges)."""
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialTwoFlanges"
 
     flange_a = Flange_a()
     flange_b = Flange_b()
@@ -75,6 +85,8 @@ class PartialCompliant(PartialTwoFlanges):
     the torque ``tau`` transmitted from flange_a to flange_b
     (``flange_b.tau = tau``, ``flange_a.tau = -tau``).
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialCompliant"
 
     phi_rel = Variable(start=0.0, unit="rad",
                        description="Relative rotation angle (= flange_b.phi - flange_a.phi)")
@@ -101,6 +113,8 @@ class PartialCompliantWithRelativeStates(PartialTwoFlanges):
     default), so these relative quantities are chosen as states, and
     ``phi_nominal`` (1e-4 rad) scales the error control of ``phi_rel``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialCompliantWithRelativeStates"
 
     phi_nominal = Parameter(1e-4, unit="rad", min=0,
                             description="Nominal value of phi_rel (used for scaling)")
@@ -132,6 +146,8 @@ class PartialElementaryOneFlangeAndSupport2(Component):
     -flange.tau``); without it the housing is grounded (``phi_support = 0``).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryOneFlangeAndSupport2"
+
     useSupport = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                            description="= true, if support flange enabled, otherwise implicitly grounded")
     flange = Flange_b(description="Flange of shaft")
@@ -151,6 +167,8 @@ class PartialElementaryTwoFlangesAndSupport2(PartialTwoFlanges):
     (``support.phi = phi_support``, ``support.tau = -flange_a.tau -
     flange_b.tau``); without it the housing is grounded (``phi_support = 0``).
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryTwoFlangesAndSupport2"
 
     useSupport = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                            description="= true, if support flange enabled, otherwise implicitly grounded")
@@ -178,6 +196,8 @@ class PartialElementaryRotationalToTranslational(Component):
     * ``useSupportT``: ``supportT.s = s_support`` and ``supportT.f =
       -flangeT.f``; otherwise ``s_support = 0``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryRotationalToTranslational"
 
     useSupportR = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                             description="= true, if rotational support flange enabled, otherwise implicitly grounded")
@@ -213,6 +233,8 @@ class PartialTorque(PartialElementaryOneFlangeAndSupport2):
     phi_support``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialTorque"
+
     phi = Variable(unit="rad", description="Angle of flange with respect to support")
 
     def equations(self):
@@ -225,6 +247,8 @@ class PartialAbsoluteSensor(Component):
     ``0 = flange.tau``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialAbsoluteSensor"
+
     flange = Flange_a(description="Flange to be measured")
 
     def equations(self):
@@ -236,6 +260,8 @@ class PartialRelativeSensor(Component):
 
     ``0 = flange_a.tau + flange_b.tau``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Interfaces.PartialRelativeSensor"
 
     flange_a = Flange_a()
     flange_b = Flange_b()

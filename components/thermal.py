@@ -21,6 +21,8 @@ class HeatPort(Connector):
     rate, W; positive when heat flows into the component).
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Interfaces.HeatPort"
+
     family = "thermal"
     T = Potential(unit="K", start=293.15, description="Port temperature")
     Q_flow = Flow(unit="W",
@@ -30,9 +32,13 @@ class HeatPort(Connector):
 class HeatPort_a(HeatPort):  # noqa: N801 - Modelica name
     """Thermal port (Modelica.Thermal.HeatTransfer.Interfaces.HeatPort_a, filled icon), identical to HeatPort."""
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Interfaces.HeatPort_a"
+
 
 class HeatPort_b(HeatPort):  # noqa: N801 - Modelica name
     """Thermal port (Modelica.Thermal.HeatTransfer.Interfaces.HeatPort_b, open icon), identical to HeatPort."""
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Interfaces.HeatPort_b"
 
 
 class Element1D(Component):
@@ -41,6 +47,8 @@ class Element1D(Component):
     ``dT = port_a.T - port_b.T`` and the heat flow ``Q_flow`` from port_a to
     port_b (``port_a.Q_flow = Q_flow``, ``port_b.Q_flow = -Q_flow``).
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Interfaces.Element1D"
 
     port_a = HeatPort_a()
     port_b = HeatPort_b()
@@ -63,6 +71,8 @@ class PartialElementaryConditionalHeatPortWithoutT(Component):
     ``heatPort.Q_flow = -lossPower``; its temperature is not used.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Interfaces.PartialElementaryConditionalHeatPortWithoutT"
+
     useHeatPort = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                             description="= true, if heatPort is enabled")
     heatPort = HeatPort_a(condition="useHeatPort",  # noqa: N815 - Modelica name
@@ -82,6 +92,8 @@ class PartialElementaryConditionalHeatPort(Component):
     Like the WithoutT variant, plus ``TheatPort``: the port temperature when
     ``useHeatPort``, otherwise the fixed device temperature parameter ``T``.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Interfaces.PartialElementaryConditionalHeatPort"
 
     useHeatPort = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                             description="= true, if heatPort is enabled")

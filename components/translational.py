@@ -57,6 +57,8 @@ class Flange(Connector):
     the flange belongs to).
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.Flange"
+
     family = "translational"
     s = Potential(unit="m", description="Absolute position of flange")
     f = Flow(unit="N", description="Cut force directed into flange")
@@ -65,17 +67,25 @@ class Flange(Connector):
 class Flange_a(Flange):  # noqa: N801 - Modelica name
     """Left flange (Modelica.Mechanics.Translational.Interfaces.Flange_a), identical to Flange."""
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.Flange_a"
+
 
 class Flange_b(Flange):  # noqa: N801 - Modelica name
     """Right flange (Modelica.Mechanics.Translational.Interfaces.Flange_b), identical to Flange."""
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.Flange_b"
 
 
 class Support(Flange):
     """Support/housing flange (Modelica.Mechanics.Translational.Interfaces.Support), identical to Flange."""
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.Support"
+
 
 class PartialTwoFlanges(Component):
     """Two flanges and no equations (Modelica.Mechanics.Translational.Interfaces.PartialTwoFlanges)."""
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialTwoFlanges"
 
     flange_a = Flange_a(description="Flange of left end")
     flange_b = Flange_b(description="Flange of right end")
@@ -87,6 +97,8 @@ class PartialRigid(PartialTwoFlanges):
     A body of length ``L`` with centre ``s``: ``flange_a.s = s - L/2``,
     ``flange_b.s = s + L/2``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialRigid"
 
     L = Parameter(0.0, unit="m",
                   description="Length of component, from left flange to right flange (= flange_b.s - flange_a.s)")
@@ -103,6 +115,8 @@ class PartialCompliant(PartialTwoFlanges):
     ``s_rel = flange_b.s - flange_a.s``; the force ``f`` acts on flange_b and
     its reaction on flange_a (``flange_b.f = f``, ``flange_a.f = -f``).
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialCompliant"
 
     s_rel = Variable(start=0.0, unit="m", description="Relative distance (= flange_b.s - flange_a.s)")
     f = Variable(unit="N", description="Force between flanges (positive in direction of flange axis R)")
@@ -128,6 +142,8 @@ class PartialCompliantWithRelativeStates(PartialTwoFlanges):
     (1e-4 m) scales the error control of ``s_rel``.  Unlike the rotational
     partial there is no relative acceleration.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialCompliantWithRelativeStates"
 
     stateSelect = Parameter(StateSelect.prefer, structural=True,  # noqa: N815 - Modelica name
                             description="Priority to use s_rel and v_rel as states")
@@ -156,6 +172,8 @@ class PartialElementaryOneFlangeAndSupport2(Component):
     housing is grounded (``s_support = 0``).
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialElementaryOneFlangeAndSupport2"
+
     useSupport = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                            description="= true, if support flange enabled, otherwise implicitly grounded")
     flange = Flange_b(description="Flange of component")
@@ -179,6 +197,8 @@ class PartialElementaryTwoFlangesAndSupport2(PartialTwoFlanges):
     without it the housing is grounded (``s_support = 0``).
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialElementaryTwoFlangesAndSupport2"
+
     useSupport = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                            description="= true, if support flange enabled, otherwise implicitly grounded")
     support = Support(condition="useSupport", description="Support/housing of component")
@@ -200,6 +220,8 @@ class PartialForce(PartialElementaryOneFlangeAndSupport2):
     ``f = flange.f``: the force that accelerates the flange.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialForce"
+
     f = Variable(unit="N", description="Accelerating force acting at flange (= flange.f)")
 
     def equations(self):
@@ -212,6 +234,8 @@ class PartialAbsoluteSensor(Component):
     ``0 = flange.f``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialAbsoluteSensor"
+
     flange = Flange_a(description="Flange to be measured (flange axis directed into cut plane)")
 
     def equations(self):
@@ -223,6 +247,8 @@ class PartialRelativeSensor(PartialTwoFlanges):
 
     ``0 = flange_a.f + flange_b.f``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialRelativeSensor"
 
     def equations(self):
         return [Eq(0, self.flange_a.f + self.flange_b.f)]
@@ -267,6 +293,8 @@ class PartialFriction(Component):
        Modelica based on the Synchronous Data Flow Principle", CACSD'99,
        Hawaii, August 1999.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Interfaces.PartialFriction"
 
     Unknown = Unknown
     Free = Free

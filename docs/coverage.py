@@ -9,7 +9,8 @@ A class's state is found from the code, not written by hand:
 - **implemented**: the acausal package that mirrors the MSL package
   (``acausal.library.rotational`` for ``Modelica.Mechanics.Rotational.Components``,
   ``acausal.components.rotational`` for its ``Interfaces``, ...) exports a class of
-  that name whose docstring names the Modelica class;
+  that name whose Modelica name (its ``modelica_name``, read by
+  ``acausal.tools.catalog.msl_name``) is the Modelica class;
 - **checked against a reference**: an example in ``examples/`` that declares
   ``modelica_class`` (and so is compared with the Modelica Association's
   reference result) contains an instance of it;
@@ -90,7 +91,9 @@ HOME = {
 
 
 def implemented(package: str) -> dict[str, type]:
-    """MSL class name -> the acausal class that implements it (its docstring names the MSL class)."""
+    """MSL class name -> the acausal class that implements it (its ``modelica_name`` is the MSL class)."""
+    from acausal.tools.catalog import msl_name
+
     found = {}
     for home in HOME[package].split():
         try:
@@ -99,7 +102,7 @@ def implemented(package: str) -> dict[str, type]:
             continue
         for name in MSL[package].split():
             klass = getattr(module, name, None)
-            if isinstance(klass, type) and f"{package}.{name}" in (klass.__doc__ or ""):
+            if isinstance(klass, type) and msl_name(klass) == f"{package}.{name}":
                 found.setdefault(name, klass)
     return found
 

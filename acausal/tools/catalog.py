@@ -103,11 +103,23 @@ def component_classes(module: ModuleType) -> list[type]:
 
 
 def msl_name(klass: type) -> str | None:
-    """The Modelica Standard Library class ``klass`` reproduces, from its docstring, or None.
+    """The Modelica Standard Library class ``klass`` reproduces, or None.
 
-    The first ``(Modelica.…`` in the first paragraph of the class's own docstring:
+    The ``modelica_name`` the class declares itself
+    (``modelica_name = "Modelica.Mechanics.Rotational.Components.Clutch"``), never an
+    inherited one: a subclass that reproduces another MSL class declares its own, and one
+    that declares none reproduces none.  A sized subclass made at run time (its ``_unsized``
+    base) has its base's name.  A class that declares no ``modelica_name`` falls back to the
+    first ``(Modelica.…`` in the first paragraph of its own docstring:
     ``"Clutch with controlled normal force (Modelica.Mechanics.Rotational.Components.Clutch)."``
     """
+    own = vars(klass)
+    base = own.get("_unsized")
+    if isinstance(base, type) and base is not klass:
+        return msl_name(base)
+    if "modelica_name" in own:
+        declared = own["modelica_name"]
+        return declared if isinstance(declared, str) else None
     paragraph = own_docstring(klass).split("\n\n", 1)[0]
     match = MSL_CLASS.search(paragraph)
     return match.group(1) if match else None

@@ -29,11 +29,15 @@ __all__ = ["BooleanConstant", "BooleanStep", "BooleanPulse", "SampleTrigger", "B
 class PartialBooleanSource(Component):
     """A Boolean output (Modelica.Blocks.Interfaces.partialBooleanSource)."""
 
+    modelica_name = "Modelica.Blocks.Interfaces.partialBooleanSource"
+
     y = BooleanOutput(description="Connector of Boolean output signal")
 
 
 class BooleanConstant(PartialBooleanSource):
     """Generate constant signal of type Boolean (Modelica.Blocks.Sources.BooleanConstant): ``y = k``."""
+
+    modelica_name = "Modelica.Blocks.Sources.BooleanConstant"
 
     k = Parameter(True, structural=True, description="Constant output value")
 
@@ -47,6 +51,8 @@ class BooleanStep(PartialBooleanSource):
     ``y = startValue`` before ``startTime`` and ``not startValue`` from it on
     (a time event; at ``time = startTime`` the new value holds).
     """
+
+    modelica_name = "Modelica.Blocks.Sources.BooleanStep"
 
     startTime = Parameter(0.0, unit="s", description="Time instant of step start")  # noqa: N815
     startValue = Parameter(False, structural=True, description="Output before startTime")  # noqa: N815
@@ -63,6 +69,8 @@ class BooleanPulse(PartialBooleanSource):
     a pulse starts at every ``sample(startTime, period)`` instant
     (``pulseStart = time``) and ends ``period*width/100`` later.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.BooleanPulse"
 
     width = Parameter(50.0, unit="1", min=0, max=100, description="Width of pulse in % of period")
     period = Parameter(1.0, unit="s", min=0, description="Time for one period")
@@ -86,6 +94,8 @@ class SampleTrigger(PartialBooleanSource):
     the event iteration there.
     """
 
+    modelica_name = "Modelica.Blocks.Sources.SampleTrigger"
+
     period = Parameter(0.01, unit="s", min=0, description="Sample period")
     startTime = Parameter(0.0, unit="s", description="Time instant of first sample trigger")  # noqa: N815
 
@@ -107,6 +117,8 @@ class BooleanTable(_StepTable, PartialBooleanSource):
     and ``shiftTime`` act as in the CombiTimeTable, and before a finite
     ``startTime`` the output is false.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.BooleanTable"
 
     table = Parameter((0.0, 1.0), unit="s", structural=True,
                       description="Vector of time points. At every time point, the output y gets its opposite value")
@@ -146,6 +158,8 @@ class BooleanToReal(Component):
     """Convert Boolean to Real signal (Modelica.Blocks.Math.BooleanToReal):
     ``y = realTrue if u else realFalse``."""
 
+    modelica_name = "Modelica.Blocks.Math.BooleanToReal"
+
     realTrue = Parameter(1.0, description="Output signal for true Boolean input")  # noqa: N815
     realFalse = Parameter(0.0, description="Output signal for false Boolean input")  # noqa: N815
     u = BooleanInput(description="Connector of Boolean input signal")
@@ -157,6 +171,8 @@ class BooleanToReal(Component):
 
 class RealToBoolean(Component):
     """Convert Real to Boolean signal (Modelica.Blocks.Math.RealToBoolean): ``y = u >= threshold``."""
+
+    modelica_name = "Modelica.Blocks.Math.RealToBoolean"
 
     threshold = Parameter(0.5, description="Output signal y is true, if input u >= threshold")
     u = RealInput(description="Connector of Real input signal")

@@ -31,6 +31,10 @@ class Init(enum.IntEnum):
     InitialOutput = 4  #: initialization with initial outputs (and steady state of the states if possible)
 
 
+# set after the body: in an IntEnum's body a str would become a member
+Init.modelica_name = "Modelica.Blocks.Types.Init"
+
+
 def _init_type(value) -> Init:
     """``value`` as an :class:`Init` (also accepts its name)."""
     if isinstance(value, str):
@@ -102,6 +106,8 @@ class Integrator(_PartialIntegrator):
     ``use_set`` to the input ``set``.
     """
 
+    modelica_name = "Modelica.Blocks.Continuous.Integrator"
+
     def equations(self):
         return [Eq(der(self.y), self.k * self.u)]
 
@@ -114,6 +120,8 @@ class LimIntegrator(DerivedDefaults, _PartialIntegrator):
     ``strict``, the switching instants are state events).  A reset
     reinitializes ``y`` to the reset value clamped to the limits.
     """
+
+    modelica_name = "Modelica.Blocks.Continuous.LimIntegrator"
 
     outMax = Parameter(1.0, description="Upper limit of output")  # noqa: N815
     outMin = Parameter(None, description="Lower limit of output (default -outMax)")  # noqa: N815
@@ -153,6 +161,8 @@ class FirstOrder(_InitializedOutput):
     only a guess of the initial output.
     """
 
+    modelica_name = "Modelica.Blocks.Continuous.FirstOrder"
+
     k = Parameter(1.0, description="Gain")
     T = Parameter(1.0, unit="s", min=0, description="Time Constant")
     initType = Parameter(Init.NoInit, structural=True,  # noqa: N815
@@ -170,6 +180,8 @@ class Der(SISO):
     The derivative is symbolic: what drives ``u`` is differentiated (index
     reduction), not differenced numerically.
     """
+
+    modelica_name = "Modelica.Blocks.Continuous.Der"
 
     def equations(self):
         return [Eq(self.y, der(self.u))]
@@ -320,6 +332,8 @@ class StateSpace(_SizedByValues, MIMO):
       equalityLeastSquares requires too.
     """
 
+    modelica_name = "Modelica.Blocks.Continuous.StateSpace"
+
     A = Parameter([[1.0, 0.0], [0.0, 1.0]], description="Matrix A of state space model (e.g., A=[[1, 0], [0, 1]])")
     B = Parameter([[1.0], [1.0]], description="Matrix B of state space model (e.g., B=[[1], [1]])")
     C = Parameter([[1.0, 1.0]], description="Matrix C of state space model (e.g., C=[[1, 1]])")
@@ -418,6 +432,8 @@ class TransferFunction(_SizedByValues, DerivedDefaults, SISO):
     the ``nx-1``-th are zero (``der(x_scaled[2:nx]) = 0``); without states
     (``nx = 0``) that over-determines the initialization, as in Modelica.
     """
+
+    modelica_name = "Modelica.Blocks.Continuous.TransferFunction"
 
     b = Parameter([1.0], description="Numerator coefficients of transfer function (e.g., 2*s+3 is specified "
                                      "as [2, 3])")

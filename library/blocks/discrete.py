@@ -89,6 +89,8 @@ class DiscreteBlock(Component):
     sample).  Both are protected in Modelica, but recorded.
     """
 
+    modelica_name = "Modelica.Blocks.Interfaces.DiscreteBlock"
+
     samplePeriod = Parameter(0.1, unit="s", min=100 * EPS, description="Sample period of component")  # noqa: N815
     startTime = Parameter(0.0, unit="s", description="First sample time instant")  # noqa: N815
     sampleTrigger = Boolean(description="True, if sample time instant")  # noqa: N815
@@ -107,6 +109,8 @@ class DiscreteBlock(Component):
 class DiscreteSISO(DiscreteBlock, SISO):
     """Single input, single output discrete block (Modelica.Blocks.Interfaces.DiscreteSISO)."""
 
+    modelica_name = "Modelica.Blocks.Interfaces.DiscreteSISO"
+
 
 class DiscreteMIMO(DiscreteBlock, VectorBlock):
     """Multiple input, multiple output discrete block (Modelica.Blocks.Interfaces.DiscreteMIMO).
@@ -114,6 +118,8 @@ class DiscreteMIMO(DiscreteBlock, VectorBlock):
     The inputs ``u[1..nin]`` and outputs ``y[1..nout]``; the sizes come from
     :meth:`sizes` (the structural parameters ``nin`` and ``nout`` here).
     """
+
+    modelica_name = "Modelica.Blocks.Interfaces.DiscreteMIMO"
 
     nin = Parameter(1, structural=True, min=1, description="Number of inputs")
     nout = Parameter(1, structural=True, min=1, description="Number of outputs")
@@ -145,6 +151,8 @@ class Sampler(DiscreteSISO):
     value (``y(start=0, fixed=true)``).
     """
 
+    modelica_name = "Modelica.Blocks.Discrete.Sampler"
+
     y = RealOutput(start=0.0, fixed=True, description="Connector of Real output signal")
 
     def equations(self):
@@ -159,6 +167,8 @@ class ZeroOrderHold(DiscreteSISO):
     ``y = pre(ySample)``, which delays it by one event iteration only (it
     breaks algebraic loops through the block).
     """
+
+    modelica_name = "Modelica.Blocks.Discrete.ZeroOrderHold"
 
     ySample = RealOutput(start=0.0, fixed=True, description="Sampled input")  # noqa: N815
 
@@ -179,6 +189,8 @@ class FirstOrderHold(DiscreteSISO):
     extrapolates.  The variables start from ``u`` and ``time`` at
     initialization (Modelica's initial equations on their ``pre`` values).
     """
+
+    modelica_name = "Modelica.Blocks.Discrete.FirstOrderHold"
 
     tSample = Variable(unit="s", discrete=True, description="Time of sample")  # noqa: N815
     uSample = Variable(discrete=True, description="Value of sample")  # noqa: N815
@@ -207,6 +219,8 @@ class UnitDelay(DiscreteSISO):
     ``y = y_start`` until the first sample after the start.
     """
 
+    modelica_name = "Modelica.Blocks.Discrete.UnitDelay"
+
     y_start = Parameter(0.0, description="Initial value of output signal")
     y = RealOutput(start=lambda block: block.y_start, fixed=True, description="Connector of Real output signal")
 
@@ -223,6 +237,8 @@ class TransferFunction(DiscreteSISO, VectorBlock):
     ``x = xext[1:na-1]`` and ``y = [zeros(na-nb); b]*xext``.  The states
     ``x[1..na-1]``, ``x1`` and ``xext[1..na]`` start at 0 (fixed).
     """
+
+    modelica_name = "Modelica.Blocks.Discrete.TransferFunction"
 
     b = Parameter((1.0,), structural=True,
                   description="Numerator coefficients of transfer function (descending powers of z)")
@@ -271,6 +287,8 @@ class StateSpace(DiscreteMIMO):
     MSL the states have no fixed start; give one with
     ``x=dict(start=0, fixed=True)``.
     """
+
+    modelica_name = "Modelica.Blocks.Discrete.StateSpace"
 
     A = Parameter(((1.0, 0.0), (0.0, 1.0)), structural=True, description="Matrix A of state space model")
     B = Parameter(((1.0,), (1.0,)), structural=True, description="Matrix B of state space model")
@@ -327,6 +345,8 @@ class TriggeredSampler(SISO):
     start does not fire), ``y = y_start`` before the first trigger.
     """
 
+    modelica_name = "Modelica.Blocks.Discrete.TriggeredSampler"
+
     y_start = Parameter(0.0, description="Initial value of output signal")
     y = RealOutput(start=lambda block: block.y_start, fixed=True, description="Connector of Real output signal")
     trigger = BooleanInput(description="Sampling when trigger becomes true")
@@ -340,6 +360,8 @@ class TriggeredMax(SISO):
 
     ``y = max(pre(y), |u|)`` where ``trigger`` becomes true; ``y = 0`` at the start.
     """
+
+    modelica_name = "Modelica.Blocks.Discrete.TriggeredMax"
 
     y = RealOutput(start=0.0, fixed=True, description="Connector of Real output signal")
     trigger = BooleanInput(description="Trigger input")

@@ -56,6 +56,8 @@ def _fix_pre(component: Component, variable: str, value) -> None:
 class PartialBooleanThresholdComparison(Component):
     """A Real input compared with a threshold (Modelica.Blocks.Interfaces.partialBooleanThresholdComparison)."""
 
+    modelica_name = "Modelica.Blocks.Interfaces.partialBooleanThresholdComparison"
+
     threshold = Parameter(0.0, description="Comparison with respect to threshold")
     u = RealInput(description="Connector of Real input signal")
     y = BooleanOutput(description="Connector of Boolean output signal")
@@ -63,6 +65,8 @@ class PartialBooleanThresholdComparison(Component):
 
 class PartialBooleanComparison(Component):
     """Two Real inputs compared (Modelica.Blocks.Interfaces.partialBooleanComparison)."""
+
+    modelica_name = "Modelica.Blocks.Interfaces.partialBooleanComparison"
 
     u1 = RealInput(description="Connector of first Real input signal")
     u2 = RealInput(description="Connector of second Real input signal")
@@ -76,12 +80,16 @@ class PartialBooleanComparison(Component):
 class And(PartialBooleanSI2SO):
     """Logical 'and': ``y = u1 and u2`` (Modelica.Blocks.Logical.And)."""
 
+    modelica_name = "Modelica.Blocks.Logical.And"
+
     def equations(self):
         return [Eq(self.y, sp.And(self.u1, self.u2))]
 
 
 class Or(PartialBooleanSI2SO):
     """Logical 'or': ``y = u1 or u2`` (Modelica.Blocks.Logical.Or)."""
+
+    modelica_name = "Modelica.Blocks.Logical.Or"
 
     def equations(self):
         return [Eq(self.y, sp.Or(self.u1, self.u2))]
@@ -90,12 +98,16 @@ class Or(PartialBooleanSI2SO):
 class Xor(PartialBooleanSI2SO):
     """Logical 'xor': ``y`` is true where exactly one input is (Modelica.Blocks.Logical.Xor)."""
 
+    modelica_name = "Modelica.Blocks.Logical.Xor"
+
     def equations(self):
         return [Eq(self.y, sp.Xor(self.u1, self.u2))]
 
 
 class Nand(PartialBooleanSI2SO):
     """Logical 'nand': ``y = not (u1 and u2)`` (Modelica.Blocks.Logical.Nand)."""
+
+    modelica_name = "Modelica.Blocks.Logical.Nand"
 
     def equations(self):
         return [Eq(self.y, sp.Not(sp.And(self.u1, self.u2)))]
@@ -104,12 +116,16 @@ class Nand(PartialBooleanSI2SO):
 class Nor(PartialBooleanSI2SO):
     """Logical 'nor': ``y = not (u1 or u2)`` (Modelica.Blocks.Logical.Nor)."""
 
+    modelica_name = "Modelica.Blocks.Logical.Nor"
+
     def equations(self):
         return [Eq(self.y, sp.Not(sp.Or(self.u1, self.u2)))]
 
 
 class Not(PartialBooleanSISO):
     """Logical 'not': ``y = not u`` (Modelica.Blocks.Logical.Not)."""
+
+    modelica_name = "Modelica.Blocks.Logical.Not"
 
     def equations(self):
         return [Eq(self.y, sp.Not(self.u))]
@@ -137,6 +153,8 @@ class Pre(_PreStart):
     Boolean loop closed through it settles in one more pass.
     """
 
+    modelica_name = "Modelica.Blocks.Logical.Pre"
+
     def equations(self):
         return [Eq(self.y, pre_boolean(self.u))]
 
@@ -148,6 +166,8 @@ class Edge(_PreStart):
     True in one pass of event iteration only: where ``u`` becomes true.
     """
 
+    modelica_name = "Modelica.Blocks.Logical.Edge"
+
     def equations(self):
         return [Eq(self.y, edge(self.u))]
 
@@ -158,6 +178,8 @@ class FallingEdge(_PreStart):
 
     True in one pass of event iteration only: where ``u`` becomes false.
     """
+
+    modelica_name = "Modelica.Blocks.Logical.FallingEdge"
 
     not_u = Boolean(description="not u (protected)")
 
@@ -176,6 +198,8 @@ class Change(_PreStart):
     True in one pass of event iteration only: where ``u`` changes.
     """
 
+    modelica_name = "Modelica.Blocks.Logical.Change"
+
     def equations(self):
         return [Eq(self.y, change(self.u))]
 
@@ -187,6 +211,8 @@ class Change(_PreStart):
 class GreaterThreshold(PartialBooleanThresholdComparison):
     """Output ``y`` is true if input ``u`` is greater than the threshold (Modelica.Blocks.Logical.GreaterThreshold)."""
 
+    modelica_name = "Modelica.Blocks.Logical.GreaterThreshold"
+
     def equations(self):
         return [Eq(self.y, self.u > self.threshold)]
 
@@ -195,12 +221,16 @@ class GreaterEqualThreshold(PartialBooleanThresholdComparison):
     """Output ``y`` is true if input ``u`` is greater than or equal to the threshold
     (Modelica.Blocks.Logical.GreaterEqualThreshold)."""
 
+    modelica_name = "Modelica.Blocks.Logical.GreaterEqualThreshold"
+
     def equations(self):
         return [Eq(self.y, self.u >= self.threshold)]
 
 
 class LessThreshold(PartialBooleanThresholdComparison):
     """Output ``y`` is true if input ``u`` is less than the threshold (Modelica.Blocks.Logical.LessThreshold)."""
+
+    modelica_name = "Modelica.Blocks.Logical.LessThreshold"
 
     def equations(self):
         return [Eq(self.y, self.u < self.threshold)]
@@ -210,12 +240,16 @@ class LessEqualThreshold(PartialBooleanThresholdComparison):
     """Output ``y`` is true if input ``u`` is less than or equal to the threshold
     (Modelica.Blocks.Logical.LessEqualThreshold)."""
 
+    modelica_name = "Modelica.Blocks.Logical.LessEqualThreshold"
+
     def equations(self):
         return [Eq(self.y, self.u <= self.threshold)]
 
 
 class Greater(PartialBooleanComparison):
     """Output ``y`` is true if input ``u1`` is greater than input ``u2`` (Modelica.Blocks.Logical.Greater)."""
+
+    modelica_name = "Modelica.Blocks.Logical.Greater"
 
     def equations(self):
         return [Eq(self.y, self.u1 > self.u2)]
@@ -225,12 +259,16 @@ class GreaterEqual(PartialBooleanComparison):
     """Output ``y`` is true if input ``u1`` is greater than or equal to input ``u2``
     (Modelica.Blocks.Logical.GreaterEqual)."""
 
+    modelica_name = "Modelica.Blocks.Logical.GreaterEqual"
+
     def equations(self):
         return [Eq(self.y, self.u1 >= self.u2)]
 
 
 class Less(PartialBooleanComparison):
     """Output ``y`` is true if input ``u1`` is less than input ``u2`` (Modelica.Blocks.Logical.Less)."""
+
+    modelica_name = "Modelica.Blocks.Logical.Less"
 
     def equations(self):
         return [Eq(self.y, self.u1 < self.u2)]
@@ -239,6 +277,8 @@ class Less(PartialBooleanComparison):
 class LessEqual(PartialBooleanComparison):
     """Output ``y`` is true if input ``u1`` is less than or equal to input ``u2``
     (Modelica.Blocks.Logical.LessEqual)."""
+
+    modelica_name = "Modelica.Blocks.Logical.LessEqual"
 
     def equations(self):
         return [Eq(self.y, self.u1 <= self.u2)]
@@ -254,6 +294,8 @@ class ZeroCrossing(Component):
     ``y`` is true for one pass of event iteration where ``u`` crosses zero
     while ``enable`` stays true; switching ``enable`` itself never counts.
     """
+
+    modelica_name = "Modelica.Blocks.Logical.ZeroCrossing"
 
     u = RealInput(description="Connector of Real input signal")
     enable = BooleanInput(description="Zero input crossing is triggered if the enable input signal is true")
@@ -277,6 +319,8 @@ class ZeroCrossing(Component):
 class Switch(Component):
     """Switch between two Real signals (Modelica.Blocks.Logical.Switch): ``y = u1 if u2 else u3``."""
 
+    modelica_name = "Modelica.Blocks.Logical.Switch"
+
     u1 = RealInput(description="Connector of first Real input signal")
     u2 = BooleanInput(description="Connector of Boolean input signal")
     u3 = RealInput(description="Connector of second Real input signal")
@@ -288,6 +332,8 @@ class Switch(Component):
 
 class LogicalSwitch(PartialBooleanSI3SO):
     """Logical switch (Modelica.Blocks.Logical.LogicalSwitch): ``y = u1 if u2 else u3``."""
+
+    modelica_name = "Modelica.Blocks.Logical.LogicalSwitch"
 
     def equations(self):
         return [Eq(self.y, sp.Or(sp.And(self.u2, self.u1), sp.And(sp.Not(self.u2), self.u3)))]
@@ -301,6 +347,8 @@ class Hysteresis(Component):
     ``uLow``.  No when-clause: event iteration settles the equation on its own
     ``pre()``, which is ``pre_y_start`` at initialization.
     """
+
+    modelica_name = "Modelica.Blocks.Logical.Hysteresis"
 
     uLow = Parameter(0.0, description="if y=true and u<uLow, switch to y=false")  # noqa: N815
     uHigh = Parameter(1.0, description="if y=false and u>uHigh, switch to y=true")  # noqa: N815
@@ -327,6 +375,8 @@ class OnOffController(Component):
     bandwidth/2) or u < reference - bandwidth/2``.
     """
 
+    modelica_name = "Modelica.Blocks.Logical.OnOffController"
+
     bandwidth = Parameter(0.1, description="Bandwidth around reference signal")
     pre_y_start = Parameter(False, structural=True, description="Value of pre(y) at initial time")
     reference = RealInput(description="Connector of Real input signal used as reference signal")
@@ -351,6 +401,8 @@ class TriggeredTrapezoid(Component):
     where ``u`` becomes false it ramps down to ``offset`` in ``falling``
     seconds.  At initialization ``y`` takes its end value at once.
     """
+
+    modelica_name = "Modelica.Blocks.Logical.TriggeredTrapezoid"
 
     amplitude = Parameter(1.0, description="Amplitude of trapezoid")
     rising = Parameter(0.0, unit="s", min=0, description="Rising duration of trapezoid")
@@ -394,6 +446,8 @@ class Timer(Component):
     instant ``u`` last became true (0 if it is true from the start).
     """
 
+    modelica_name = "Modelica.Blocks.Logical.Timer"
+
     u = BooleanInput(description="Connector of Boolean input signal")
     y = RealOutput(unit="s", description="Connector of Real output signal")
     entryTime = Variable(discrete=True, unit="s", start=0.0, fixed=True,  # noqa: N815
@@ -411,6 +465,8 @@ class RSFlipFlop(Component):
     (as in MSL): ``Q = not (QI or R)``, ``pre.u = not (S or Q)``,
     ``QI = pre(pre.u)``.  ``S`` sets ``Q``, ``R`` resets it.
     """
+
+    modelica_name = "Modelica.Blocks.Logical.RSFlipFlop"
 
     Qini = Parameter(False, structural=True, description="Start value of Q at initial time")
     S = BooleanInput(description="Set input")
@@ -444,6 +500,8 @@ class TerminateSimulation(Component):
     event where it becomes true.
     """
 
+    modelica_name = "Modelica.Blocks.Logical.TerminateSimulation"
+
     terminationText = Parameter("... End condition reached", structural=True,  # noqa: N815
                                 description="Text that will be displayed when simulation is terminated")
     condition = BooleanOutput(description="Terminate simulation when condition becomes true")
@@ -471,6 +529,8 @@ class AssertCondition(Component):
     ``"warning"`` records ``message`` in the result's notes and goes on.
     """
 
+    modelica_name = "Modelica.Blocks.Logical.AssertCondition"
+
     message = Parameter("Assert block failed", structural=True, description="Message written if u becomes false")
     assertionLevel = Parameter("error", structural=True,  # noqa: N815
                                description="Assertion level (\"error\" or \"warning\")")
@@ -492,6 +552,8 @@ class OnDelay(PartialBooleanSISO):
     still true then; it becomes false with ``u``.  An input true at the start
     is not delayed.
     """
+
+    modelica_name = "Modelica.Blocks.MathBoolean.OnDelay"
 
     delayTime = Parameter(None, unit="s", description="Delay time")  # noqa: N815
     delaySignal = Boolean(start=False, fixed=True, description="Delayed u (protected)")  # noqa: N815

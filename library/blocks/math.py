@@ -31,6 +31,8 @@ __all__ = ["Gain", "Product", "Add", "Feedback", "Atan", "Sin", "RealToInteger",
 class Gain(SISO):
     """Output the product of a gain value with the input signal (Modelica.Blocks.Math.Gain): ``y = k*u``."""
 
+    modelica_name = "Modelica.Blocks.Math.Gain"
+
     k = Parameter(1.0, description="Gain value multiplied with input signal")
 
     def equations(self):
@@ -40,12 +42,16 @@ class Gain(SISO):
 class Product(SI2SO):
     """Output product of the two inputs (Modelica.Blocks.Math.Product): ``y = u1*u2``."""
 
+    modelica_name = "Modelica.Blocks.Math.Product"
+
     def equations(self):
         return [Eq(self.y, self.u1 * self.u2)]
 
 
 class Add(SI2SO):
     """Output the sum of the two inputs (Modelica.Blocks.Math.Add): ``y = k1*u1 + k2*u2``."""
+
+    modelica_name = "Modelica.Blocks.Math.Add"
 
     k1 = Parameter(1.0, description="Gain of input signal 1")
     k2 = Parameter(1.0, description="Gain of input signal 2")
@@ -60,6 +66,8 @@ class Feedback(SI2SO):
     ``y = u1 - u2``.
     """
 
+    modelica_name = "Modelica.Blocks.Math.Feedback"
+
     def equations(self):
         return [Eq(self.y, self.u1 - self.u2)]
 
@@ -67,12 +75,16 @@ class Feedback(SI2SO):
 class Atan(SISO):
     """Output the arc tangent of the input (Modelica.Blocks.Math.Atan): ``y = atan(u)``."""
 
+    modelica_name = "Modelica.Blocks.Math.Atan"
+
     def equations(self):
         return [Eq(self.y, sp.atan(self.u))]
 
 
 class Sin(SISO):
     """Output the sine of the input (Modelica.Blocks.Math.Sin): ``y = sin(u)``."""
+
+    modelica_name = "Modelica.Blocks.Math.Sin"
 
     def equations(self):
         return [Eq(self.y, sp.sin(self.u))]
@@ -82,6 +94,8 @@ class RealToInteger(Component):
     """Convert Real to Integer signal (Modelica.Blocks.Math.RealToInteger): the nearest
     Integer, halves away from zero: ``y = floor(u + 0.5)`` if ``u > 0``, else ``ceil(u - 0.5)``
     (event-generating, as Modelica's ``integer``)."""
+
+    modelica_name = "Modelica.Blocks.Math.RealToInteger"
 
     u = RealInput(description="Connector of Real input signal")
     y = IntegerOutput(description="Connector of Integer output signal")
@@ -116,6 +130,8 @@ class MatrixGain(MIMO):
     ``u[3]`` and ``y[2]``.  The elements of ``K`` are tunable parameters
     (``K[1,2]``); its shape is fixed where the block is made.
     """
+
+    modelica_name = "Modelica.Blocks.Math.MatrixGain"
 
     K = Parameter([[1.0, 0.0], [0.0, 1.0]], description="Gain matrix which is multiplied with the input")
     nin = Parameter(2, structural=True, description="Number of inputs (= size(K, 2), set from K)")
@@ -156,6 +172,8 @@ class MultiSum(PartialRealMISO):
     ``y = 0`` for ``nu = 0``.
     """
 
+    modelica_name = "Modelica.Blocks.Math.MultiSum"
+
     k = Parameter(1.0, shape="nu", description="Input gains")
 
     def __init__(self, **modifiers: Any) -> None:
@@ -170,6 +188,8 @@ class MultiProduct(PartialRealMISO):
 
     ``y = 0`` for ``nu = 0`` (as in the MSL, not the empty product 1).
     """
+
+    modelica_name = "Modelica.Blocks.Math.MultiProduct"
 
     def equations(self):
         return [Eq(self.y, array_product(self.u) if self.nu > 0 else sp.Integer(0))]
@@ -188,6 +208,8 @@ class MultiSwitch(Component):
     is that ``i`` (0 if no input is true).  The MSL's ``precision`` (digits
     shown in a diagram) is kept for its modifiers.
     """
+
+    modelica_name = "Modelica.Blocks.Math.MultiSwitch"
 
     expr = Parameter(0.0, structural=True,
                      description="y = if u[i] then expr[i] else y_default (time varying); one per input")
@@ -211,6 +233,8 @@ class Sum(MISO):
     """Output the sum of the elements of the input vector (Modelica.Blocks.Math.Sum): ``y = k*u``
     (the scalar product)."""
 
+    modelica_name = "Modelica.Blocks.Math.Sum"
+
     k = Parameter(1.0, shape="nin", description="Optional: sum coefficients")
 
     def __init__(self, **modifiers: Any) -> None:
@@ -223,12 +247,16 @@ class Sum(MISO):
 class Max(SI2SO):
     """Pass through the largest signal (Modelica.Blocks.Math.Max): ``y = max(u1, u2)``."""
 
+    modelica_name = "Modelica.Blocks.Math.Max"
+
     def equations(self):
         return [Eq(self.y, sp.Max(self.u1, self.u2))]
 
 
 class Min(SI2SO):
     """Pass through the smallest signal (Modelica.Blocks.Math.Min): ``y = min(u1, u2)``."""
+
+    modelica_name = "Modelica.Blocks.Math.Min"
 
     def equations(self):
         return [Eq(self.y, sp.Min(self.u1, self.u2))]
@@ -242,6 +270,8 @@ class MinMax(Component):
     (``connectorSizing``, from a default of 0); acausal needs ``nu`` given,
     and its default is 1.
     """
+
+    modelica_name = "Modelica.Blocks.Math.MinMax"
 
     nu = Parameter(1, structural=True, min=0, description="Number of input connections")
     u = RealInput("nu", description="Connector of Real input signals")
@@ -258,6 +288,8 @@ class MinMax(Component):
 class LinearDependency(SI2SO):
     """Output a linear combination of the two inputs (Modelica.Blocks.Math.LinearDependency):
     ``y = y0 + k1*u1 + k2*u2``."""
+
+    modelica_name = "Modelica.Blocks.Math.LinearDependency"
 
     y0 = Parameter(0.0, description="Initial value")
     k1 = Parameter(0.0, description="Gain of u1")

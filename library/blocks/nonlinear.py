@@ -35,12 +35,20 @@ class LimiterHomotopy(enum.IntEnum):
     LowerLimit = 4
 
 
+# set after the body: in an IntEnum's body a str would become a member
+LimiterHomotopy.modelica_name = "Modelica.Blocks.Types.LimiterHomotopy"
+
+
 class VariableLimiterHomotopy(enum.IntEnum):
     """Homotopy type of VariableLimiter (Modelica.Blocks.Types.VariableLimiterHomotopy); no effect here."""
 
     NoHomotopy = 1
     Linear = 2
     Fixed = 3
+
+
+# set after the body: in an IntEnum's body a str would become a member
+VariableLimiterHomotopy.modelica_name = "Modelica.Blocks.Types.VariableLimiterHomotopy"
 
 
 def _literal(expr, strict: bool):
@@ -53,6 +61,8 @@ class Limiter(DerivedDefaults, SISO):
 
     ``y = uMax`` if ``u > uMax``, ``uMin`` if ``u < uMin``, else ``u``.
     """
+
+    modelica_name = "Modelica.Blocks.Nonlinear.Limiter"
 
     uMax = Parameter(1.0, description="Upper limits of input signals")  # noqa: N815
     uMin = Parameter(None, description="Lower limits of input signals (default -uMax)")  # noqa: N815
@@ -76,6 +86,8 @@ class VariableLimiter(SISO):
     ``u``; the limits are inputs (``limit1 >= limit2`` is asserted).
     """
 
+    modelica_name = "Modelica.Blocks.Nonlinear.VariableLimiter"
+
     strict = Parameter(False, structural=True, description="= true, if strict limits with noEvent(..)")
     homotopyType = Parameter(VariableLimiterHomotopy.Linear, structural=True,  # noqa: N815
                              description="Simplified model for homotopy-based initialization (no effect here)")
@@ -96,6 +108,8 @@ class DeadZone(DerivedDefaults, SISO):
     ``y = u - uMax`` if ``u > uMax``, ``u - uMin`` if ``u < uMin``, else 0.
     """
 
+    modelica_name = "Modelica.Blocks.Nonlinear.DeadZone"
+
     uMax = Parameter(1.0, description="Upper limits of dead zones")  # noqa: N815
     uMin = Parameter(None, description="Lower limits of dead zones (default -uMax)")  # noqa: N815
 
@@ -114,6 +128,8 @@ class SlewRateLimiter(DerivedDefaults, SISO):
     ``u`` with the time constant ``Td`` but never faster than the rates.  By
     default (``initType = SteadyState``) ``y = u`` at the start.
     """
+
+    modelica_name = "Modelica.Blocks.Nonlinear.SlewRateLimiter"
 
     Rising = Parameter(1.0, min=SMALL, description="Maximum rising slew rate [+small..+inf) [1/s]")
     Falling = Parameter(None, max=-SMALL, description="Maximum falling slew rate (-inf..-small] [1/s] "

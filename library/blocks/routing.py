@@ -44,12 +44,16 @@ __all__ = ["Replicator", "IntegerReplicator", "BooleanReplicator", "ExtractSigna
 class Replicator(SIMO):
     """Signal replicator (Modelica.Blocks.Routing.Replicator): ``y = fill(u, nout)``."""
 
+    modelica_name = "Modelica.Blocks.Routing.Replicator"
+
     def equations(self):
         return [Eq(self.y, fill(self.u, self.nout))]
 
 
 class IntegerReplicator(Component):
     """Integer signal replicator (Modelica.Blocks.Routing.IntegerReplicator): ``y = fill(u, nout)``."""
+
+    modelica_name = "Modelica.Blocks.Routing.IntegerReplicator"
 
     nout = Parameter(1, structural=True, description="Number of outputs")
     u = IntegerInput(description="Connector of Integer input signal")
@@ -61,6 +65,8 @@ class IntegerReplicator(Component):
 
 class BooleanReplicator(Component):
     """Boolean signal replicator (Modelica.Blocks.Routing.BooleanReplicator): ``y = fill(u, nout)``."""
+
+    modelica_name = "Modelica.Blocks.Routing.BooleanReplicator"
 
     nout = Parameter(1, structural=True, description="Number of outputs")
     u = BooleanInput(description="Connector of Boolean input signal")
@@ -81,6 +87,8 @@ class ExtractSignal(MIMO):
     (``nin=7, nout=4, extract=[6, 3, 3, 2]``); None (the default) is the
     MSL's ``1:nout``.  It is structural: it selects the equations.
     """
+
+    modelica_name = "Modelica.Blocks.Routing.ExtractSignal"
 
     extract = Parameter(None, structural=True, description="Extracting vector (default 1:nout)")
 
@@ -104,6 +112,8 @@ class Extractor(MISO):
     ``if index == i`` on the discrete index, so it changes at the events
     where the index does (the MSL's ``when change(index)``).
     """
+
+    modelica_name = "Modelica.Blocks.Routing.Extractor"
 
     allowOutOfRange = Parameter(False, structural=True,  # noqa: N815 - Modelica's name
                                 description="= true, if index may be out of range")
@@ -135,6 +145,8 @@ class Multiplex(Component):
     default is 1.
     """
 
+    modelica_name = "Modelica.Blocks.Routing.Multiplex"
+
     n = Parameter(1, structural=True, min=0, description="Dimension of input signal connector")
     u = RealInput("n", description="Connector of Real input signals")
     y = RealOutput("n", description="Connector of Real output signals")
@@ -151,6 +163,8 @@ class DeMultiplex(Component):
     default of 0); acausal needs ``n`` given (``DeMultiplex(n=5)``), and its
     default is 1.
     """
+
+    modelica_name = "Modelica.Blocks.Routing.DeMultiplex"
 
     n = Parameter(1, structural=True, min=0, description="Dimension of output signal connector")
     u = RealInput("n", description="Connector of Real input signals")
@@ -208,7 +222,8 @@ def _concatenation(base: type, parts: int) -> type:
     doc = (f"{'Multiplexer' if mux else 'DeMultiplexer'} block for {_ORDINALS[parts]} "
            f"{'input' if mux else 'output'} connectors (Modelica.Blocks.Routing.{name}): "
            + (f"``y[{total}] = [{listed}]``." if mux else f"``[u] = [{listed}]``, ``u`` of size ``{total}``."))
-    namespace: dict[str, Any] = {"__module__": __name__, "__qualname__": name, "__doc__": doc, "parts": parts}
+    namespace: dict[str, Any] = {"__module__": __name__, "__qualname__": name, "__doc__": doc,
+                                 "modelica_name": f"Modelica.Blocks.Routing.{name}", "parts": parts}
     part, whole = (RealInput, RealOutput) if mux else (RealOutput, RealInput)
     kind = "input" if mux else "output"
     for i in range(1, parts + 1):
@@ -229,6 +244,8 @@ class RealPassThrough(SISO):
     """Pass a Real signal through without modification (Modelica.Blocks.Routing.RealPassThrough):
     ``y = u``."""
 
+    modelica_name = "Modelica.Blocks.Routing.RealPassThrough"
+
     def equations(self):
         return [Eq(self.y, self.u)]
 
@@ -236,6 +253,8 @@ class RealPassThrough(SISO):
 class IntegerPassThrough(Component):
     """Pass a Integer signal through without modification (Modelica.Blocks.Routing.IntegerPassThrough):
     ``y = u``."""
+
+    modelica_name = "Modelica.Blocks.Routing.IntegerPassThrough"
 
     u = IntegerInput(description="Input signal")
     y = IntegerOutput(description="Output signal")
@@ -247,6 +266,8 @@ class IntegerPassThrough(Component):
 class BooleanPassThrough(PartialBooleanSISO):
     """Pass a Boolean signal through without modification (Modelica.Blocks.Routing.BooleanPassThrough):
     ``y = u``."""
+
+    modelica_name = "Modelica.Blocks.Routing.BooleanPassThrough"
 
     def equations(self):
         return [Eq(self.y, self.u)]

@@ -40,6 +40,8 @@ __all__ = ["Constant", "ContinuousClock", "Step", "Ramp", "Sine", "Cosine", "Exp
 class Constant(SO):
     """Generate a constant signal (Modelica.Blocks.Sources.Constant): ``y = k``."""
 
+    modelica_name = "Modelica.Blocks.Sources.Constant"
+
     k = Parameter(1.0, description="Constant output value")
 
     def equations(self):
@@ -50,6 +52,8 @@ class ContinuousClock(SignalSource):
     """Generate current time signal (Modelica.Blocks.Sources.ContinuousClock):
     ``y = offset + (0 if time < startTime else time - startTime)``."""
 
+    modelica_name = "Modelica.Blocks.Sources.ContinuousClock"
+
     def equations(self):
         return [Eq(self.y, self.offset + If(time < self.startTime, 0, time - self.startTime))]
 
@@ -59,6 +63,8 @@ class Step(SignalSource):
 
     ``y = offset + (0 if time < startTime else height)``.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.Step"
 
     height = Parameter(1.0, description="Height of step")
 
@@ -72,6 +78,8 @@ class Ramp(SignalSource):
     ``offset`` before ``startTime``, then rising linearly by ``height`` over
     ``duration`` seconds, then ``offset + height``.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.Ramp"
 
     height = Parameter(1.0, description="Height of ramps")
     duration = Parameter(2.0, unit="s", min=0, description="Duration of ramp (= 0.0 gives a Step)")
@@ -108,6 +116,8 @@ class Sine(_Harmonic):
     ``offset + amplitude*sin(phase)``.
     """
 
+    modelica_name = "Modelica.Blocks.Sources.Sine"
+
     def equations(self):
         return [self._output(sp.sin)]
 
@@ -120,6 +130,8 @@ class Cosine(_Harmonic):
     ``offset + amplitude*cos(phase)``.
     """
 
+    modelica_name = "Modelica.Blocks.Sources.Cosine"
+
     def equations(self):
         return [self._output(sp.cos)]
 
@@ -130,6 +142,8 @@ class ExpSine(SignalSource):
     ``y = offset + amplitude*exp(-(time - startTime)*damping)*sin(2*pi*f*(time
     - startTime) + phase)`` from ``startTime`` on, ``offset`` before.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.ExpSine"
 
     amplitude = Parameter(1.0, description="Amplitude of sine wave")
     f = Parameter(2.0, unit="Hz", description="Frequency of sine wave")
@@ -196,6 +210,8 @@ class Pulse(_Periodic):
     periods, if ``nperiod >= 0``).
     """
 
+    modelica_name = "Modelica.Blocks.Sources.Pulse"
+
     amplitude = Parameter(1.0, description="Amplitude of pulse")
     width = Parameter(50.0, min=SMALL, max=100, description="Width of pulse in % of period")
 
@@ -214,6 +230,8 @@ class SawTooth(_Periodic):
     ``startTime`` on, ``offset`` before (and after ``nperiod`` periods).
     """
 
+    modelica_name = "Modelica.Blocks.Sources.SawTooth"
+
     amplitude = Parameter(1.0, description="Amplitude of saw tooth")
 
     def equations(self):
@@ -230,6 +248,8 @@ class Trapezoid(_Periodic):
     ``width`` seconds at ``offset + amplitude``, a linear fall over
     ``falling`` seconds, then ``offset`` for the rest of the period.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.Trapezoid"
 
     amplitude = Parameter(1.0, description="Amplitude of trapezoid")
     rising = Parameter(0.0, unit="s", min=0, description="Rising duration of trapezoid")
@@ -322,6 +342,8 @@ class TimeTable(DerivedDefaults, SignalSource):
     after the table.  Every table time is a time event.
     """
 
+    modelica_name = "Modelica.Blocks.Sources.TimeTable"
+
     table = Parameter(((0.0, 0.0),), structural=True,
                       description="Table matrix (time = first column; e.g., table=[0, 0; 1, 1; 2, 4])")
     timeScale = Parameter(1.0, unit="s", min=EPS, description="Time scale of first table column")  # noqa: N815
@@ -372,6 +394,8 @@ class CombiTimeTable(DerivedDefaults, TableData, VectorBlock):
     table's own (a Der block after it, or index reduction, differentiates
     the interpolation).
     """
+
+    modelica_name = "Modelica.Blocks.Sources.CombiTimeTable"
 
     table = Parameter(((0.0, 0.0),), structural=True,
                       description="Table matrix (time = first column; e.g., table=[0, 0; 1, 1; 2, 4])")
@@ -485,6 +509,8 @@ class IntegerTable(_StepTable):
     (HoldLastPoint by default; LastTwoPoints is refused, as in the MSL),
     ``startTime`` and ``shiftTime`` act as in the CombiTimeTable.
     """
+
+    modelica_name = "Modelica.Blocks.Sources.IntegerTable"
 
     table = Parameter(((0.0, 0.0),), structural=True,
                       description="Table matrix (time = first column, integer output = second column)")

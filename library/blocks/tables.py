@@ -32,6 +32,8 @@ def _where(block) -> str:
 class _Options(TableData):
     """The interpolation options of the table blocks (Modelica.Blocks.Types)."""
 
+    modelica_name = None  # the docstring names the package of its options' types: no MSL class
+
     smoothness = Parameter(Smoothness.LinearSegments, structural=True, description="Smoothness of table interpolation")
     extrapolation = Parameter(Extrapolation.LastTwoPoints, structural=True,
                               description="Extrapolation of data outside the definition range")
@@ -85,6 +87,8 @@ class CombiTable1Ds(_Table1D):
     (``tableOnFile``, ``tableName``, ``fileName``).
     """
 
+    modelica_name = "Modelica.Blocks.Tables.CombiTable1Ds"
+
     u = RealInput(description="Connector of Real input signal")
 
     @classmethod
@@ -102,6 +106,8 @@ class CombiTable1Dv(_Table1D):
     ``y[i]`` interpolates column ``columns[i]`` at the input ``u[i]``; the
     options are those of :class:`CombiTable1Ds`.
     """
+
+    modelica_name = "Modelica.Blocks.Tables.CombiTable1Dv"
 
     @classmethod
     def arrays(cls, value):
@@ -143,6 +149,8 @@ class CombiTable2Ds(_Table2D):
     tables.
     """
 
+    modelica_name = "Modelica.Blocks.Tables.CombiTable2Ds"
+
     table = Parameter(((0.0, 0.0), (0.0, 0.0)), structural=True,
                       description="Table matrix (grid u1 = first column, grid u2 = first row; "
                                   "e.g., table=[0, 0; 0, 1])")
@@ -160,6 +168,8 @@ class CombiTable2Dv(_Table2D, VectorBlock):
     ``y[i]`` is the table at ``(u1[i], u2[i])``; ``n`` is a structural
     parameter (default 1); the options are those of :class:`CombiTable2Ds`.
     """
+
+    modelica_name = "Modelica.Blocks.Tables.CombiTable2Dv"
 
     n = Parameter(1, structural=True, description="Number of inputs (= number of outputs)")
     table = Parameter(((0.0, 0.0), (0.0, 0.0)), structural=True,

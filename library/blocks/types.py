@@ -28,6 +28,10 @@ class Regularization(enum.IntEnum):
     Cosine = 4  #: cosine
 
 
+# set after the body: in an IntEnum's body a str would become a member
+Regularization.modelica_name = "Modelica.Blocks.Types.Regularization"
+
+
 def regularization(component: Any, reg: Any) -> Regularization:
     """``reg`` as a :class:`Regularization`; a ParameterError naming ``component.reg`` if it is none."""
     try:

@@ -134,6 +134,8 @@ class Inertia(PartialTwoFlanges):
     ``stateSelect`` hint (default StateSelect.default).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Inertia"
+
     J = Parameter(1.0, unit="kg.m2", min=0, description="Moment of inertia")
     stateSelect = Parameter(StateSelect.default, structural=True,  # noqa: N815 - Modelica name
                             description="Priority to use phi and w as states")
@@ -159,6 +161,8 @@ class Fixed(Component):
     ``flange.phi = phi0``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Fixed"
+
     phi0 = Parameter(0.0, unit="rad", description="Fixed offset angle of housing")
     flange = Flange_b(description="Flange fixed in housing at a given angle")
 
@@ -171,6 +175,8 @@ class Spring(PartialCompliant):
 
     ``tau = c*(phi_rel - phi_rel0)``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Spring"
 
     c = Parameter(1.0e5, unit="N.m/rad", min=0, description="Spring constant")
     phi_rel0 = Parameter(0.0, unit="rad", description="Unstretched spring angle")
@@ -186,6 +192,8 @@ class Damper(PartialCompliantWithRelativeStates, PartialElementaryConditionalHea
     the optional heat port.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Damper"
+
     d = Parameter(0.0, unit="N.m.s/rad", min=0, description="Damping constant")
 
     def equations(self):
@@ -198,6 +206,8 @@ class SpringDamper(PartialCompliantWithRelativeStates, PartialElementaryConditio
     ``tau = c*(phi_rel - phi_rel0) + d*w_rel``; only the damper part
     dissipates (``lossPower = tau_d*w_rel``).
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.SpringDamper"
 
     c = Parameter(1.0e5, unit="N.m/rad", min=0, description="Spring constant")
     d = Parameter(0.0, unit="N.m.s/rad", min=0, description="Damping constant")
@@ -222,6 +232,8 @@ class IdealGear(PartialElementaryTwoFlangesAndSupport2):
     optional support.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.IdealGear"
+
     ratio = Parameter(1.0, description="Transmission ratio (flange_a.phi/flange_b.phi)")
     phi_a = Variable(unit="rad", description="Angle between left shaft flange and support")
     phi_b = Variable(unit="rad", description="Angle between right shaft flange and support")
@@ -242,6 +254,8 @@ class IdealPlanetary(Component):
     ring teeth / sun teeth; ``ring.tau = ratio*sun.tau`` and ``carrier.tau =
     -(1 + ratio)*sun.tau``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.IdealPlanetary"
 
     ratio = Parameter(100 / 50, description="Number of ring_teeth/sun_teeth (e.g. ratio=100/50)")
     sun = Flange_a(description="Flange of sun shaft")
@@ -293,6 +307,8 @@ class BearingFriction(_HousingFriction, _TableFriction, PartialElementaryTwoFlan
     ``lossPower = tau*w`` goes to the optional heat port.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.BearingFriction"
+
     _table_name = "tau_pos"
 
     tau_pos = Parameter([[0.0, 1.0]], structural=True, unit="N.m",
@@ -324,6 +340,8 @@ class Clutch(_NormalForceFriction, PartialCompliantWithRelativeStates, PartialFr
     backward sliding evaluates the table at ``+w_rel`` with sign -1.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Clutch"
+
     _clutch_quirk = True  # MSL evaluates the table at +w_rel when starting backward
 
     def equations(self):
@@ -344,6 +362,8 @@ class Brake(_HousingFriction, _NormalForceFriction, PartialElementaryTwoFlangesA
     from :class:`acausal.components.friction.PartialFriction`.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Brake"
+
 
 class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialElementaryConditionalHeatPortWithoutT):
     """Parallel connection of a freewheel and a clutch (Modelica.Mechanics.Rotational.Components.OneWayClutch).
@@ -360,6 +380,8 @@ class OneWayClutch(_TableFriction, PartialCompliantWithRelativeStates, PartialEl
     tau0)*unitAngularAcceleration/unitTorque``, with the MSL's unit
     constants (both 1; the MSL declares ``sa`` with unit "1" instead).
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.OneWayClutch"
 
     #: constant eps0 of the MSL: relative tolerance for the disengaged threshold
     eps0 = 1.0e-4
@@ -440,6 +462,8 @@ class IdealGearR2T(PartialElementaryRotationalToTranslational):
     supports) is zero.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.IdealGearR2T"
+
     ratio = Parameter(1.0, unit="rad/m", description="Transmission ratio (flange_a.phi/flange_b.s)")
 
     def equations(self):
@@ -455,6 +479,8 @@ class IdealRollingWheel(PartialElementaryRotationalToTranslational):
     * ``(flangeR.phi - phi_support)*radius = flangeT.s - s_support``
     * ``0 = radius*flangeT.f + flangeR.tau``
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.IdealRollingWheel"
 
     radius = Parameter(0.3, unit="m", description="Wheel radius")
 
@@ -577,6 +603,8 @@ class ElastoBacklash(_Backlash, PartialCompliantWithRelativeStates, PartialEleme
     ``_Backlash``).  ``lossPower`` goes to the optional heat port.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.ElastoBacklash"
+
     def equations(self):
         equations, initializing = self._characteristic()
         b_max, b_min, no_gap = self._gap()
@@ -618,6 +646,8 @@ class ElastoBacklash2(_Backlash, PartialCompliantWithRelativeStates, PartialElem
     release are event instants.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.ElastoBacklash2"
+
     def equations(self):
         equations, initializing = self._characteristic()
         b_max, b_min, no_gap = self._gap()
@@ -650,6 +680,8 @@ class Disc(PartialTwoFlanges):
     * ``0 = flange_a.tau + flange_b.tau``
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Disc"
+
     deltaPhi = Parameter(0.0, unit="rad",  # noqa: N815 - Modelica name
                          description="Fixed rotation of left flange with respect to right flange "
                                      "(= flange_b.phi - flange_a.phi)")
@@ -672,6 +704,8 @@ class RelativeStates(PartialTwoFlanges):
     ``phi_rel`` and ``w_rel``, so that the relative motion is integrated.
     ``phi_nominal`` (1 rad) scales the error control of ``phi_rel``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.RelativeStates"
 
     stateSelect = Parameter(StateSelect.prefer, structural=True,  # noqa: N815 - Modelica name
                             description="Priority to use the relative angle and relative speed as states")
@@ -713,6 +747,8 @@ class InitializeFlange(Component):
     acceleration-setting part; that hint on a connector alias is not
     expressed here (``stateSelect`` on ``phi_flange`` and ``w_flange`` is).
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.InitializeFlange"
 
     use_phi_start = Parameter(True, structural=True,
                               description="= true, if initial angle is defined by input phi_start, "
@@ -768,6 +804,8 @@ class TorqueToAngleAdaptor(Component):
     * the conditional outputs: ``w = w_internal``, ``a = a_internal``
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.TorqueToAngleAdaptor"
+
     use_w = Parameter(True, structural=True, description="= true, enable the output connector w (angular velocity)")
     use_a = Parameter(True, structural=True,
                       description="= true, enable the output connector a (angular acceleration)")
@@ -815,6 +853,8 @@ class AngleToTorqueAdaptor(Component):
     (``w = der(phi)``, ``a = der(w)``).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.AngleToTorqueAdaptor"
+
     use_w = Parameter(True, structural=True, description="= true, enable the input connector w (angular velocity)")
     use_a = Parameter(True, structural=True,
                       description="= true, enable the input connector a (angular acceleration)")
@@ -846,6 +886,8 @@ class GeneralTorqueToAngleAdaptor(FlowToPotentialAdaptor):
     ``pder2 = der(pder)`` and ``flange.tau = f``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.GeneralTorqueToAngleAdaptor"
+
     flange = Flange_a(description="Flange")
     p = RealOutput(unit="rad", description="Output for potential (angle)")
     pder = RealOutput(unit="rad/s", condition="use_pder", description="Optional output for der(potential) (speed)")
@@ -868,6 +910,8 @@ class GeneralAngleToTorqueAdaptor(PotentialToFlowAdaptor):
     derivative of ``p`` beyond the inputs is that of the last input
     (``differentiate_last``: ``der(pder)`` without ``use_pder2``).
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.GeneralAngleToTorqueAdaptor"
 
     differentiate_last = True
 

@@ -193,6 +193,8 @@ class LossyGear(PartialElementaryTwoFlangesAndSupport2, PartialElementaryConditi
        solution", Modelica Standard Library ticket #108, September 11, 2009.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Components.LossyGear"
+
     hints = {
         "mode": "a LossyGear locks the motion of flange_a relative to its support; another element "
                 "that can lock the same motion (a BearingFriction, Brake or second LossyGear on a rigidly "
@@ -480,6 +482,8 @@ class Gearbox(Component):
     the sub-components are connected to the support or the fixed element
     directly, which gives the same connection sets.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Components.Gearbox"
 
     ratio = Parameter(1.0, description="Transmission ratio (flange_a.phi/flange_b.phi)")
     lossTable = Parameter(IDEAL_LOSS_TABLE, structural=True,  # noqa: N815 - Modelica name

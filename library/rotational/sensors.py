@@ -15,6 +15,8 @@ class AngleSensor(PartialAbsoluteSensor):
     ``phi = flange.phi``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.AngleSensor"
+
     phi = RealOutput(unit="rad", description="Absolute angle of flange as output signal")
 
     def equations(self):
@@ -26,6 +28,8 @@ class SpeedSensor(PartialAbsoluteSensor):
 
     ``w = der(flange.phi)``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.SpeedSensor"
 
     w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange as output signal")
 
@@ -39,6 +43,8 @@ class AccSensor(PartialAbsoluteSensor):
     ``a = der(w)``, ``w = der(flange.phi)``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.AccSensor"
+
     w = Variable(unit="rad/s", description="Absolute angular velocity of flange")
     a = RealOutput(unit="rad/s2", description="Absolute angular acceleration of flange as output signal")
 
@@ -51,6 +57,8 @@ class TorqueSensor(PartialRelativeSensor):
 
     ``tau = flange_a.tau``, rigid connection.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.TorqueSensor"
 
     tau = RealOutput(unit="N.m",
                      description="Torque in flange flange_a and flange_b "
@@ -66,6 +74,8 @@ class RelAngleSensor(PartialRelativeSensor):
     ``phi_rel = flange_b.phi - flange_a.phi``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.RelAngleSensor"
+
     phi_rel = RealOutput(unit="rad",
                          description="Relative angle between two flanges (= flange_b.phi - flange_a.phi) "
                                      "as output signal")
@@ -79,6 +89,8 @@ class RelSpeedSensor(PartialRelativeSensor):
 
     ``w_rel = der(flange_b.phi - flange_a.phi)``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.RelSpeedSensor"
 
     w_rel = RealOutput(unit="rad/s",
                        description="Relative angular velocity between two flanges "
@@ -101,6 +113,8 @@ class RelAccSensor(PartialRelativeSensor):
     ``a_rel = der(w_rel)`` and ``0 = flange_a.tau`` (it transmits no torque).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.RelAccSensor"
+
     phi_rel = Variable(unit="rad", description="Relative angle between two flanges (flange_b.phi - flange_a.phi)")
     w_rel = Variable(unit="rad/s", description="Relative angular velocity between two flanges")
     a_rel = RealOutput(unit="rad/s2",
@@ -121,6 +135,8 @@ class PowerSensor(PartialRelativeSensor):
     ``power = flange_a.tau*der(flange_a.phi)``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.PowerSensor"
+
     power = RealOutput(unit="W", description="Power in flange flange_a as output signal")
 
     def equations(self):
@@ -134,6 +150,8 @@ class MultiSensor(PartialRelativeSensor):
     Rigid connection of its flanges: ``w = der(flange_a.phi)``, ``tau =
     flange_a.tau`` and ``power = tau*w``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sensors.MultiSensor"
 
     power = RealOutput(unit="W", description="Power in flange flange_a as output signal")
     w = RealOutput(unit="rad/s", description="Absolute angular velocity of flange_a as output signal")

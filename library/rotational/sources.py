@@ -94,6 +94,8 @@ class Position(PartialElementaryOneFlangeAndSupport2):
     condition) to start the filter at rest.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.Position"
+
     #: s coefficient of the Bessel filter (MSL constant af)
     af = 1.3617
     #: s^2 coefficient of the Bessel filter (MSL constant bf)
@@ -143,6 +145,8 @@ class Speed(PartialElementaryOneFlangeAndSupport2):
       the reference (initial equation ``w = w_ref``).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.Speed"
+
     exact = Parameter(False, structural=True,
                       description="Is true/false for exact treatment/filtering of the input signal, respectively")
     f_crit = Parameter(50.0, unit="Hz",
@@ -177,6 +181,8 @@ class Accelerate(PartialElementaryOneFlangeAndSupport2):
     ``a = a_ref``; ``phi`` and ``w`` start at 0 (fixed), so they are the
     integrals of the input.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.Accelerate"
 
     phi = Variable(start=0.0, fixed=True, unit="rad", state_select=StateSelect.prefer,
                    description="Rotation angle of flange with respect to support")
@@ -214,6 +220,8 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
     Connect to ``move.u[1]``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.Move"
+
     phi = Variable(unit="rad", description="Rotation angle of flange with respect to support")
 
     _input_descriptions = ("Angle of flange with respect to support as input signal",
@@ -244,6 +252,8 @@ class Torque(PartialElementaryOneFlangeAndSupport2):
     ``useSupport`` the reaction torque ``tau`` acts on the support.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.Torque"
+
     tau = RealInput(unit="N.m", description="Accelerating torque acting at flange (= -flange.tau)")
 
     def equations(self):
@@ -258,6 +268,8 @@ class Torque2(PartialTwoFlanges):
     shafts, no housing).
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.Torque2"
+
     tau = RealInput(unit="N.m", description="Torque driving the two flanges (a positive value accelerates the flange)")
 
     def equations(self):
@@ -270,6 +282,8 @@ class ConstantTorque(PartialTorque):
     ``tau = tau_constant`` with ``tau = -flange.tau`` (a negative value acts
     as a load); ``w = der(phi)`` is the speed relative to the support.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.ConstantTorque"
 
     tau_constant = Parameter(None, unit="N.m",
                              description="Constant torque (if negative, torque is acting as load in positive "
@@ -291,6 +305,8 @@ class ConstantSpeed(PartialTorque):
     ``w = der(phi) = w_fixed``, ``phi`` the angle relative to the support.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.ConstantSpeed"
+
     w = Variable(unit="rad/s", description="Angular velocity of flange with respect to support (= der(phi))")
     w_fixed = Parameter(None, unit="rad/s", description="Fixed speed")
 
@@ -304,6 +320,8 @@ class TorqueStep(PartialTorque):
     ``tau = offsetTorque + (0 if time < startTime else stepTorque)`` with
     ``tau = -flange.tau``; the step is a time event.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.TorqueStep"
 
     stepTorque = Parameter(1.0, unit="N.m",
                            description="Height of torque step (if negative, torque is acting as load)")  # noqa: N815
@@ -342,6 +360,8 @@ class LinearSpeedDependentTorque(_SpeedDependentTorque):
     tau_nominal*w/w_nominal``.  ``tau = -flange.tau``, ``w = der(phi)``.
     """
 
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.LinearSpeedDependentTorque"
+
     def equations(self):
         ratio = self.w / self.w_nominal
         return [Eq(self.tau, self.tau_nominal * (sp.Abs(ratio) if self.TorqueDirection else ratio))]
@@ -355,6 +375,8 @@ class QuadraticSpeedDependentTorque(_SpeedDependentTorque):
     ...)``: it is continuously differentiable, so no event).  ``tau =
     -flange.tau``, ``w = der(phi)``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.QuadraticSpeedDependentTorque"
 
     def equations(self):
         square = (self.w / self.w_nominal) ** 2
@@ -377,6 +399,8 @@ class InverseSpeedDependentTorque(_SpeedDependentTorque):
     is a state event.  As in MSL 4.1.0, the second law jumps at ``abs(w) =
     w0`` unless ``w_nominal = w0``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.InverseSpeedDependentTorque"
 
     w0 = Parameter(0.1, unit="rad/s", min=EPS, description="Regularization below w0")
 
@@ -404,6 +428,8 @@ class SignTorque(PartialTorque):
     (:func:`acausal.library.blocks.types.regularized_sign`); ``tau =
     -flange.tau``, ``w = der(phi)``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.SignTorque"
 
     tau_nominal = Parameter(None, unit="N.m", description="Nominal torque (if negative, torque is acting as load)")
     reg = Parameter(Regularization.Exp, structural=True, description="Type of regularization")
@@ -438,6 +464,8 @@ class EddyCurrentTorque(PartialTorque, PartialElementaryConditionalHeatPort):
     ``constantExcitation``, or the input ``excitation`` with
     ``useExcitationInput``.
     """
+
+    modelica_name = "Modelica.Mechanics.Rotational.Sources.EddyCurrentTorque"
 
     useExcitationInput = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                                    description="Enable signal input for excitation")

@@ -21,6 +21,8 @@ class CelsiusFixedTemperature(Component):
     ``port.T = T + 273.15``.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Celsius.FixedTemperature"
+
     T = Parameter(None, unit="degC", description="Fixed temperature at the port")
     port = HeatPort_b()
 
@@ -33,6 +35,8 @@ class CelsiusTemperatureSensor(Component):
 
     ``T = port.T - 273.15``, ``port.Q_flow = 0``.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Celsius.TemperatureSensor"
 
     T = RealOutput(unit="degC", description="Absolute temperature in degree Celsius as output signal")
     port = HeatPort_a()

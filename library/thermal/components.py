@@ -18,6 +18,8 @@ class HeatCapacitor(Component):
     derivative of the temperature.  ``C`` has no default.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Components.HeatCapacitor"
+
     C = Parameter(None, unit="J/K", description="Heat capacity of element (= cp*m)")
     T = Variable(unit="K", start=293.15, description="Temperature of element")
     der_T = Variable(unit="K/s", start=0.0, description="Time derivative of temperature (= der(T))")
@@ -37,6 +39,8 @@ class ThermalConductor(Element1D):
     ``Q_flow = G*dT``.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Components.ThermalConductor"
+
     G = Parameter(None, unit="W/K", description="Constant thermal conductance of material")
 
     def equations(self):
@@ -48,6 +52,8 @@ class ThermalResistor(Element1D):
 
     ``dT = R*Q_flow``.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Components.ThermalResistor"
 
     R = Parameter(None, unit="K/W", description="Constant thermal resistance of material")
 
@@ -61,6 +67,8 @@ class Convection(Component):
     ``Q_flow = Gc*dT`` from ``solid`` to ``fluid`` with ``dT = solid.T -
     fluid.T``; the convective thermal conductance ``Gc`` is an input.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Components.Convection"
 
     Gc = RealInput(unit="W/K", description="Signal representing the convective thermal conductance")
     solid = HeatPort_a()
@@ -97,6 +105,8 @@ class GeneralHeatFlowToTemperatureAdaptor(FlowToPotentialAdaptor):
     MSL's final settings ``use_pder2 = use_fder = use_fder2 = false``.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Components.GeneralHeatFlowToTemperatureAdaptor"
+
     use_pder2 = Parameter(False, structural=True,
                           description="Use output for 2nd derivative of potential (final false)")
     p = RealOutput(unit="K", description="Output for potential (temperature)")
@@ -126,6 +136,8 @@ class GeneralTemperatureToHeatFlowAdaptor(PotentialToFlowAdaptor):
     (:class:`acausal.components.adaptors.PotentialToFlowAdaptor`) with the
     MSL's final settings ``use_pder2 = use_fder = use_fder2 = false``.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Components.GeneralTemperatureToHeatFlowAdaptor"
 
     pder_hint = "enable use_pder and connect der(T) to pder"
     use_pder2 = Parameter(False, structural=True,

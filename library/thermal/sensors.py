@@ -14,6 +14,8 @@ class TemperatureSensor(Component):
     ``T = port.T``, ``port.Q_flow = 0``.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Sensors.TemperatureSensor"
+
     T = RealOutput(unit="K", description="Absolute temperature as output signal")
     port = HeatPort_a()
 
@@ -26,6 +28,8 @@ class HeatFlowSensor(Component):
 
     ``Q_flow = port_a.Q_flow`` through equal temperatures.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Sensors.HeatFlowSensor"
 
     Q_flow = RealOutput(unit="W", description="Heat flow from port_a to port_b as output signal")
     port_a = HeatPort_a()

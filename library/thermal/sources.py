@@ -14,6 +14,8 @@ class FixedTemperature(Component):
     ``port.T = T``.
     """
 
+    modelica_name = "Modelica.Thermal.HeatTransfer.Sources.FixedTemperature"
+
     T = Parameter(None, unit="K", description="Fixed temperature at port")
     port = HeatPort_b()
 
@@ -26,6 +28,8 @@ class PrescribedTemperature(Component):
 
     ``port.T = T`` (input).
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Sources.PrescribedTemperature"
 
     T = RealInput(unit="K")
     port = HeatPort_b()
@@ -40,6 +44,8 @@ class FixedHeatFlow(Component):
     ``port.Q_flow = -Q_flow*(1 + alpha*(port.T - T_ref))``: a positive
     ``Q_flow`` is injected into the connected component.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Sources.FixedHeatFlow"
 
     Q_flow = Parameter(None, unit="W", description="Fixed heat flow rate at port")
     T_ref = Parameter(293.15, unit="K", description="Reference temperature")
@@ -56,6 +62,8 @@ class PrescribedHeatFlow(Component):
     ``port.Q_flow = -Q_flow*(1 + alpha*(port.T - T_ref))`` with the input
     ``Q_flow``: a positive value is injected into the connected component.
     """
+
+    modelica_name = "Modelica.Thermal.HeatTransfer.Sources.PrescribedHeatFlow"
 
     T_ref = Parameter(293.15, unit="K", description="Reference temperature")
     alpha = Parameter(0.0, unit="1/K", description="Temperature coefficient of heat flow rate")

@@ -69,6 +69,8 @@ class Fixed(Component):
     ``flange.s = s0``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.Fixed"
+
     s0 = Parameter(0.0, unit="m", description="Fixed offset position of housing")
     flange = Flange_b(description="Flange fixed in housing at a given position")
 
@@ -83,6 +85,8 @@ class Mass(PartialRigid):
     at ``s``: ``v = der(s)``, ``a = der(v)``, ``m*a = flange_a.f + flange_b.f``.
     ``s`` and ``v`` carry the ``stateSelect`` hint (default StateSelect.default).
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.Mass"
 
     m = Parameter(1.0, unit="kg", min=0, description="Mass of the sliding mass")
     stateSelect = Parameter(StateSelect.default, structural=True,  # noqa: N815 - Modelica name
@@ -109,6 +113,8 @@ class Rod(PartialRigid):
     ``0 = flange_a.f + flange_b.f``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.Rod"
+
     def equations(self):
         return [Eq(0, self.flange_a.f + self.flange_b.f)]
 
@@ -119,6 +125,8 @@ class Spring(PartialCompliant):
     ``f = c*(s_rel - s_rel0)``: the spring pushes the flanges apart when it
     is compressed below its unstretched length ``s_rel0``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.Spring"
 
     c = Parameter(1.0, unit="N/m", min=0, description="Spring constant")
     s_rel0 = Parameter(0.0, unit="m", description="Unstretched spring length")
@@ -134,6 +142,8 @@ class Damper(PartialCompliantWithRelativeStates, PartialElementaryConditionalHea
     negative for ``d >= 0``) goes to the optional heat port.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.Damper"
+
     d = Parameter(0.0, unit="N.s/m", min=0, description="Damping constant")
 
     def equations(self):
@@ -146,6 +156,8 @@ class SpringDamper(PartialCompliantWithRelativeStates, PartialElementaryConditio
     ``f = c*(s_rel - s_rel0) + d*v_rel``; only the damper part dissipates
     (``lossPower = f_d*v_rel``, ``f_d = d*v_rel``).
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.SpringDamper"
 
     c = Parameter(1.0, unit="N/m", min=0, description="Spring constant")
     d = Parameter(1.0, unit="N.s/m", min=0, description="Damping constant")
@@ -183,6 +195,8 @@ class ElastoGap(DerivedDefaults, PartialCompliantWithRelativeStates, PartialElem
     in ``smooth(.., noEvent(..))``; their switch on the Boolean ``contact``
     happens at the events of ``contact``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.ElastoGap"
 
     c = Parameter(1.0, unit="N/m", min=0, description="Spring constant")
     d = Parameter(1.0, unit="N.s/m", min=0, description="Damping constant")
@@ -227,6 +241,8 @@ class RelativeStates(PartialTwoFlanges):
     not used by the MSL equations.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.RelativeStates"
+
     stateSelect = Parameter(StateSelect.prefer, structural=True,  # noqa: N815 - Modelica name
                             description="Priority to use the relative angle and relative speed as states")
     s_rel = Variable(start=0.0, unit="m", state_select=StateSelect.prefer,
@@ -268,6 +284,8 @@ class InitializeFlange(Component):
     the position inside Set_a_start is not reproduced: ``s_flange`` carries
     ``stateSelect``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.InitializeFlange"
 
     use_s_start = Parameter(True, structural=True,
                             description="= true, if initial position is defined by input s_start, "
@@ -333,6 +351,8 @@ class GeneralForceToPositionAdaptor(FlowToPotentialAdaptor):
     strings are left out.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.GeneralForceToPositionAdaptor"
+
     p = RealOutput(unit="m", description="Output for potential")
     pder = RealOutput(unit="m/s", condition="use_pder", description="Optional output for der(potential)")
     pder2 = RealOutput(unit="m/s2", condition=lambda c: c.use_pder and c.use_pder2,
@@ -368,6 +388,8 @@ class GeneralPositionToForceAdaptor(PotentialToFlowAdaptor):
     derivative outputs); the icon-only name strings are left out.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.GeneralPositionToForceAdaptor"
+
     p = RealInput(unit="m", description="Input for potential")
     pder = RealInput(unit="m/s", condition="use_pder", description="Optional input for der(potential)")
     pder2 = RealInput(unit="m/s2", condition=lambda c: c.use_pder and c.use_pder2,
@@ -393,6 +415,8 @@ class IdealGearR2T(rotational_components.IdealGearR2T):
     and adds nothing: see :class:`acausal.library.rotational.IdealGearR2T`.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.IdealGearR2T"
+
 
 class IdealRollingWheel(rotational_components.IdealRollingWheel):
     """Ideal wheel rolling without slip (Modelica.Mechanics.Translational.Components.IdealRollingWheel).
@@ -400,3 +424,5 @@ class IdealRollingWheel(rotational_components.IdealRollingWheel):
     The MSL class extends Modelica.Mechanics.Rotational.Components.IdealRollingWheel
     and adds nothing: see :class:`acausal.library.rotational.IdealRollingWheel`.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.IdealRollingWheel"

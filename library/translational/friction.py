@@ -110,6 +110,8 @@ class SupportFriction(_HousingFriction, PartialElementaryTwoFlangesAndSupport2,
     breaks away when the holding force exceeds ``peak*F(0)``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.SupportFriction"
+
     f_pos = Parameter([[0.0, 1.0]], structural=True, unit="N",
                       description="Positive sliding friction characteristic [N] as function of v [m/s] (v>=0)")
     peak = Parameter(1.0, min=1, description="Peak for maximum friction force at v==0 (f0_max = peak*f_pos[1,2])")
@@ -151,6 +153,8 @@ class Brake(_HousingFriction, PartialElementaryTwoFlangesAndSupport2, PartialEle
     :class:`acausal.components.translational.PartialFriction`.  The brake is
     free (mode Free) while the normal force is not positive.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.Brake"
 
     mu_pos = Parameter([[0.0, 0.5]], structural=True,
                        description="Positive sliding friction coefficient [-] as function of v [m/s] (v>=0)")
@@ -287,6 +291,8 @@ class MassWithStopAndFriction(PartialFrictionWithStop, PartialElementaryConditio
        Modelica based on the Synchronous Data Flow Principle", CACSD'99,
        Hawaii, August 1999.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.MassWithStopAndFriction"
 
     v = Variable(start=0.0, unit="m/s", state_select=StateSelect.always,
                  description="Absolute velocity of flange_a and flange_b")

@@ -30,6 +30,8 @@ class PositionSensor(PartialAbsoluteSensor):
     ``s = flange.s``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.PositionSensor"
+
     s = RealOutput(unit="m", description="Absolute position of flange as output signal")
 
     def equations(self):
@@ -42,6 +44,8 @@ class SpeedSensor(PartialAbsoluteSensor):
     ``v = der(flange.s)``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.SpeedSensor"
+
     v = RealOutput(unit="m/s", description="Absolute velocity of flange as output signal")
 
     def equations(self):
@@ -53,6 +57,8 @@ class AccSensor(PartialAbsoluteSensor):
 
     ``v = der(flange.s)``, ``a = der(v)``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.AccSensor"
 
     v = Variable(unit="m/s", description="Absolute velocity of flange")
     a = RealOutput(unit="m/s2", description="Absolute acceleration of flange as output signal")
@@ -68,6 +74,8 @@ class ForceSensor(PartialRelativeSensor):
     ``f = flange_a.f`` (= ``-flange_b.f``).
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.ForceSensor"
+
     f = RealOutput(unit="N",
                    description="Force in flange_a and flange_b (f = flange_a.f = -flange_b.f) as output signal")
 
@@ -80,6 +88,8 @@ class RelPositionSensor(PartialRelativeSensor):
 
     ``s_rel = flange_b.s - flange_a.s``; no force (``flange_a.f = 0``).
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.RelPositionSensor"
 
     s_rel = RealOutput(unit="m",
                        description="Relative distance between two flanges (= flange_b.s - flange_a.s) "
@@ -94,6 +104,8 @@ class RelSpeedSensor(PartialRelativeSensor):
 
     ``s_rel = flange_b.s - flange_a.s``, ``v_rel = der(s_rel)``; no force.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.RelSpeedSensor"
 
     s_rel = Variable(unit="m", description="Relative distance between two flanges (flange_b.s - flange_a.s)")
     v_rel = RealOutput(unit="m/s",
@@ -114,6 +126,8 @@ class RelAccSensor(PartialRelativeSensor):
     ``s_rel = flange_b.s - flange_a.s``, ``v_rel = der(s_rel)``,
     ``a_rel = der(v_rel)``; no force.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.RelAccSensor"
 
     s_rel = Variable(unit="m", description="Relative distance between two flanges (flange_b.s - flange_a.s)")
     v_rel = Variable(unit="m/s",
@@ -137,6 +151,8 @@ class PowerSensor(PartialRelativeSensor):
     ``power = flange_a.f*der(flange_a.s)``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.PowerSensor"
+
     power = RealOutput(unit="W", description="Power in flange flange_a as output signal")
 
     def equations(self):
@@ -152,6 +168,8 @@ class MultiSensor(PartialRelativeSensor):
     Rigid connection (``flange_a.s = flange_b.s``); ``f = flange_a.f``,
     ``v = der(flange_a.s)`` and ``power = f*v``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sensors.MultiSensor"
 
     power = RealOutput(unit="W", description="Power in flange flange_a as output signal")
     f = RealOutput(unit="N",

@@ -65,6 +65,8 @@ class Force(PartialElementaryOneFlangeAndSupport2):
     direction; with ``useSupport`` the reaction force acts on the support.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.Force"
+
     f = RealInput(unit="N", description="Driving force as input signal")
 
     def equations(self):
@@ -77,6 +79,8 @@ class Force2(PartialTwoFlanges):
     ``flange_a.f = f`` and ``flange_b.f = -f``: a positive input pushes the
     two flanges apart (flange_b forwards, flange_a backwards).
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sources.Force2"
 
     f = RealInput(unit="N", description="Driving force as input signal")
 
@@ -92,6 +96,8 @@ class ConstantForce(PartialForce):
     a load while it moves forwards).
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.ConstantForce"
+
     f_constant = Parameter(None, unit="N",
                            description="Nominal force (if negative, force is acting as load in positive "
                                        "direction of motion)")
@@ -106,6 +112,8 @@ class ForceStep(PartialForce):
     ``f = -offsetForce - (0 if time < startTime else stepForce)``; the step
     is a time event.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sources.ForceStep"
 
     stepForce = Parameter(1.0, unit="N",  # noqa: N815 - Modelica name
                           description="Height of force step (if negative, force is acting as load)")
@@ -141,6 +149,8 @@ class LinearSpeedDependentForce(_SpeedDependentForce):
     support).  The flange is pushed by ``-f``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.LinearSpeedDependentForce"
+
     def equations(self):
         ratio = self.v / self.v_nominal
         return [Eq(self.f, -self.f_nominal * (sp.Abs(ratio) if self.ForceDirection else ratio))]
@@ -155,6 +165,8 @@ class QuadraticSpeedDependentForce(_SpeedDependentForce):
     events).  The flange is pushed by ``-f``; a negative ``f_nominal`` with
     ``ForceDirection = false`` is an air drag.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sources.QuadraticSpeedDependentForce"
 
     def equations(self):
         ratio = self.v / self.v_nominal
@@ -178,6 +190,8 @@ class InverseSpeedDependentForce(_SpeedDependentForce):
     continuous only for ``v_nominal = v0``; kept as is.)
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.InverseSpeedDependentForce"
+
     v0 = Parameter(0.1, unit="m/s", min=EPS, description="Regularization below v0")
 
     def equations(self):
@@ -200,6 +214,8 @@ class SignForce(PartialForce):
     ``f_nominal`` drives the flange in the direction it moves; a negative
     one is a (regularized) Coulomb friction.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sources.SignForce"
 
     f_nominal = Parameter(None, unit="N", description="Nominal force (if negative, force is acting as load)")
     reg = Parameter(Regularization.Exp, structural=True, description="Type of regularization")
@@ -233,6 +249,8 @@ class EddyCurrentForce(PartialForce, PartialElementaryConditionalHeatPort):
     port's (``useHeatPort``) or the parameter ``T``; the loss power leaves
     through the heat port.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sources.EddyCurrentForce"
 
     useExcitationInput = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                                    description="Enable signal input for excitation")
@@ -288,6 +306,8 @@ class Position(PartialElementaryOneFlangeAndSupport2):
       the initial equation ``s = s_ref``; ``v`` starts at its start value.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.Position"
+
     #: s coefficient of the Bessel filter
     af = 1.3617
     #: s^2 coefficient of the Bessel filter
@@ -328,6 +348,8 @@ class Speed(PartialElementaryOneFlangeAndSupport2):
       initial equation ``v = v_ref``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.Speed"
+
     exact = Parameter(False, structural=True,
                       description="Is true/false for exact treatment/filtering of the input signal, respectively")
     f_crit = Parameter(50.0, unit="Hz", description="If exact=false, critical frequency of filter to filter input signal")
@@ -357,6 +379,8 @@ class Accelerate(PartialElementaryOneFlangeAndSupport2):
     0 (both fixed), so for a constant input ``s = a_ref*t^2/2``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.Accelerate"
+
     s = Variable(start=0.0, fixed=True, unit="m", state_select=StateSelect.prefer,
                  description="Distance between flange and support (= flange.s - support.s)")
     v = Variable(start=0.0, fixed=True, unit="m/s", state_select=StateSelect.prefer,
@@ -385,6 +409,8 @@ class Move(VectorBlock, PartialElementaryOneFlangeAndSupport2):
     nothing checks that.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Sources.Move"
+
     @classmethod
     def arrays(cls, value):
         return {"u": (3, lambda i: RealInput(description="Position, velocity and acceleration of flange "
@@ -400,6 +426,8 @@ class ConstantSpeed(PartialForce):
 
     ``v = der(s) = v_fixed`` (speed relative to the support).
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Sources.ConstantSpeed"
 
     v_fixed = Parameter(None, unit="m/s", description="Fixed speed (if negative, force is acting as load)")
     v = Variable(unit="m/s", description="Velocity of flange with respect to support (= der(s))")

@@ -47,6 +47,8 @@ class RollingResistance(PartialForce):
     or ``inclinationConstant``.
     """
 
+    modelica_name = "Modelica.Mechanics.Translational.Components.RollingResistance"
+
     fWeight = Parameter(0.0, unit="N", description="Wheel load due to gravity")  # noqa: N815 - Modelica name
     useCrInput = Parameter(False, structural=True,  # noqa: N815 - Modelica name
                            description="Enable signal input for Cr")
@@ -96,6 +98,8 @@ class Vehicle(Component):
     a trailer).  With all resistances zero, ``(m + J/R^2)*a`` is the
     driving force ``flangeR.tau/R``.
     """
+
+    modelica_name = "Modelica.Mechanics.Translational.Components.Vehicle"
 
     #: Reference velocity for the air drag (the MSL's protected constant vRef, m/s).
     vRef = 1.0
