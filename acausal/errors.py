@@ -24,6 +24,8 @@ __all__ = [
     "ConnectionError_",
     "ArraySizeError",
     "ArrayIndexError",
+    "ModelicaError",
+    "ModelicaSyntaxError",
     "ParameterError",
     "TableError",
     "StructuralError",
@@ -111,6 +113,18 @@ class ArraySizeError(ModelDefinitionError):
 
 class ArrayIndexError(ModelDefinitionError, IndexError):
     """An array is indexed outside its size (Modelica's indices count from 1), or with a non-integer."""
+
+
+class ModelicaError(AcausalError, ValueError):
+    """Modelica text that acausal cannot read or write: an unknown name, an unsupported
+    construct, a class acausal's library lacks.  The message names the file and line."""
+
+
+class ModelicaSyntaxError(ModelicaError, SyntaxError):
+    """Modelica text that does not parse: the file, the line, the column and what was expected."""
+
+    def __str__(self) -> str:  # SyntaxError's own __str__ shows only its fields
+        return self.args[0] if self.args else ""
 
 
 class ConnectorError(ModelDefinitionError):

@@ -46,6 +46,9 @@ LAYERS: dict[str, int] = {
     "compiler": 1,
     "runtime": 2,
     "tools": 3,
+    # Modelica text in and out: a tool beside the others (it reads the library catalogue,
+    # the command line reads FILE.mo through it)
+    "modelica": 3,
 }
 TOP_LEVEL_LAYER = "language"
 

@@ -6,6 +6,8 @@
     acausal compare  examples/first.py --plot plots/
     acausal explain  examples/first.py --out pictures/
     acausal check    examples/first.py
+    acausal export   examples/first.py --modelica First.mo
+    acausal simulate First.mo          (or Modelica.Mechanics.Rotational.Examples.First on MODELICAPATH)
     acausal show     library.blocks.Step
     acausal list     library.blocks
 
@@ -432,6 +434,14 @@ def _parser() -> argparse.ArgumentParser:
                      help="write a self-contained teaching page DIR/index.html (simulates the model for "
                           "its discrete states and events)")
     exp.set_defaults(run=_cmd_explain)
+    export = commands.add_parser("export", help="write a model as Modelica text",
+                                 description="Write the model as one Modelica model: library components "
+                                             "as their MSL classes with their modifiers, the model's own "
+                                             "classes with their equations, connects and the experiment.")
+    export.add_argument("model", metavar="MODEL", help="FILE.py[:ClassName] (or FILE.mo[:Class])")
+    export.add_argument("--modelica", metavar="OUT.mo", required=True,
+                        help="the Modelica file to write ('-': standard output)")
+    export.set_defaults(run=_cmd_export)
     commands.add_parser("bench", help="work-precision benchmark (acausal bench --help)", add_help=False)
     commands.add_parser("show", help="a component's parameters, connectors and variables "
                                      "(acausal show Class, PACKAGE.Class, its Modelica name or "
@@ -759,6 +769,23 @@ def _cmd_explain(args) -> int:
         print(f"wrote {path}")
     if explanation.page:
         print(f"wrote {explanation.page}")
+    return 0
+
+
+def _cmd_export(args) -> int:
+    from ..fileio import atomic_write
+    from ..modelica import dump
+
+    out = None if args.modelica == "-" else Path(args.modelica)
+    if out is not None:
+        _check_writable(out, "the Modelica file")
+    model = _instantiate(load_model_class(args.model))
+    text = dump(model)
+    if out is None:
+        print(text, end="")
+        return 0
+    atomic_write(out, lambda handle: handle.write(text), encoding="utf-8")
+    print(f"wrote {out}")
     return 0
 
 

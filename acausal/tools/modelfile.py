@@ -8,6 +8,7 @@ with its own folder on ``sys.path``, so that it can import its neighbours.
 from __future__ import annotations
 
 import importlib.util
+import os
 import re
 import sys
 import traceback
@@ -114,6 +115,8 @@ def load_model_class(spec: str) -> type:
     """
     filename, wanted = _split_spec(spec)
     path = Path(filename)
+    if path.suffix == ".mo" or (not path.exists() and _is_class_name(spec)):
+        return _load_modelica(spec, filename, wanted)
     if not path.is_file():
         if path.exists():
             raise CommandError(f"{filename} is not a file")
@@ -138,6 +141,34 @@ def load_model_class(spec: str) -> type:
         raise CommandError(f"{filename} defines no subclass of acausal.Model ({there})")
     raise CommandError(f"{filename} defines several models ({listing}); name one as "
                        f"{filename}:{defined[0].__name__}")
+
+
+def _is_class_name(spec: str) -> bool:
+    """``Modelica.Mechanics.Rotational.Examples.First``: a dotted Modelica class name."""
+    return bool(re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)+", spec)) and not spec.endswith(".py")
+
+
+def _load_modelica(spec: str, filename: str, wanted: str | None) -> type:
+    """The model of ``FILE.mo[:Class]``, or of a dotted class name found on ``MODELICAPATH``."""
+    from ..modelica import load
+    from ..modelica.read import _package_file
+
+    path = Path(filename)
+    if path.suffix == ".mo":
+        if not path.is_file():
+            raise CommandError(f"file not found: {filename}")
+        return load(path, wanted)
+    found = _package_file(spec)
+    if found is None:
+        raise CommandError(f"{spec}: neither a file nor a class found on MODELICAPATH "
+                           f"({os.environ.get('MODELICAPATH') or 'not set'})")
+    # the file of the class itself (First.mo) or of the package that holds it
+    for k in range(spec.count(".") + 1, 0, -1):
+        candidate = _package_file(".".join(spec.split(".")[:k]))
+        if candidate is not None:
+            found = candidate
+            break
+    return load(found, spec)
 
 
 def _describe_exception(exc: BaseException, path: Path) -> str:

@@ -1,0 +1,203 @@
+"""Reading Modelica text: models written in Modelica run in acausal (issue 26).
+
+Text written here needs no Modelica Standard Library sources: library
+classes are found by the Modelica names acausal's classes declare, and the
+types of ``Modelica.Units`` are Reals without unit when ``Modelica/Units.mo``
+is not on ``MODELICAPATH``.  The MSL examples themselves are in
+``test_msl_sources.py`` (they need the sources on ``MODELICAPATH``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pymoca")
+
+from acausal import simulate  # noqa: E402
+from acausal.compiler.flatten import flatten  # noqa: E402
+from acausal.errors import ModelicaError, ModelicaSyntaxError  # noqa: E402
+from acausal.modelica import load  # noqa: E402
+
+DRIVE = """
+within MyLibrary.Examples;
+model Drive "A torque on an inertia against air drag written in the file itself"
+  import SI = Modelica.Units.SI;
+  import Modelica.Mechanics.Rotational;
+  model Drag "tau = k*w*|w| on a flange"
+    parameter Real k(unit="N.m.s2/rad2") = 0.5;
+    Rotational.Interfaces.Flange_a flange;
+    Real w(unit="rad/s");
+  equation
+    w = der(flange.phi);
+    flange.tau = k*w*abs(w);
+  end Drag;
+  parameter SI.Torque T = 2 "Drive torque";
+  parameter SI.Inertia J = 0.5;
+  parameter Real k2 = 2*J "a parameter bound to an expression of another";
+  Rotational.Sources.ConstantTorque source(tau_constant=T);
+  Rotational.Components.Inertia flywheel(J=J, phi(start=0, fixed=true), w(start=0, fixed=true));
+  Drag drag(k=k2/4);
+  Real power "power the drive puts in";
+equation
+  connect(source.flange, flywheel.flange_a);
+  connect(flywheel.flange_b, drag.flange);
+  power = T*flywheel.w;
+  annotation (experiment(StopTime=5, Interval=0.01));
+end Drive;
+"""
+
+
+def test_a_model_with_a_class_of_its_own_runs_to_its_closed_form():
+    """J w' = T - k w^2 from rest: w = sqrt(T/k) tanh(t sqrt(T k)/J), k = k2/4 = 0.25."""
+    model = load(DRIVE)
+    assert model.modelica_class == "MyLibrary.Examples.Drive"
+    assert model.experiment.stop_time == 5 and model.experiment.interval == 0.01
+    result = simulate(model(), rtol=1e-10, atol=1e-10)
+    assert result.success, result.message
+    T, J, k = 2.0, 0.5, 0.25
+    expected = np.sqrt(T / k) * np.tanh(result.time * np.sqrt(T * k) / J)
+    np.testing.assert_allclose(result["flywheel.w"], expected, atol=1e-7)
+    np.testing.assert_allclose(result["power"], T * result["flywheel.w"], atol=1e-12)
+    assert result["drag.k"][0] == k
+
+
+def test_parameters_given_at_run_time_and_as_modifiers_work_on_a_loaded_model():
+    model = load(DRIVE)
+    stronger = simulate(model(), parameters={"T": 8.0}, stop_time=20.0)
+    assert abs(stronger["flywheel.w"][-1] - np.sqrt(8.0 / 0.25)) < 1e-3
+    as_modifier = simulate(model(T=8.0), stop_time=20.0)
+    np.testing.assert_array_equal(stronger["flywheel.w"], as_modifier["flywheel.w"])
+
+
+HYBRID = """
+model Bounce "A ball bouncing on the floor, with a for-loop and an if-equation"
+  parameter Real e = 0.8 "restitution";
+  parameter Integer n = 3;
+  Real h(start=1, fixed=true);
+  Real v(start=0, fixed=true);
+  Real x[n];
+  Real s;
+equation
+  der(h) = v;
+  der(v) = -9.81;
+  when h < 0 then
+    reinit(v, -e*pre(v));
+  end when;
+  for i in 1:n loop
+    x[i] = i*h;
+  end for;
+  if h > 0.5 then
+    s = 1;
+  else
+    s = 0;
+  end if;
+  annotation (experiment(StopTime=0.5));
+end Bounce;
+"""
+
+
+def test_when_for_and_if_equations():
+    result = simulate(load(HYBRID)(), stop_time=0.45, rtol=1e-10, atol=1e-10)
+    t = result.time
+    np.testing.assert_allclose(result["h"], 1 - 9.81 * t ** 2 / 2, atol=1e-8)  # the bounce is at 0.4515 s
+    np.testing.assert_allclose(result["x[3]"], 3 * result["h"], atol=1e-12)
+    clear = np.abs(result["h"] - 0.5) > 1e-9  # at the crossing itself both values are right
+    np.testing.assert_array_equal(result["s"][clear], np.where(result["h"] > 0.5, 1.0, 0.0)[clear])
+    assert any(e.time == pytest.approx(np.sqrt(1 / 9.81), abs=1e-8) for e in result.events)
+    bounced = simulate(load(HYBRID)(), stop_time=0.6, rtol=1e-10, atol=1e-10)
+    hit = np.sqrt(2 / 9.81)
+    assert any(abs(e.time - hit) < 1e-6 for e in bounced.events)
+    after = bounced.time > hit + 1e-3
+    np.testing.assert_allclose(bounced["v"][after], 0.8 * 9.81 * hit - 9.81 * (bounced.time[after] - hit),
+                               atol=1e-6)
+
+
+def test_the_same_model_written_in_python_gives_the_same_flat_model():
+    from acausal import Model
+    from acausal.library.rotational import ConstantTorque, Inertia
+
+    text = """
+    model Two
+      Modelica.Mechanics.Rotational.Sources.ConstantTorque source(tau_constant=3);
+      Modelica.Mechanics.Rotational.Components.Inertia body(J=2, w(start=1, fixed=true));
+    equation
+      connect(source.flange, body.flange_a);
+    end Two;
+    """
+
+    class Two(Model):
+        def build(self):
+            self.source = ConstantTorque(tau_constant=3)
+            self.body = Inertia(J=2, w=dict(start=1, fixed=True))
+            self.connect(self.source.flange, self.body.flange_a)
+
+    written, read = flatten(Two()), flatten(load(text)())
+    assert sorted(str(e.residual) for e in written.equations) == sorted(str(e.residual) for e in read.equations)
+    assert {v.name: (v.start, v.fixed) for v in written.variables} == \
+        {v.name: (v.start, v.fixed) for v in read.variables}
+
+
+# -- errors ----------------------------------------------------------------------------------
+
+
+def test_a_syntax_error_names_the_line_and_what_was_expected(tmp_path):
+    path = tmp_path / "broken.mo"
+    path.write_text("model Broken\n  Real x\nequation\n  x = 1;\nend Broken;\n")
+    with pytest.raises(ModelicaSyntaxError, match=r"broken\.mo:3(:\d+)?: .*';'") as info:
+        load(path)
+    assert isinstance(info.value, SyntaxError)
+
+
+def test_an_undefined_class_names_the_line_and_the_close_names():
+    text = DRIVE.replace("Drag drag(k=k2/4);", "Dreg drag(k=k2/4);")
+    with pytest.raises(ModelicaError, match=r"<text>:\d+: undefined type name 'Dreg'") as info:
+        load(text)
+    assert "did you mean Drag" in info.value.hint
+
+
+def test_an_msl_class_acausal_lacks_is_said_so():
+    text = """
+    model M
+      Modelica.Electrical.Analog.Basic.Resistor r(R=1);
+    end M;
+    """
+    with pytest.raises(ModelicaError, match=r"Modelica\.Electrical\.Analog\.Basic\.Resistor is not in acausal's library"):
+        load(text)
+
+
+def test_a_modifier_of_an_element_the_class_lacks_names_it():
+    text = """
+    model M
+      Modelica.Mechanics.Rotational.Components.Inertia body(K=2);
+    end M;
+    """
+    with pytest.raises(ModelicaError, match=r"<text>:3: body \(Modelica.Mechanics.Rotational.Components.Inertia\)"
+                                            r".*no parameter or variable named 'K'"):
+        simulate(load(text)())
+
+
+def test_a_file_with_several_models_asks_which(tmp_path):
+    path = tmp_path / "two.mo"
+    path.write_text("model A Real x(start=1, fixed=true); equation der(x) = -x; end A;\n"
+                    "model B Real y(start=2, fixed=true); equation der(y) = -y; end B;\n")
+    with pytest.raises(ModelicaError, match="defines several models"):
+        load(path)
+    result = simulate(load(path, "B")(), stop_time=1.0, rtol=1e-10, atol=1e-12)
+    assert result["y"][-1] == pytest.approx(2 * np.exp(-1), rel=1e-7)
+
+
+def test_a_conditional_declaration_is_refused_not_dropped():
+    """pymoca's tree loses the condition of ``... if useHeat``: reading it as unconditional would
+    give another model, so the reader says it cannot read it yet."""
+    text = """
+    model M
+      parameter Boolean useHeat = false;
+      Real x(start=1, fixed=true);
+      Real q if useHeat "only with heat";
+    equation
+      der(x) = -x;
+    end M;
+    """
+    with pytest.raises(ModelicaError, match=r"<text>:5: q is declared with a condition"):
+        load(text)
