@@ -27,8 +27,13 @@ What is covered, by section of the Modelica Language Specification 3.6:
   logical operators ``and``, ``or``, ``not``.
 * 3.6 String concatenation (3.6.1), array constructors ``{...}`` (3.6.2,
   10.4), concatenation ``[a, b; c, d]`` (3.6.3, 10.4.2.1), ranges
-  ``a:b`` and ``a:s:b`` (3.6.4, 10.4.3), if-expressions (3.6.5) and
-  ``time`` (3.6.7).
+  ``a:b`` and ``a:s:b`` (3.6.4, 10.4.3), if-expressions (3.6.5: a
+  ``Piecewise``, or sympy's ``ITE`` where the branches are Booleans) and
+  ``time`` (3.6.7); ``Modelica.Constants.pi`` and ``e`` are ``sympy.pi``
+  and ``sympy.E``.  A symbol without assumptions is taken for a Boolean
+  variable (``==`` of two is ``Equivalent``), as acausal declares them;
+  Real and Integer variables are symbols with ``real=True`` or
+  ``integer=True``.
 * 3.7 Built-in operators with function syntax: ``abs``, ``sign``, ``sqrt``
   (3.7.1); ``div``, ``mod``, ``rem``, ``ceil``, ``floor``, ``integer``
   (3.7.2); ``sin`` ... ``log10`` (3.7.3) and their ``Modelica.Math``
@@ -440,7 +445,7 @@ class _Reader:
             outcome = {"<": a < b, "<=": a <= b, ">": a > b, ">=": a >= b, "==": a == b, "<>": a != b}
             return sp.true if outcome[operator] else sp.false
         left, right = self._scalar(a), self._scalar(b)
-        if operator in ("==", "<>") and (_is_logical(left) or _is_logical(right)):
+        if operator in ("==", "<>") and (_is_boolean(left) or _is_boolean(right)):
             left, _ = self._condition(left, operator)
             right, _ = self._condition(right, operator)
             return sp.Equivalent(left, right) if operator == "==" else sp.Xor(left, right)
@@ -902,6 +907,16 @@ def _is_logical(value: Any) -> bool:
     return isinstance(value, SympyBoolean) and not isinstance(value, sp.Symbol)
 
 
+def _is_boolean(value: Any) -> bool:
+    """Whether ``value`` is a Boolean: a logical expression, a symbol without assumptions
+    (acausal's Boolean variables) or ``pre`` of one."""
+    if isinstance(value, AppliedUndef) and value.func.__name__ == "pre" and len(value.args) == 1:
+        value = value.args[0]
+    if isinstance(value, sp.Symbol):
+        return value.is_real is None and value.is_integer is None
+    return _is_logical(value)
+
+
 def _boolean_values(values: Sequence[Any]) -> bool:
     """Whether the branches of an if-expression are Booleans: sympy Booleans, none a Real or
     Integer symbol (acausal's Boolean variables are symbols without assumptions)."""
@@ -1083,6 +1098,9 @@ class _Writer:
         return f"{function}({', '.join(self.text(a, _IF) for a in args)})"
 
     def _number(self, expr: sp.Number) -> tuple[str, int]:
+        if expr.is_Rational and max(abs(expr.p), expr.q).bit_length() > 10_000:
+            raise ModelicaError(f"an integer of {max(abs(expr.p), expr.q).bit_length()} bits in {type(expr).__name__}",
+                                hint="write such a number as a Float")
         if expr.is_Integer:
             return str(int(expr)), (_ADD if expr < 0 else _PRIMARY)
         if expr.is_Rational:

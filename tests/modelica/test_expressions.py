@@ -85,10 +85,13 @@ EXPONENTS = [sp.Integer(2), sp.Integer(3), sp.Integer(-1), sp.Integer(-2), sp.Ra
 
 
 def _apply(function, *args):
-    """function(*args), or nan where sympy refuses or a number is beyond a double (the example
-    is then rejected: sympy's Floats have unbounded exponents, and sin(1e900) is slow)."""
+    """function(*args), or nan where sympy refuses, a number is beyond a double or a power
+    would be huge (the example is then rejected: sympy's numbers are unbounded, and sin(1e900)
+    is slow)."""
     if any(not _double(f) for a in args if isinstance(a, sp.Basic) for f in a.atoms(sp.Float)):
         return sp.nan
+    if function is sp.Pow and args[1].is_comparable and abs(args[1]) > 64:
+        return sp.nan  # 1000**(1000**1000): exact, unbounded, and no double anyway
     try:
         return function(*args)
     except (TypeError, ValueError, ArithmeticError):
@@ -128,15 +131,17 @@ def _writable(expr) -> bool:
         return False
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo, sp.I, sp.AccumBounds) or expr.atoms(sp.AccumBounds):
         return False
+    if any(max(abs(r.p), r.q).bit_length() > 200 for r in expr.atoms(sp.Rational)):
+        return False  # 3**1000: exact, but no Modelica tool reads such an Integer
     return all(_double(number) for number in expr.atoms(sp.Float))
 
 
 def _numeric(expr, point: dict) -> complex:
     """expr at a point, with der()/pre() as symbols and the event functions as plain mathematics."""
-    plain = hybrid.without_no_event(hybrid.plain_form(expr))
-    plain = plain.replace(lambda e: isinstance(e, sp.core.function.AppliedUndef),
-                          lambda e: sp.Symbol(f"{e.func.__name__}_{e.args[0]}", real=True))
     try:
+        plain = hybrid.without_no_event(hybrid.plain_form(expr))
+        plain = plain.replace(lambda e: isinstance(e, sp.core.function.AppliedUndef),
+                              lambda e: sp.Symbol(f"{e.func.__name__}_{e.args[0]}", real=True))
         value = plain.evalf(30, subs=point)
     except TypeError:  # a relation of complex values in a condition: undefined there
         return complex("nan")
@@ -165,7 +170,7 @@ def test_round_trip(expr):
     text = to_modelica(expr)
     back = read(text)
     assert_same(expr, back)
-    assert to_modelica(back) == text or assert_same(back, read(to_modelica(back))) is None
+    assert to_modelica(back) == text  # written again, the same text
 
 
 BOOLEAN_A, BOOLEAN_B = sp.symbols("a b")  # Boolean variables: symbols without assumptions
@@ -313,7 +318,7 @@ def test_event_operators_are_written_by_their_names():
     assert to_modelica(hybrid.change(b)) == "change(b)"
     assert to_modelica(hybrid.change(n)) == "change(n)"
     assert to_modelica(hybrid.terminal()) == "terminal()"
-    assert to_modelica(sp.And(initial(), X > 0) if False else initial()) == "initial()"
+    assert to_modelica(initial()) == "initial()"
 
 
 @pytest.mark.parametrize("expr, what", [
@@ -377,6 +382,10 @@ def test_relations_and_logic():
     assert read("x <> 1") == sp.Ne(X, 1)
     assert read("(x > 0) == (y > 0)") == sp.Equivalent(X > 0, Y > 0)
     assert read("(x > 0) <> (y > 0)") == sp.Xor(X > 0, Y > 0)
+    a, b = sp.symbols("a b")  # Boolean variables
+    assert read("a == b", a=a, b=b) == sp.Equivalent(a, b)
+    assert read("not a <> b", a=a, b=b) == sp.Not(sp.Xor(a, b))
+    assert read("a <> pre(a)", a=a) == hybrid.change(a)
     assert read("true and x > 0") == (X > 0)
     assert read("false") is sp.false
     assert read('"a" == "a"') is sp.true
