@@ -109,7 +109,7 @@ except ImportError:  # pragma: no cover - exercised only without the optional de
     _ast = None
     _parser = None
 
-__all__ = ["to_sympy", "to_modelica", "END", "Resolve", "repair_parser", "call_arguments"]
+__all__ = ["to_sympy", "to_modelica", "END", "Resolve", "Call", "repair_parser", "call_arguments"]
 
 #: ``resolve(name, subscripts)``: the value of a component reference.
 #: ``name`` is the dotted name without subscripts (``"a.b"``), ``subscripts``
@@ -119,6 +119,11 @@ __all__ = ["to_sympy", "to_modelica", "END", "Resolve", "repair_parser", "call_a
 #: expression, an :class:`~acausal.arrays.Array`, a number, a string or an
 #: enumeration value.
 Resolve = Callable[[str, list], Any]
+
+#: ``call(name, positional, named)``: the value of a call of a function that is
+#: neither built in nor one of Modelica.Math's elementary functions (a
+#: Modelica function a package defines); the arguments are already read.
+Call = Callable[[str, list, dict], Any]
 
 #: ``end`` inside subscripts: the size of the dimension it indexes.  A
 #: subscript holding it is a sympy expression in ``END`` (``x[end - 1]``
@@ -137,7 +142,7 @@ _CONCATENATE = "[]"   # [a, b; c, d]: operands, one Array per row
 # =====================================================================================
 
 
-def to_sympy(node: Any, resolve: Resolve) -> Any:
+def to_sympy(node: Any, resolve: Resolve, call: Call | None = None) -> Any:
     """A Modelica expression (a node of pymoca's syntax tree) in acausal's form.
 
     Parameters
@@ -150,6 +155,9 @@ def to_sympy(node: Any, resolve: Resolve) -> Any:
         component reference except ``time``, ``Modelica.Constants.pi`` and
         ``Modelica.Constants.e`` (read as ``sympy.pi`` and ``sympy.E``) and
         the iteration variables of array constructors.
+    call : callable, optional
+        ``call(name, positional, named)``, see :data:`Call`: the value of a
+        call of any other function.  Without it such a call is an error.
 
     Returns
     -------
@@ -177,7 +185,7 @@ def to_sympy(node: Any, resolve: Resolve) -> Any:
     if _ast is None:  # pragma: no cover
         raise ModelicaError("reading Modelica needs pymoca", hint="pip install acausal[modelica]")
     try:
-        value = _Reader(resolve).read(node)
+        value = _Reader(resolve, call).read(node)
     except (ArraySizeError, ArrayIndexError) as exc:  # from acausal's array functions
         raise ModelicaError(exc.message, hint=exc.hint) from exc
     if isinstance(value, _Literal):
@@ -231,8 +239,9 @@ _STRING_ESCAPES = {"'": "'", '"': '"', "?": "?", "\\": "\\", "a": "\a", "b": "\b
 class _Reader:
     """One reading of an expression: the callback and the iteration variables in scope."""
 
-    def __init__(self, resolve: Resolve) -> None:
+    def __init__(self, resolve: Resolve, call: Call | None = None) -> None:
         self.resolve = resolve
+        self.call = call
         self.iterators: dict[str, Any] = {}
         self.in_subscript = 0
         self.builtins = self._builtins()
@@ -631,6 +640,9 @@ class _Reader:
         if parts[:-1] in (["Modelica", "Math"], ["Math"]):
             short = parts[-1]
             function = _ELEMENTARY.get(short) or _MATH_ONLY.get(short) or (sp.atan2 if short == "atan2" else None)
+            if function is None and self.call is not None:
+                return self.call(name, [self.read(operand) for operand in positional],
+                                 {key: self.read(operand) for key, operand in named.items()})
             if function is None:
                 raise ModelicaError(f"unsupported function {name}",
                                     hint="acausal reads the elementary functions of Modelica.Math")
@@ -638,6 +650,9 @@ class _Reader:
             builtin = _Builtin(function, len(names), names=names, elementwise=True)
         else:
             builtin = self.builtins.get(name)
+            if builtin is None and self.call is not None:
+                return self.call(name, [self.read(operand) for operand in positional],
+                                 {key: self.read(operand) for key, operand in named.items()})
             if builtin is None:
                 raise ModelicaError(f"unsupported function {name}()",
                                     hint="acausal reads Modelica's built-in operators and the "

@@ -49,6 +49,7 @@ import sympy as sp
 from ..errors import ModelicaError, ModelicaSyntaxError
 from ..language import (Boolean, Component, Connector, Eq, Experiment, Flow, Integer, Model, Parameter, Potential,
                         RealInput, RealOutput, Variable)
+from .functions import FunctionScope, call_function
 
 __all__ = ["load", "parse", "ModelicaSource", "modelica_path"]
 
@@ -187,6 +188,23 @@ def _package_file(dotted: str) -> Path | None:
             if single.is_file():
                 return single
     return None
+
+
+def _path_key() -> tuple[str, ...]:
+    return tuple(str(p) for p in modelica_path())
+
+
+@functools.lru_cache(maxsize=512)
+def _class_on_path(full: str, key: tuple[str, ...]) -> Any:
+    """The class ``full`` as a package on MODELICAPATH defines it (pymoca's tree), or None
+    (``key``: the path, so a changed MODELICAPATH reads again)."""
+    path = _package_file(full)
+    if path is None:
+        return None
+    node = parse(path).tree
+    for part in full.split("."):
+        node = node.classes.get(part) if node is not None else None
+    return node
 
 
 @functools.lru_cache(maxsize=8)
@@ -548,6 +566,9 @@ class Reader:
         self.source = source
         self.scope = Scope(source)
         self.made: dict[str, type] = {}
+        self.functions = FunctionScope(find=self._function, where=self.source.where,
+                                       constant=lambda name, subscripts, enclosing:
+                                       self._global(name, subscripts, f"function {enclosing}"))
 
     # -- the class asked for -----------------------------------------------------------
     def main_class(self, name: str | None) -> str:
@@ -958,8 +979,9 @@ class Reader:
             return literal  # a number, string or Boolean as it is written
         if type(node).__name__ == "ComponentRef":  # a name alone: no expression to convert
             return resolve(_ref_text(node), _subscripts(node, self, instance, loop or {}, where))
+        enclosing = type(instance).__dict__.get("_modelica_full") or next(iter(self._enclosings()), "")
         try:
-            value = _expressions().to_sympy(node, resolve)
+            value = _expressions().to_sympy(node, resolve, functools.partial(self._call, enclosing))
         except ModelicaError as exc:
             if self.source.origin in str(exc):
                 raise
@@ -1000,6 +1022,38 @@ class Reader:
         raise ModelicaError(f"{self.source.where(name.split('.')[0])}: undefined name {name!r} in {where}",
                             hint="a parameter, variable or component of this class, a loop index, an "
                                  "enumeration literal or a constant of Modelica.Constants")
+
+    # -- Modelica functions -------------------------------------------------------------
+    def _call(self, enclosing: str, name: str, positional: list, named: dict) -> Any:
+        """A call, inside the class ``enclosing``, of a Modelica function: its first output."""
+        node, full = self._function(name, enclosing)
+        outputs = call_function(node, full, positional, named, self.functions)
+        if not outputs:
+            raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: {full}() has no output, and is "
+                                "used in an expression")
+        return outputs[0]
+
+    def _function(self, name: str, enclosing: str) -> tuple[Any, str]:
+        """The function class ``name`` names inside ``enclosing`` (MLS 5.3): in the file, or
+        in a package on MODELICAPATH."""
+        first, _, rest = name.partition(".")
+        candidates = []
+        imported = self.scope.full_name(name, enclosing)
+        if imported:
+            candidates.append(imported)
+        parts = enclosing.split(".") if enclosing else []
+        candidates += [".".join([*parts[:k], name]) for k in range(len(parts), -1, -1)]
+        for full in candidates:
+            node = self.scope.file_classes.get(full) or _class_on_path(full, _path_key())
+            if node is not None:
+                if getattr(node, "type", None) != "function":
+                    raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: {full} is a {node.type}, "
+                                        "not a function", hint="only functions can be called in expressions")
+                return node, full
+        raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: unsupported function {name}()",
+                            hint="acausal reads Modelica's built-in operators, Modelica.Math's elementary "
+                                 "functions and the Modelica functions of the file or of the packages on "
+                                 "MODELICAPATH")
 
     def _package_constant(self, full: str) -> Any:
         """The value of a constant a package on MODELICAPATH declares

@@ -37,10 +37,7 @@ pytestmark = pytest.mark.skipif(not HAVE_MSL, reason="the MSL 4.1.0 sources are 
                                                       f"({os.environ.get('MODELICAPATH') or 'not set'})")
 
 #: Sources acausal cannot read yet, and why.
-NOT_YET = {
-    "Modelica.Mechanics.Translational.Examples.Friction":
-        "calls a Modelica function (Examples.Utilities.GenerateStribeckFrictionTable)",
-}
+NOT_YET: dict[str, str] = {}
 
 #: Sources whose flat model differs from the Python example's in form only, and how.
 SAME_UP_TO_FORM = {
