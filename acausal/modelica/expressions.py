@@ -1294,15 +1294,18 @@ def repair_parser() -> None:
     * iterators are dropped (``sum(x[i] for i in 1:n)`` becomes
       ``sum(x[i])``, ``{i for i in 1:3}`` becomes ``{i}``);
     * ``[1, 2]`` (a 1 x 2 matrix) becomes ``{1, 2}`` (a vector) and
-      ``[A, B]`` does not concatenate.
+      ``[A, B]`` does not concatenate;
+    * the condition of a conditional declaration (``Real x if useX;``,
+      MLS 4.4.5) is dropped.
 
     After the repair a range has ``start``, ``step`` and ``stop`` in place;
     a named argument is ``Expression(operator="=", operands=[Primary(name),
     value])`` among the call's operands; an expression with iterators is
     ``Expression(operator="for", operands=[expression, ForIndex, ...])``
     (the array constructor itself, or the one operand of a reduction); and
-    ``[...]`` is ``Expression(operator="[]", operands=[Array(row), ...])``.
-    :func:`to_sympy` reads all of them.  pymoca's own node classes are used,
+    ``[...]`` is ``Expression(operator="[]", operands=[Array(row), ...])``;
+    a declaration's condition is the expression ``symbol.condition`` (None
+    without one).  :func:`to_sympy` reads all of them.  pymoca's own node classes are used,
     so trees stay picklable without acausal.  The parse cache of pymoca may
     hold trees made before the repair: parse with ``bypass_cache=True``.
     """
@@ -1316,6 +1319,7 @@ def repair_parser() -> None:
     plain_call_operands = listener._function_call_operands
     plain_array_arguments = listener.exitPrimary_function_arguments
     plain_expression_list = listener.exitPrimary_expression_list
+    plain_declarations = (listener.exitComponent_declaration, listener.exitComponent_declaration1)
 
     def exit_simple_expression(self, ctx) -> None:
         plain_simple_expression(self, ctx)
@@ -1351,6 +1355,19 @@ def repair_parser() -> None:
         rows = [_ast.Array(values=[self.ast[x] for x in row.expression()]) for row in ctx.expression_list()]
         self.ast[ctx] = _ast.Expression(operator=_CONCATENATE, operands=rows)
 
+    def exit_component_declaration(self, ctx) -> None:
+        symbol = self.ast[ctx]
+        plain_declarations[0](self, ctx)
+        condition = ctx.condition_attribute()
+        symbol.condition = self.ast[condition.expression()] if condition is not None else None
+
+    def exit_component_declaration1(self, ctx) -> None:  # in a modification: never conditional
+        symbol = self.ast[ctx]
+        plain_declarations[1](self, ctx)
+        symbol.condition = None
+
+    listener.exitComponent_declaration = exit_component_declaration
+    listener.exitComponent_declaration1 = exit_component_declaration1
     listener.exitSimple_expression = exit_simple_expression
     listener._function_call_operands = function_call_operands
     listener.exitPrimary_function_arguments = exit_array_arguments

@@ -103,13 +103,6 @@ class ModelicaSource:
                 return number
         return None
 
-    def conditional(self, name: str) -> bool:
-        """Whether the text declares ``name`` with a condition (``Real x if useX;``; pymoca's tree
-        drops the condition, so the text is read)."""
-        nested = r"\((?:[^()]|\((?:[^()]|\([^()]*\))*\))*\)"
-        pattern = rf"(?<![\w.]){re.escape(name)}\s*(\[[^\]]*\])?\s*({nested})?\s*if\b"
-        return re.search(pattern, self.text) is not None
-
     def where(self, *words: str) -> str:
         """``file:line`` of the first line that names ``words`` (``file`` alone if none does)."""
         line = self.line_of(*words)
@@ -727,18 +720,15 @@ class Reader:
     # -- declarations ------------------------------------------------------------------
     def _symbol(self, plan: _ClassPlan, name: str, symbol) -> None:
         type_name = _ref_text(symbol.type)
-        if self.source.conditional(name):
-            raise ModelicaError(f"{self.source.where(name)}: {name} is declared with a condition "
-                                f"('if ...'): conditional declarations are not read yet",
-                                hint="declare it without the condition, or write the model in Python "
-                                     "(a declaration's condition=...)")
+        condition = self._condition(symbol, name)
         resolved = self.scope.resolve(type_name, plan.full, "type")
         dims = _dimensions(symbol)
         if resolved.kind in ("library", "file"):
             klass = resolved.target if resolved.kind == "library" else self.make(resolved.full)
             if isinstance(klass, type) and issubclass(klass, Connector):  # a connector of this class
                 shape = self._shape(dims, plan.full) if dims else None
-                plan.declarations[name] = klass(description=symbol.comment or "", shape=shape)
+                plan.declarations[name] = klass(description=symbol.comment or "", shape=shape,
+                                                condition=condition)
                 return
             plan.components.append((name, resolved, symbol, dims))
             return
@@ -785,12 +775,13 @@ class Reader:
             declaration = Parameter(default, unit=unit, min=_number(attributes.get("min")),
                                     max=_number(attributes.get("max")), structural=structural,
                                     description=description, display_unit=str(attributes.get("displayUnit") or ""),
-                                    fixed=attributes.get("fixed", True) is not False, shape=shape)
+                                    fixed=attributes.get("fixed", True) is not False, shape=shape,
+                                    condition=condition)
         else:
             causality = "input" if "input" in prefixes else "output" if "output" in prefixes else \
                 str(attributes.pop("causality", ""))
             options = dict(start=_number(attributes.get("start"), 0.0), fixed=bool(attributes.get("fixed", False)),
-                           description=description, causality=causality, shape=shape)
+                           description=description, causality=causality, shape=shape, condition=condition)
             if base == "Real":
                 options.update(unit=unit, min=_number(attributes.get("min")), max=_number(attributes.get("max")),
                                nominal=_number(attributes.get("nominal")), discrete="discrete" in prefixes,
@@ -805,6 +796,26 @@ class Reader:
             if has_value:  # Real x = expr: an equation
                 plan.derived[f"={name}"] = value
         plan.declarations[name] = declaration
+
+    def _condition(self, symbol, name: str) -> Callable[[Component], bool] | None:
+        """A declaration's condition (``if useSupport``, MLS 4.4.5) as acausal's ``condition=``:
+        read in the instance, where it must be a Boolean parameter expression."""
+        node = getattr(symbol, "condition", None)
+        if node is None:
+            return None
+
+        def enabled(instance: Component) -> bool:
+            return self._enabled(node, instance, name)
+
+        return enabled
+
+    def _enabled(self, node, instance, name: str) -> bool:
+        value = self._value(node, instance, f"the condition of {name}")
+        if value in (True, False, sp.true, sp.false):
+            return bool(value)
+        raise ModelicaError(f"{self.source.where(name)}: the condition of {name} is {value}, not a Boolean "
+                            "known when the model is built", components=(name,),
+                            hint="a declaration's condition is a Boolean parameter expression")
 
     def _shape(self, dims: list, enclosing: str):
         out = []
@@ -841,6 +852,10 @@ class Reader:
     def _make_component(self, plan: _ClassPlan, instance: Component, entry: tuple, later: list[str]) -> bool:
         """Make one sub-component of ``instance`` (False: it reads a sibling in ``later``)."""
         name, resolved, symbol, dims = entry
+        if getattr(symbol, "condition", None) is not None and not self._enabled(symbol.condition, instance, name):
+            # a disabled conditional component: not made, and its connections are removed
+            instance.__dict__.setdefault("_modelica_disabled", set()).add(name)
+            return True
         klass = resolved.target if resolved.kind == "library" else self.make(resolved.full)
         try:
             modifiers = self._modifier_dict(_modifications(symbol.class_modification), instance, plan.full)
@@ -873,6 +888,9 @@ class Reader:
         for item in items:
             kind = type(item).__name__
             if kind == "ConnectClause":
+                disabled = instance.__dict__.get("_modelica_disabled", ())
+                if any(_ref_text(end).split(".")[0] in disabled for end in (item.left, item.right)):
+                    continue  # a connection to a disabled conditional component (MLS 4.4.5)
                 yield (self._reference(item.left, instance, loop), self._reference(item.right, instance, loop))
             elif kind == "ForEquation":
                 for bound in self._loop(item, instance, loop):
@@ -896,6 +914,8 @@ class Reader:
             for key, value in plan.derived.items():
                 if key.startswith("="):
                     name = key[1:]
+                    if not plan.declarations[name].enabled(instance):
+                        continue  # the binding of a disabled conditional variable
                     out.append(Eq(getattr(instance, name), self._value(value, instance, name)))
         out += self._statements(items, instance, {}, plan.full)
         return out
