@@ -35,10 +35,12 @@ and modifications), chapter 8 (equations), chapter 9 (``connect``).
 
 from __future__ import annotations
 
+import base64
 import enum
 import functools
 import hashlib
 import os
+import pickle
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -120,8 +122,35 @@ def _pymoca_parser():
 
 @functools.lru_cache(maxsize=64)
 def _parsed(text: str):
-    """pymoca's tree of ``text`` (one parse per text and process)."""
-    return _pymoca_parser().parse(text)
+    """pymoca's tree of ``text``: parsed once per text and process, and kept in acausal's
+    disk cache like a compiled system (authenticated, and keyed by acausal's sources, so a
+    tree made before a change of the parser's repairs is never read)."""
+    parser = _pymoca_parser()
+    cache = _parse_cache(text)
+    if cache is not None:
+        payload = cache.load("tree")
+        if payload is not None:
+            try:
+                return pickle.loads(base64.b64decode(payload["pickle"]))  # noqa: S301 - an authenticated entry
+            except Exception:  # noqa: BLE001 - an entry another pymoca wrote: parse again
+                pass
+    # pymoca's own cache is bypassed: its entries are neither authenticated nor aware of the repairs
+    tree = parser.parse(text, bypass_cache=True)
+    if cache is not None:
+        cache.store("tree", {"pickle": base64.b64encode(pickle.dumps(tree)).decode("ascii")})
+    return tree
+
+
+def _parse_cache(text: str):
+    """The disk cache entry of a parse of ``text``, or None when the disk cache is off."""
+    from ..compiler.diskcache import DiskCache, cache_folder, disk_cache_enabled
+
+    if not disk_cache_enabled():
+        return None
+    import pymoca
+
+    key = hashlib.sha256(f"modelica parse, pymoca {pymoca.__version__}\n{text}".encode()).hexdigest()
+    return DiskCache(cache_folder(), key)
 
 
 def parse(source: str | os.PathLike, origin: str | None = None) -> ModelicaSource:

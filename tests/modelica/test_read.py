@@ -234,3 +234,37 @@ def test_a_condition_must_be_known_when_the_model_is_built():
         flatten(load(text)())
 
 
+
+
+def test_parses_are_kept_in_the_disk_cache(tmp_path, monkeypatch):
+    """A text parsed once is read back from acausal's authenticated disk cache (not parsed
+    again), and a damaged entry is parsed anew, to the same model."""
+    from acausal.modelica import read as reader
+
+    monkeypatch.setenv("ACAUSAL_DISK_CACHE", "on")
+    monkeypatch.setenv("ACAUSAL_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    text = "model Decay Real x(start=1, fixed=true); equation der(x) = -x; end Decay; // cached"
+    parses = []
+    parser = reader._pymoca_parser()
+    plain = parser.parse
+    monkeypatch.setattr(parser, "parse", lambda *args, **kw: parses.append(1) or plain(*args, **kw))
+    reader._parsed.cache_clear()
+    first = simulate(load(text)(), stop_time=1.0)
+    assert len(parses) == 1
+    reader._parsed.cache_clear()  # a new process, as far as the parse is concerned
+    second = simulate(load(text)(), stop_time=1.0)
+    assert len(parses) == 1
+    np.testing.assert_array_equal(first["x"], second["x"])
+    for entry in (tmp_path / "cache").rglob("*.json"):  # damage the entry: it fails its MAC
+        raw = bytearray(entry.read_bytes())
+        if b'"pickle": "' not in raw:
+            continue  # a compiled system's entry
+        at = raw.index(b'"pickle": "') + 20
+        raw[at] = ord("A") if raw[at] != ord("A") else ord("B")
+        entry.write_bytes(bytes(raw))
+    reader._parsed.cache_clear()
+    third = simulate(load(text)(), stop_time=1.0)
+    assert len(parses) == 2
+    np.testing.assert_array_equal(first["x"], third["x"])
+    reader._parsed.cache_clear()
