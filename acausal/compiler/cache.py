@@ -103,9 +103,10 @@ class ModelCache:
     def of(cls, flat: FlatModel) -> "ModelCache":
         parameters = ParameterTable.of(flat)
         continuous = [v.name for v in flat.variables if not v.is_discrete]
+        # derivatives up to the order index reduction usually reaches (a third derivative in
+        # a block diagram that differentiates a filter's output); generate adds higher ones
         identifiers = python_identifiers([*parameters.names, *continuous,
-                                          *(der_name(n) for n in continuous),
-                                          *(der_name(n, 2) for n in continuous)])
+                                          *(der_name(n, order) for order in (1, 2, 3) for n in continuous)])
         return cls(parameters, identifiers)
 
     def for_cluster(self, parameter_names) -> "ModelCache":

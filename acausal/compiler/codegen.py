@@ -309,9 +309,14 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
     identifiers = {} if identifiers is None else identifiers
     missing = [n for n in [*states, *unknowns, *parameters] if n not in identifiers]
     if missing and memo is not None:
-        # code in the memo was printed with the identifiers it was given
-        raise ValueError(f"generate: no identifier for {missing[0]}; a memo needs identifiers "
-                         f"naming every variable")
+        # code in the memo was printed with the identifiers it was given: a name new to them (a
+        # derivative of an order index reduction rarely reaches) joins the shared table, clear of
+        # every identifier in it, so that code printed earlier stays valid
+        if not isinstance(identifiers, dict):
+            raise ValueError(f"generate: no identifier for {missing[0]}; a memo needs identifiers "
+                             f"naming every variable")
+        identifiers.update(python_identifiers(missing, set(identifiers.values())))
+        missing = []
     local = {**identifiers, **python_identifiers(missing, set(identifiers.values()))}
     local["time"] = "t"
     memo = CodegenMemo() if memo is None else memo

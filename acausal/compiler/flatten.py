@@ -1487,9 +1487,16 @@ class _Flattener:
                 for name in members if name in sink}
 
     def _assigned_inside(self, name: str) -> bool:
-        sym = real_symbol(name)
-        return any(sym in eq.residual.free_symbols and eq.origin.declared_in != "connect"
-                   and eq.origin.component != name.rpartition(".")[0] for eq in self.equations)
+        """Whether an equation of an enclosing component (not a connection, not the input's own
+        component) gives the input ``name`` its value: a Real input in an equation, a Boolean or
+        Integer one (a symbol of another kind: matched by name) also in a discrete equation."""
+        owner = name.rpartition(".")[0]
+        for eq in self.equations:
+            if eq.origin.declared_in != "connect" and eq.origin.component != owner \
+                    and any(s.name == name for s in eq.residual.free_symbols):
+                return True
+        return any(getattr(eq, "variable", None) == name and eq.origin.component != owner
+                   for eq in self.discrete_equations)
 
 
 def _condition(end: BoundConnector) -> str:

@@ -186,6 +186,27 @@ def _is_sample(node: sp.Basic) -> bool:
     return isinstance(node, sp.Function) and node.func.__name__ == "sample" and len(node.args) == 2
 
 
+def _right_limit_operator(op: str, g: sp.Expr) -> str:
+    """The operator that gives a time event's relation, at its instant, the value it has
+    just after it.
+
+    A time event is hit exactly, so at the instant ``g = 0``: ``time > 2`` is false there and
+    ``time <= 2`` true, as before the instant; with the value at the instant taken for the
+    new one the relation would never change (integration freezes relations between events).
+    Modelica tools switch such a relation at its event; so does acausal, by deciding it at
+    ``g = 0`` as just after (``time > 2`` as ``time >= 2``, ``time <= 2`` as ``time < 2``; for
+    a falling ``g`` the other way round).  Elsewhere both operators agree.  A slope that is
+    not a number (it reads parameters) keeps the operator as written.
+    """
+    slope = sp.diff(g, time)
+    if not slope.is_number or slope == 0:
+        return op
+    rising = bool(slope > 0)
+    if op in (">", ">="):
+        return ">=" if rising else ">"
+    return "<" if rising else "<="
+
+
 def _has_relation(expr: sp.Basic) -> bool:
     """Whether ``expr`` has a relation, a noEvent or a sample() (what partition replaces)."""
     return any_node(expr, lambda node: isinstance(node, (*_RELATIONS, NoEvent)) or _is_sample(node))
@@ -286,10 +307,12 @@ class _RelationFinder:
                             events.append(("decided", node.func, g, value))
                         return sp.true if value else sp.false
                     return node.func(lhs, rhs)  # discrete comparison, evaluated at events
-                op = _OPERATORS[type(node)]
+                written = _OPERATORS[type(node)]
+                timed = self.is_time_event(g)
+                op = _right_limit_operator(written, g) if timed else written
                 key = (sp.srepr(g), op)
                 symbol = self.add(key, origin.component,
-                                  lambda: (lhs, rhs, op, f"{lhs} {op} {rhs}", self.is_time_event(g)))
+                                  lambda: (lhs, rhs, op, f"{lhs} {written} {rhs}", timed))
                 if events is not None:
                     events.append(("relation", node.func, g, lhs, rhs, op, symbol))
                 return symbol

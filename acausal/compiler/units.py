@@ -89,6 +89,9 @@ _SYMBOL_QUANTITIES = {
 }
 #: Dimensionless symbols sympy gives a dimension of their own (SI: sr = m2/m2).
 _DIMENSIONLESS_SYMBOLS = {"sr": 1.0, "rev": 2 * math.pi}
+#: Temperature symbols of Modelica.Units.NonSI sympy lacks, as their size in kelvin (a
+#: difference of 1 degF or 1 degRk is 5/9 K; the offset of degF is not a unit matter).
+_TEMPERATURE_SYMBOLS = {"degF": 5.0 / 9.0, "degRk": 5.0 / 9.0}
 
 #: Modelica's prefixes (spec 19.2): sympy's, with ``u`` for micro as Modelica writes it.
 _PREFIXES = {**{name: float(p.scale_factor) for name, p in sympy_units.prefixes.PREFIXES.items()},
@@ -140,6 +143,9 @@ def _symbol_unit(symbol: str) -> Unit | None:
     """The unit of a Modelica unit symbol without prefix, or None."""
     if symbol in _DIMENSIONLESS_SYMBOLS:
         return Unit(ONE.exponents, _DIMENSIONLESS_SYMBOLS[symbol])
+    if symbol in _TEMPERATURE_SYMBOLS:
+        kelvin = _symbol_unit("K")
+        return Unit(kelvin.exponents, _TEMPERATURE_SYMBOLS[symbol])
     name = _SYMBOL_QUANTITIES.get(symbol)
     if name is None:
         return None

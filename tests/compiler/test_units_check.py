@@ -49,6 +49,10 @@ def test_prefixes_scale_the_symbol():
     # a whole symbol wins over a prefix: min is minutes, Pa is pascal, cd is candela
     assert math.isclose(parse_unit("min").scale, 60.0)
     assert not parse_unit("mm").same_as(parse_unit("m"))
+    # the temperature symbols of Modelica.Units.NonSI: a degree Fahrenheit or Rankine is 5/9 K
+    for symbol in ("degF", "degRk"):
+        assert parse_unit(symbol).exponents == parse_unit("K").exponents
+        assert math.isclose(parse_unit(symbol).scale, 5 / 9)
 
 
 def test_exponents_and_dimensionless():

@@ -1,0 +1,48 @@
+"""Relations of time switch at their time event, whichever operator is written.
+
+A time event is hit exactly, so at its instant ``g = 0``; ``time > c`` and
+``time <= c`` have there the value they had before, and a relation frozen
+between events would never change (the bug this guards against).  Modelica
+tools switch them at the event: after the instant each relation has its
+mathematical value.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from acausal import Eq, If, Model, Variable, simulate, time
+
+OPERATORS = {
+    "<": lambda a, b: a < b, "<=": lambda a, b: a <= b,
+    ">": lambda a, b: a > b, ">=": lambda a, b: a >= b,
+}
+
+
+def _model(relation):
+    class Switched(Model):
+        y = Variable()
+
+        def equations(self):
+            return [Eq(self.y, If(relation, 1.0, 0.0))]
+
+    return Switched()
+
+
+@pytest.mark.parametrize("op", sorted(OPERATORS))
+@pytest.mark.parametrize("rising", [True, False], ids=["time-c", "c-time"])
+def test_a_relation_of_time_has_its_value_on_both_sides_of_its_instant(op, rising):
+    c = 0.75
+    relation = OPERATORS[op](time, c) if rising else OPERATORS[op](c, time)
+    result = simulate(_model(relation), stop_time=2.0, interval=0.25)
+    t = np.asarray(result.time)
+    away = np.abs(t - c) > 1e-12
+    expected = (OPERATORS[op](t, c) if rising else OPERATORS[op](c, t)).astype(float)
+    np.testing.assert_array_equal(result["y"][away], expected[away])
+    # one event at c: the rows there hold the values before and after it
+    at = np.flatnonzero(t == c)
+    assert len(at) == 2
+    before = OPERATORS[op](c - 1e-9, c) if rising else OPERATORS[op](c, c - 1e-9)
+    after = OPERATORS[op](c + 1e-9, c) if rising else OPERATORS[op](c, c + 1e-9)
+    assert result["y"][at[0]] == float(before) and result["y"][at[-1]] == float(after)
