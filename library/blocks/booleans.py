@@ -6,24 +6,28 @@ The sources' switching instants are events: ``BooleanStep`` and
 parameters, hit exactly), ``BooleanPulse`` starts each pulse at a
 ``sample()`` instant, ``SampleTrigger`` is ``sample()`` itself.  Boolean
 parameters (``startValue``, ``k``) and the table are structural: they decide
-which relations the block has.
+which relations the block has.  ``BooleanExpression`` binds its output to an
+expression given as ``y=...``; ``RadioButtonSource`` is pressed by a table
+and released by other signals.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import sympy as sp
 
 from acausal.errors import ParameterError
-from acausal.hybrid import When, sample
-from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, initial, time
+from acausal.hybrid import When, change, sample
+from acausal.language import (Boolean, Component, Eq, If, Parameter, RealInput, RealOutput, Variable, initial, pre,
+                              time)
 from acausal.components.blocks import BooleanInput, BooleanOutput
 from acausal.components.logic import is_initial
-from .sources import _StepTable
+from .sources import _BoundOutput, _StepTable
 
 __all__ = ["BooleanConstant", "BooleanStep", "BooleanPulse", "SampleTrigger", "BooleanTable",
-           "BooleanToReal", "RealToBoolean"]
+           "BooleanToReal", "RealToBoolean", "BooleanExpression", "RadioButtonSource"]
 
 
 class PartialBooleanSource(Component):
@@ -152,6 +156,90 @@ class BooleanTable(_StepTable, PartialBooleanSource):
         else:
             rows = [[0.0, first]]
         self.build_steps(rows, RealToBoolean(), "realToBoolean")
+
+
+class BooleanExpression(_BoundOutput):
+    """Set output signal to a time varying Boolean expression (Modelica.Blocks.Sources.BooleanExpression).
+
+    ``BooleanExpression(y=expr)``: ``y = expr``, false by default; ``expr``
+    a bool, a sympy relation or logical expression of ``time`` and the
+    model's variables (``sympy.And(time >= 1, time < 2)``), or a function
+    of the block returning one.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.BooleanExpression"
+
+    y = BooleanOutput(description="Value of Boolean output")
+    default_expression = False
+
+
+class RadioButtonSource(Component):
+    """Boolean signal source that mimics a radio button (Modelica.Blocks.Sources.RadioButtonSource).
+
+    The button is pressed (``on`` becomes true) at every instant of
+    ``buttonTimeTable`` (where the protected BooleanTable ``table``
+    toggles), and released (``on`` becomes false) when an element of
+    ``reset`` becomes true; pressing wins over releasing at the same
+    instant.  ``reset`` is the MSL's ``input Boolean reset[:]``, bound by
+    a modifier: a list of Boolean expressions, each a bool, a sympy
+    expression of the model's variables, or a function of the block
+    returning one (so two buttons can release each other:
+    ``reset=[lambda block: self.stop.on]`` in the model's ``build()``).
+    As in the MSL, a release acts through ``pre(reset)`` (one event
+    iteration later, at the same time), which breaks the loop between
+    buttons that release each other.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.RadioButtonSource"
+
+    buttonTimeTable = Parameter((0.0, 1.0), unit="s", structural=True,  # noqa: N815
+                                description="Time instants where button is pressed")
+    nReset = Parameter(1, structural=True, min=0, description="Number of reset signals (set from reset)")  # noqa: N815
+    on = BooleanOutput(start=False, fixed=True, description="Connector of Boolean output signal")
+    reset = Boolean(shape="nReset", description="Reset button to false, if an element of reset becomes true")
+    pre_reset = Boolean(shape="nReset", description="pre(reset) (protected)")
+
+    @staticmethod
+    def _split(modifiers: dict[str, Any]) -> tuple[dict[str, Any], list]:
+        """The modifiers without ``reset`` (with ``nReset`` from it), and the reset expressions."""
+        modifiers = dict(modifiers)
+        resets = [False]
+        if "reset" in modifiers and not isinstance(modifiers["reset"], dict):
+            value = modifiers.pop("reset")
+            resets = list(value) if isinstance(value, (list, tuple)) else [value]
+        modifiers.setdefault("nReset", len(resets))
+        if modifiers["nReset"] != len(resets):
+            raise ParameterError(f"RadioButtonSource: nReset = {modifiers['nReset']!r}, but reset has "
+                                 f"{len(resets)} elements", hint="nReset is set from reset; leave it out")
+        return modifiers, resets
+
+    def __new__(cls, *args: Any, **modifiers: Any):
+        return super().__new__(cls, *args, **cls._split(modifiers)[0])
+
+    def __init__(self, **modifiers: Any) -> None:
+        modifiers, resets = self._split(modifiers)
+        super().__init__(**modifiers)
+        object.__setattr__(self, "_resets", resets)
+
+    def build(self) -> None:
+        self.table = BooleanTable(table=list(self.buttonTimeTable), y=dict(start=False, fixed=True))
+
+    def _reset_expressions(self) -> list:
+        expressions = []
+        for value in self._resets:
+            value = value(self) if callable(value) else value
+            expressions.append((sp.true if value else sp.false) if isinstance(value, bool) else value)
+        return expressions
+
+    def equations(self):
+        equations = [Eq(r, e) for r, e in zip(self.reset, self._reset_expressions())]
+        equations += [Eq(p, pre(r)) for p, r in zip(self.pre_reset, self.reset)]
+        # the MSL's algorithm assigns on in two when-statements, the press last: it wins
+        pressed = When(change(self.table.y), Eq(self.on, sp.true))
+        if int(self.nReset) > 0:
+            pressed = pressed.elsewhen(list(self.pre_reset), Eq(self.on, sp.false))
+        equations.append(pressed)
+        return equations
 
 
 class BooleanToReal(Component):

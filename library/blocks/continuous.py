@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 from typing import Any, Callable, Mapping
 
 import numpy as np
@@ -16,30 +15,18 @@ from acausal.hybrid import Assert, When, noEvent, reinit
 from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, der
 from acausal.components.logic import is_initial
 
-__all__ = ["Init", "Integrator", "LimIntegrator", "FirstOrder", "Der", "TransferFunction", "StateSpace"]
+from .types import Init, SimpleController, _init_type, simple_controller
+from .math import Add, Add3, Gain
+from .nonlinear import Limiter, LimiterHomotopy
+from .sources import Constant
+
+__all__ = ["Init", "SimpleController", "Integrator", "LimIntegrator", "FirstOrder", "Der", "Derivative", "SecondOrder",
+           "PI", "PID", "LimPID", "TransferFunction", "StateSpace"]
 
 #: Modelica.Constants.eps: the difference between 1 and the next float.
 EPS = 2.2204460492503131e-16
-
-
-class Init(enum.IntEnum):
-    """Type of initialization (Modelica.Blocks.Types.Init); the values are Modelica's ordinals."""
-
-    NoInit = 1  #: no initialization (start values are guesses)
-    SteadyState = 2  #: steady state initialization (derivatives of states are zero)
-    InitialState = 3  #: initialization with initial states
-    InitialOutput = 4  #: initialization with initial outputs (and steady state of the states if possible)
-
-
-# set after the body: in an IntEnum's body a str would become a member
-Init.modelica_name = "Modelica.Blocks.Types.Init"
-
-
-def _init_type(value) -> Init:
-    """``value`` as an :class:`Init` (also accepts its name)."""
-    if isinstance(value, str):
-        return Init[value]
-    return Init(value)
+#: Modelica.Constants.small: the smallest positive normalized float.
+SMALL = 2.2250738585072014e-308
 
 
 class _InitializedOutput(SISO):
@@ -185,6 +172,327 @@ class Der(SISO):
 
     def equations(self):
         return [Eq(self.y, der(self.u))]
+
+
+class Derivative(SISO):
+    """Approximated derivative block (Modelica.Blocks.Continuous.Derivative).
+
+    The transfer function ``k*s/(T*s + 1)``, written with the state ``x``
+    of a first order lag on ``u``: ``der(x) = (u - x)/T`` and
+    ``y = (k/T)*(u - x)``.  A gain ``|k| < eps`` makes the block the zero
+    output (the state then stays put).
+
+    ``initType`` (``NoInit`` by default, as in the MSL): ``SteadyState``:
+    ``der(x) = 0``; ``InitialState``: ``x = x_start``; ``InitialOutput``:
+    ``y = y_start`` (with a zero gain, ``x = u``).
+    """
+
+    modelica_name = "Modelica.Blocks.Continuous.Derivative"
+
+    k = Parameter(1.0, unit="1", description="Gains")
+    T = Parameter(0.01, unit="s", min=SMALL,
+                  description="Time constants (T>0 required; T=0 is ideal derivative block)")
+    initType = Parameter(Init.NoInit, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3: initial state, "
+                                     "4: initial output)")
+    x_start = Parameter(0.0, description="Initial or guess value of state")
+    y_start = Parameter(0.0, description="Initial value of output (= state)")
+    x = RealOutput(start=lambda block: block.x_start, description="State of block")
+
+    def _zero_gain(self) -> sp.Basic:
+        """MSL's protected ``zeroGain``: the gain is too small to divide by."""
+        return sp.Abs(self.k) < EPS
+
+    def equations(self) -> list:
+        zero_gain = self._zero_gain()
+        return [Eq(der(self.x), If(zero_gain, 0, (self.u - self.x) / self.T)),
+                Eq(self.y, If(zero_gain, 0, (self.k / self.T) * (self.u - self.x)))]
+
+    def initial_equations(self) -> list:
+        init = _init_type(self.initType)
+        if init is Init.SteadyState:
+            return [Eq(der(self.x), 0)]
+        if init is Init.InitialState:
+            return [Eq(self.x, self.x_start)]
+        if init is Init.InitialOutput:
+            # with a zero gain y = 0 whatever x is: start the lag on its input instead
+            return [Eq(If(self._zero_gain(), self.x - self.u, self.y - self.y_start), 0)]
+        return []
+
+
+class SecondOrder(SISO):
+    """Second order transfer function block (= 2 poles) (Modelica.Blocks.Continuous.SecondOrder).
+
+    ``k/((s/w)^2 + 2*D*(s/w) + 1)``: ``der(y) = yd`` and
+    ``der(yd) = w*(w*(k*u - y) - 2*D*yd)``.
+
+    ``initType`` (``NoInit`` by default, as in the MSL): ``SteadyState``:
+    ``der(y) = der(yd) = 0``; ``InitialState`` and ``InitialOutput``:
+    ``y = y_start``, ``yd = yd_start``.
+    """
+
+    modelica_name = "Modelica.Blocks.Continuous.SecondOrder"
+
+    k = Parameter(1.0, unit="1", description="Gain")
+    w = Parameter(1.0, description="Angular frequency")
+    D = Parameter(1.0, description="Damping")
+    initType = Parameter(Init.NoInit, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3/4: initial output)")
+    y_start = Parameter(0.0, description="Initial or guess value of output (= state)")
+    yd_start = Parameter(0.0, description="Initial or guess value of derivative of output (= state)")
+    yd = RealOutput(start=lambda block: block.yd_start, description="Derivative of y")
+
+    def __init__(self, **modifiers: Any) -> None:
+        super().__init__(**modifiers)
+        # Modelica's y(start=y_start); a modifier of y itself wins
+        self._attribute_modifiers.setdefault("y", {}).setdefault("start", lambda block: block.y_start)
+
+    def equations(self) -> list:
+        return [Eq(der(self.y), self.yd),
+                Eq(der(self.yd), self.w * (self.w * (self.k * self.u - self.y) - 2 * self.D * self.yd))]
+
+    def initial_equations(self) -> list:
+        init = _init_type(self.initType)
+        if init is Init.SteadyState:
+            return [Eq(der(self.y), 0), Eq(der(self.yd), 0)]
+        if init in (Init.InitialState, Init.InitialOutput):
+            return [Eq(self.y, self.y_start), Eq(self.yd, self.yd_start)]
+        return []
+
+
+class PI(SISO):
+    """Proportional-Integral controller (Modelica.Blocks.Continuous.PI).
+
+    ``k*(1 + 1/(T*s))``: ``der(x) = u/T`` and ``y = k*(x + u)``.
+
+    ``initType`` (``NoInit`` by default, as in the MSL): ``SteadyState``:
+    ``der(x) = 0``; ``InitialState``: ``x = x_start``; ``InitialOutput``:
+    ``y = y_start``.
+    """
+
+    modelica_name = "Modelica.Blocks.Continuous.PI"
+
+    k = Parameter(1.0, unit="1", description="Gain")
+    T = Parameter(1.0, unit="s", min=SMALL, description="Time Constant (T>0 required)")
+    initType = Parameter(Init.NoInit, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3: initial state, "
+                                     "4: initial output)")
+    x_start = Parameter(0.0, description="Initial or guess value of state")
+    y_start = Parameter(0.0, description="Initial value of output")
+    x = RealOutput(start=lambda block: block.x_start, description="State of block")
+
+    def equations(self) -> list:
+        return [Eq(der(self.x), self.u / self.T), Eq(self.y, self.k * (self.x + self.u))]
+
+    def initial_equations(self) -> list:
+        init = _init_type(self.initType)
+        if init is Init.SteadyState:
+            return [Eq(der(self.x), 0)]
+        if init is Init.InitialState:
+            return [Eq(self.x, self.x_start)]
+        if init is Init.InitialOutput:
+            return [Eq(self.y, self.y_start)]
+        return []
+
+
+def _integrator_init(init: Any) -> Init:
+    """The initType of a controller's integrator: SteadyState and InitialState pass, the others are NoInit."""
+    init = _init_type(init)
+    return init if init in (Init.SteadyState, Init.InitialState) else Init.NoInit
+
+
+def _derivative_init(init: Any) -> Init:
+    """The initType of a controller's derivative block.
+
+    InitialOutput puts it in steady state (the controller's output alone is
+    given), InitialState passes, the others are NoInit.
+    """
+    init = _init_type(init)
+    if init in (Init.SteadyState, Init.InitialOutput):
+        return Init.SteadyState
+    return init if init is Init.InitialState else Init.NoInit
+
+
+class PID(SISO):
+    """PID controller in additive description form (Modelica.Blocks.Continuous.PID).
+
+    ``y = k*(u + I.y + D.y)``: the sum (``Add``) of the proportional part
+    ``P`` (a unit gain), the integrator ``I`` (gain ``1/Ti``) and the
+    approximated derivative ``D`` (gain ``Td``, time constant
+    ``max(Td/Nd, 100*eps)``), times the gain ``Gain`` (``k``); the parts are
+    sub-components named as in the MSL (``pid.I.y``, ``pid.D.x``).
+
+    ``initType`` (``InitialState`` by default, as in the MSL) is passed on:
+    ``InitialState`` starts ``I`` at ``xi_start`` and ``D`` at
+    ``xd_start``; ``SteadyState`` puts both in steady state;
+    ``InitialOutput`` gives ``y = y_start`` with ``D`` in steady state;
+    ``NoInit`` leaves the start values as guesses.
+    """
+
+    modelica_name = "Modelica.Blocks.Continuous.PID"
+
+    k = Parameter(1.0, unit="1", description="Gain")
+    Ti = Parameter(0.5, unit="s", min=SMALL, description="Time Constant of Integrator")
+    Td = Parameter(0.1, unit="s", min=0, description="Time Constant of Derivative block")
+    Nd = Parameter(10.0, min=SMALL, description="The higher Nd, the more ideal the derivative block")
+    initType = Parameter(Init.InitialState, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3: initial state, "
+                                     "4: initial output)")
+    xi_start = Parameter(0.0, description="Initial or guess value for integrator output (= integrator state)")
+    xd_start = Parameter(0.0, description="Initial or guess value for state of derivative block")
+    y_start = Parameter(0.0, description="Initial value of output")
+
+    def build(self) -> None:
+        self.P = Gain(k=1.0)
+        # MSL's k = unitTime/Ti and Td/unitTime, with the constant unitTime = 1 s
+        self.I = Integrator(k=1 / self.Ti, y_start=self.xi_start, initType=_integrator_init(self.initType))
+        self.D = Derivative(k=self.Td, T=sp.Max(self.Td / self.Nd, 100 * EPS), x_start=self.xd_start,
+                            initType=_derivative_init(self.initType))
+        self.Gain = Gain(k=self.k)
+        self.Add = Add3()
+        for part in (self.P, self.I, self.D):
+            self.connect(self.u, part.u)
+        self.connect(self.P.y, self.Add.u1)
+        self.connect(self.I.y, self.Add.u2)
+        self.connect(self.D.y, self.Add.u3)
+        self.connect(self.Add.y, self.Gain.u)
+        self.connect(self.Gain.y, self.y)
+
+    def initial_equations(self) -> list:
+        if _init_type(self.initType) is Init.InitialOutput:
+            return [Eq(self.y, self.y_start)]
+        return []
+
+
+class LimPID(DerivedDefaults, Component):
+    """P, PI, PD, and PID controller with limited output, anti-windup compensation, setpoint weighting and
+    optional feed-forward (Modelica.Blocks.Continuous.LimPID).
+
+    ``controllerType`` (:class:`~acausal.library.blocks.types.SimpleController`,
+    PID by default) says which parts exist; they are sub-components named as
+    in the MSL::
+
+        y = limiter(k*(P + I + D) + kFF*u_ff)
+        P = wp*u_s - u_m
+        D = Td*s/(Td/Nd*s + 1) * (wd*u_s - u_m)
+        I = 1/(Ti*s) * (u_s - u_m + (y - (k*(P + I + D) + kFF*u_ff))/(k*Ni))
+
+    The last term is the anti-windup compensation: while the limiter holds
+    the output, the difference it cuts off drives the integrator back with
+    the time constant ``Ni*Ti``.  The limiter's switching is a state event
+    unless ``strict``.
+
+    ``initType`` (``InitialState`` by default): ``InitialState`` starts the
+    integrator at ``xi_start`` and the derivative block at ``xd_start``;
+    ``SteadyState`` puts both in steady state; ``InitialOutput`` gives the
+    controller's output before the limiter, ``gainPID.y = y_start``, with
+    the derivative block in steady state (``y_start`` must lie within the
+    limits); ``NoInit`` leaves the start values as guesses.
+
+    ``homotopyType`` is passed to the limiter; the engine has no
+    homotopy-based initialization, so it has no effect.
+    """
+
+    modelica_name = "Modelica.Blocks.Continuous.LimPID"
+
+    controllerType = Parameter(SimpleController.PID, structural=True,  # noqa: N815
+                               description="Type of controller")
+    k = Parameter(1.0, unit="1", description="Gain of controller, must be non-zero")
+    Ti = Parameter(0.5, unit="s", min=SMALL, description="Time constant of Integrator block")
+    Td = Parameter(0.1, unit="s", min=0, description="Time constant of Derivative block")
+    yMax = Parameter(1.0, description="Upper limit of output")  # noqa: N815
+    yMin = Parameter(None, description="Lower limit of output (default -yMax)")  # noqa: N815
+    wp = Parameter(1.0, min=0, description="Set-point weight for Proportional block (0..1)")
+    wd = Parameter(0.0, min=0, description="Set-point weight for Derivative block (0..1)")
+    Ni = Parameter(0.9, min=100 * EPS, description="Ni*Ti is time constant of anti-windup compensation")
+    Nd = Parameter(10.0, min=100 * EPS, description="The higher Nd, the more ideal the derivative block")
+    withFeedForward = Parameter(False, structural=True,  # noqa: N815
+                                description="Use feed-forward input?")
+    kFF = Parameter(1.0, description="Gain of feed-forward input")  # noqa: N815
+    initType = Parameter(Init.InitialState, structural=True,  # noqa: N815
+                         description="Type of initialization (1: no init, 2: steady state, 3: initial state, "
+                                     "4: initial output)")
+    xi_start = Parameter(0.0, description="Initial or guess value for integrator output (= integrator state)")
+    xd_start = Parameter(0.0, description="Initial or guess value for state of derivative block")
+    y_start = Parameter(0.0, description="Initial value of output")
+    homotopyType = Parameter(LimiterHomotopy.Linear, structural=True,  # noqa: N815
+                             description="Simplified model for homotopy-based initialization (no effect here)")
+    strict = Parameter(False, structural=True, description="= true, if strict limits with noEvent(..)")
+
+    u_s = RealInput(description="Connector of setpoint input signal")
+    u_m = RealInput(description="Connector of measurement input signal")
+    y = RealOutput(description="Connector of actuator output signal")
+    u_ff = RealInput(condition="withFeedForward", description="Optional connector of feed-forward input signal")
+    controlError = Variable(description="Control error (set point - measurement)")  # noqa: N815
+
+    derived_defaults = {"yMin": lambda block: -block.yMax}
+
+    def build(self) -> None:
+        kind = simple_controller(self.controllerType)
+        self.addP = Add(k1=self.wp, k2=-1.0)
+        self.P = Gain(k=1.0)
+        self.gainPID = Gain(k=self.k)
+        self.addPID = Add3()
+        self.limiter = Limiter(uMax=self.yMax, uMin=self.yMin, strict=self.strict, homotopyType=self.homotopyType)
+        self.addFF = Add(k1=1.0, k2=self.kFF)
+        self.connect(self.u_s, self.addP.u1)
+        self.connect(self.u_m, self.addP.u2)
+        self.connect(self.addP.y, self.P.u)
+        self.connect(self.P.y, self.addPID.u1)
+        self.connect(self.addPID.y, self.gainPID.u)
+        self.connect(self.gainPID.y, self.addFF.u1)
+        self.connect(self.addFF.y, self.limiter.u)
+        self.connect(self.limiter.y, self.y)
+
+        if kind.has_derivative:
+            self.addD = Add(k1=self.wd, k2=-1.0)
+            # MSL's k = Td/unitTime with the constant unitTime = 1 s
+            self.D = Derivative(k=self.Td, T=sp.Max(self.Td / self.Nd, 1.0e-14), x_start=self.xd_start,
+                                initType=_derivative_init(self.initType))
+            self.connect(self.u_s, self.addD.u1)
+            self.connect(self.u_m, self.addD.u2)
+            self.connect(self.addD.y, self.D.u)
+            self.connect(self.D.y, self.addPID.u2)
+        else:
+            self.Dzero = Constant(k=0.0)
+            self.connect(self.Dzero.y, self.addPID.u2)
+
+        if kind.has_integral:
+            self.addI = Add3(k2=-1.0)
+            self.I = Integrator(k=1 / self.Ti, y_start=self.xi_start, initType=_integrator_init(self.initType))
+            self.addSat = Add(k1=1.0, k2=-1.0)
+            self.gainTrack = Gain(k=1 / (self.k * self.Ni))
+            self.connect(self.u_s, self.addI.u1)
+            self.connect(self.u_m, self.addI.u2)
+            self.connect(self.addI.y, self.I.u)
+            self.connect(self.I.y, self.addPID.u3)
+            # anti-windup: what the limiter cuts off, fed back to the integrator's input
+            self.connect(self.limiter.y, self.addSat.u1)
+            self.connect(self.addFF.y, self.addSat.u2)
+            self.connect(self.addSat.y, self.gainTrack.u)
+            self.connect(self.gainTrack.y, self.addI.u3)
+        else:
+            self.Izero = Constant(k=0.0)
+            self.connect(self.Izero.y, self.addPID.u3)
+
+        if self.withFeedForward:
+            self.connect(self.u_ff, self.addFF.u2)
+        else:
+            self.FFzero = Constant(k=0.0)
+            self.connect(self.FFzero.y, self.addFF.u2)
+
+    def equations(self) -> list:
+        equations = [Eq(self.controlError, self.u_s - self.u_m),
+                     Assert(sp.Abs(self.k) >= SMALL, "Controller gain must be non-zero.")]
+        if _init_type(self.initType) is Init.InitialOutput:
+            equations.append(Assert(sp.And(self.y_start >= self.yMin, self.y_start <= self.yMax),
+                                    "LimPID: Start value y_start is outside of the limits of yMin and yMax"))
+        return equations
+
+    def initial_equations(self) -> list:
+        if _init_type(self.initType) is Init.InitialOutput:
+            return [Eq(self.gainPID.y, self.y_start)]
+        return []
 
 
 # --------------------------------------------------------------------------

@@ -33,7 +33,7 @@ __all__ = [
     "GreaterThreshold", "GreaterEqualThreshold", "LessThreshold", "LessEqualThreshold",
     "Greater", "GreaterEqual", "Less", "LessEqual",
     "ZeroCrossing", "Switch", "LogicalSwitch", "Hysteresis", "OnOffController",
-    "TriggeredTrapezoid", "Timer", "RSFlipFlop", "TerminateSimulation", "AssertCondition",
+    "TriggeredTrapezoid", "Timer", "LogicalDelay", "RSFlipFlop", "TerminateSimulation", "AssertCondition",
     "OnDelay",
 ]
 
@@ -456,6 +456,35 @@ class Timer(Component):
     def equations(self):
         return [When(self.u, Eq(self.entryTime, time)),
                 Eq(self.y, If(self.u, time - self.entryTime, 0))]
+
+
+class LogicalDelay(Component):
+    """Delay boolean signal (Modelica.Blocks.Logical.LogicalDelay).
+
+    ``y1`` follows a rising edge of ``u`` at once and a falling edge
+    ``delayTime`` later; ``y2`` follows a rising edge ``delayTime`` later and a
+    falling edge at once.  ``tSwitch`` is the instant ``u`` last changed; it
+    starts at ``time - 2*delayTime``, so that an input constant from the
+    start is not delayed.
+    """
+
+    modelica_name = "Modelica.Blocks.Logical.LogicalDelay"
+
+    delayTime = Parameter(0.0, unit="s", min=0, description="Time delay")  # noqa: N815
+    u = BooleanInput(description="Connector of Boolean input signal")
+    y1 = BooleanOutput(description="Falling edges of u delayed")
+    y2 = BooleanOutput(description="Rising edges of u delayed")
+    tSwitch = Variable(discrete=True, unit="s", description="Instant of the last change of u (protected)")  # noqa: N815
+
+    def equations(self):
+        delay_over = time >= self.tSwitch + self.delayTime
+        return [
+            # initial equation tSwitch = time - 2*delayTime; when {u, not u} then tSwitch = time
+            When(initial(), Eq(self.tSwitch, time - 2 * self.delayTime))
+            .elsewhen([self.u, sp.Not(self.u)], Eq(self.tSwitch, time)),
+            Eq(self.y1, sp.Or(self.u, sp.Not(delay_over))),
+            Eq(self.y2, sp.And(self.u, delay_over)),
+        ]
 
 
 class RSFlipFlop(Component):

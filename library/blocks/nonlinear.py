@@ -6,24 +6,31 @@ is evaluated literally (``noEvent``), as Modelica's ``strict`` option says.
 Modelica's ``homotopy(actual, simplified)`` is the actual expression here:
 the engine has no homotopy-based initialization, so ``homotopyType`` is
 accepted for compatibility and has no effect.
+
+:class:`PadeDelay` approximates a delay by a rational transfer function; the
+exact delays (FixedDelay, VariableDelay) need Modelica's ``delay()``
+operator, which the engine does not have.
 """
 
 from __future__ import annotations
 
 import enum
+from typing import Sequence
 
+import numpy as np
 import sympy as sp
 
 from acausal.components.blocks import SISO
 from acausal.components.declarations import DerivedDefaults
 from acausal.hybrid import Assert, noEvent
+from acausal.errors import ParameterError
 from acausal.language import Eq, Parameter, RealInput, Variable, der
 
-from .continuous import Init, _init_type
+from .types import Init, _init_type
 from .discrete import SMALL
 
 __all__ = ["LimiterHomotopy", "VariableLimiterHomotopy", "Limiter", "VariableLimiter", "DeadZone",
-           "SlewRateLimiter"]
+           "SlewRateLimiter", "PadeDelay", "pade_coefficients", "balance_abc"]
 
 
 class LimiterHomotopy(enum.IntEnum):
@@ -159,3 +166,154 @@ class SlewRateLimiter(DerivedDefaults, SISO):
         if init in (Init.InitialState, Init.InitialOutput):
             return [Eq(self.y, self.y_start)]
         return []
+
+
+# --------------------------------------------------------------------------
+# Pade approximation of a delay
+# --------------------------------------------------------------------------
+
+
+def balance_abc(A: np.ndarray, B: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A balanced form of the system ``[A, B; C, 0]`` by a diagonal state transformation
+    (Modelica.Math.Matrices.balanceABC).
+
+    Returns ``(scale, As, Bs, Cs)`` with ``T = diag(scale)``, ``As = inv(T)*A*T``,
+    ``Bs = inv(T)*B`` and ``Cs = C*T``: the row and column norms of each
+    state are brought close to each other.  The scale factors are powers of
+    2, so the transformation introduces no round-off.  The iteration is the
+    MSL's (that of LAPACK's dgebal, with the rows of B and the columns of C
+    counted in).
+    """
+    As, Bs, Cs = (np.array(M, dtype=float, copy=True) for M in (A, B, C))
+    n = As.shape[0]
+    scale = np.ones(n)
+    radix = 2.0
+    radix2 = radix * radix
+    unconverged = True
+    while unconverged:
+        unconverged = False
+        for i in range(n):
+            column = np.sum(np.abs(As[:, i])) - abs(As[i, i]) + np.sum(np.abs(Cs[:, i]))
+            row = np.sum(np.abs(As[i, :])) - abs(As[i, i]) + np.sum(np.abs(Bs[i, :]))
+            both = column + row
+            factor = 1.0
+            bound = row / radix
+            while not (column >= bound or column == 0):
+                factor *= radix
+                column *= radix2
+            bound = row * radix
+            while not (column < bound or row == 0):
+                factor /= radix
+                column /= radix2
+            if not (column + row) / factor >= 0.95 * both:
+                scale[i] *= factor
+                As[i, :] /= factor
+                As[:, i] *= factor
+                Bs[i, :] /= factor
+                Cs[:, i] *= factor
+                unconverged = True
+    return scale, As, Bs, Cs
+
+
+def pade_coefficients(T: float, n: int, m: int, balance: bool = False
+                      ) -> tuple[np.ndarray, float, np.ndarray, float, np.ndarray]:
+    """The state-space coefficients of the ``(m, n)`` Pade approximation of ``exp(-T*s)``
+    (Modelica.Blocks.Nonlinear.PadeDelay.padeCoefficients2).
+
+    The transfer function ``b(s)/a(s)`` (numerator of degree ``m``,
+    denominator of degree ``n``) matches the Taylor series of the delay up
+    to order ``n + m``.  It is realised in controller canonical form,
+    ``der(x[1]) = a1*x + b11*u``, ``der(x[i]) = s[i-1]*x[i-1]``, ``y = c*x +
+    d*u``; with ``balance`` the form is balanced (:func:`balance_abc`), which
+    keeps the coefficients of a short delay or a high order within a few
+    decades of each other, otherwise ``b11 = 1/a[1]`` and ``s`` is all ones.
+
+    Returns
+    -------
+    a1, b11, c, d, s
+        First row of A, ``B[1, 1]``, the C row, D, and the state scaling
+        (``x[i]`` is ``s[i-1]`` times the integral of ``x[i-1]``).
+    """
+    a = np.ones(n + 1)
+    b = np.ones(m + 1)
+    nm = n + m
+    # coefficients in rising powers of s: a[0] + a[1]*s + ... (b alternates in sign: a delay)
+    for i in range(1, n + 1):
+        a[i] = a[i - 1] * (T * ((n - i + 1) / (nm - i + 1)) / i)
+        if i <= m:
+            b[i] = -b[i - 1] * (T * ((m - i + 1) / (nm - i + 1)) / i)
+    # in falling powers of s, the numerator padded to the denominator's degree
+    a = a[::-1]
+    bb = np.concatenate([np.zeros(n - m), b[::-1]])
+    d = bb[0] / a[0]
+    c_row = bb[1:] - d * a[1:]
+    if not balance:
+        return -a[1:] / a[0], 1 / a[0], c_row, d, np.ones(n - 1)
+    A = np.zeros((n, n))
+    A[0, :] = -a[1:] / a[0]
+    A[np.arange(1, n), np.arange(n - 1)] = 1.0
+    B = np.zeros((n, 1))
+    B[0, 0] = 1 / a[0]
+    scale, As, Bs, Cs = balance_abc(A, B, c_row.reshape(1, n))
+    return As[0, :], Bs[0, 0], Cs[0, :], d, scale[:-1] / scale[1:]
+
+
+class PadeDelay(SISO):
+    """Pade approximation of delay block with fixed delayTime (use balance=true; this is not the default to be
+    backwards compatible) (Modelica.Blocks.Nonlinear.PadeDelay).
+
+    ``y`` is ``u`` delayed by about ``delayTime``: the transfer function
+    ``b(s)/a(s)`` of the ``(m, n)`` Pade approximant of ``exp(-delayTime*s)``
+    (:func:`pade_coefficients`), in controller canonical form with states
+    ``x[n]``, balanced with ``balance = True`` (recommended; the MSL's
+    default is False for backwards compatibility).  Initialization: with
+    ``balance`` in steady state (``der(x) = 0``), otherwise ``x[n] = u``
+    (the other states at their start values, as in the MSL).
+
+    The MSL computes the coefficients in its initial equations (parameters
+    with ``fixed=false``); here they are computed when the equations are
+    written, so ``delayTime``, ``n``, ``m`` and ``balance`` are structural.
+    """
+
+    modelica_name = "Modelica.Blocks.Nonlinear.PadeDelay"
+
+    # the MSL gives delayTime only a start value (1), which a tool proposes
+    delayTime = Parameter(1.0, unit="s", structural=True,  # noqa: N815
+                          description="Delay time of output with respect to input signal")
+    n = Parameter(1, structural=True, min=1, description="Order of Pade delay")
+    m = Parameter(None, structural=True, min=1,
+                  description="Order of numerator (usually m=n, or m=n-1; default n)")
+    balance = Parameter(False, structural=True,
+                        description="= true, if state space system is balanced (highly recommended), otherwise "
+                                    "textbook version")
+    x = Variable(shape="n", description="State of transfer function from controller canonical form "
+                                        "(balance=false), or balanced controller canonical form (balance=true)")
+
+    def coefficients(self) -> tuple[np.ndarray, float, np.ndarray, float, np.ndarray]:
+        """``(a1, b11, c, d, s)`` of :func:`pade_coefficients` for this block's parameters."""
+        where = self.path or type(self).__name__
+        n = int(self.n)
+        m = n if self.m is None else int(self.m)
+        if not 1 <= m <= n:
+            raise ParameterError(f"{where}: the order of the numerator m = {m} must lie in 1..n = {n}",
+                                 hint="usually m = n (the default) or m = n - 1")
+        return pade_coefficients(float(self.delayTime), n, m, bool(self.balance))
+
+    def equations(self):
+        a1, b11, c, d, scaling = self.coefficients()
+        x = list(self.x)
+        equations = [Eq(der(x[0]), _dot(a1, x) + sp.Float(b11) * self.u)]
+        equations += [Eq(der(x[i]), sp.Float(scaling[i - 1]) * x[i - 1]) for i in range(1, len(x))]
+        equations.append(Eq(self.y, _dot(c, x) + sp.Float(d) * self.u))
+        return equations
+
+    def initial_equations(self):
+        if self.balance:
+            return [Eq(der(state), 0) for state in self.x]
+        # the MSL keeps the textbook version's initialization, for backwards compatibility
+        return [Eq(self.x[self.n], self.u)]
+
+
+def _dot(coefficients: Sequence[float], symbols: Sequence[sp.Expr]) -> sp.Expr:
+    """``sum(coefficients[i]*symbols[i])`` with the coefficients as sympy Floats."""
+    return sp.Add(*[sp.Float(k) * v for k, v in zip(coefficients, symbols)])

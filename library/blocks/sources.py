@@ -7,6 +7,12 @@ the table times are time events (values right-continuous at a repeated
 time); :class:`CombiTimeTable` is MSL 4.1's: a held next time event and
 the interpolations of :mod:`acausal.interpolation`.  The Boolean sources are in
 :mod:`acausal.library.blocks.booleans`.
+
+:class:`KinematicPTP` and :class:`KinematicPTP2` plan point-to-point
+motions (piecewise polynomials of ``time`` whose switching instants are time
+events); :class:`RealExpression` and :class:`IntegerExpression` bind their
+output to an expression given as ``y=...``, as Modelica's modifier of the
+output does.
 """
 
 from __future__ import annotations
@@ -16,15 +22,17 @@ from typing import Any, Callable, Sequence
 
 import sympy as sp
 
-from acausal.components.blocks import SO, IntegerOutput, SignalSource
+from acausal.arrays import Array
+from acausal.components.blocks import SO, BooleanOutput, IntegerOutput, SignalSource
 from acausal.components.declarations import DerivedDefaults, VectorBlock
 from acausal.components.logic import is_initial
 from acausal.components.tables import (Extrapolation, Smoothness, TableData, TimeEvents, default_columns,
                                        range_asserts)
-from acausal.errors import ParameterError
+from acausal.errors import ArraySizeError, ModifierError, ParameterError
 from acausal.hybrid import When, noEvent, sample
 from acausal.interpolation import TimeTable as NumericTimeTable
-from acausal.language import Component, Eq, If, Integer, Parameter, RealOutput, Variable, initial, pre, time
+from acausal.language import (Component, Eq, If, Integer, Parameter, RealInput, RealOutput, Variable, der, initial,
+                              pre, time)
 from acausal.tables import time_table_functions
 
 from .discrete import EPS, SMALL
@@ -34,7 +42,10 @@ from .math import RealToInteger
 MODELICA_INF = 1e60
 
 __all__ = ["Constant", "ContinuousClock", "Step", "Ramp", "Sine", "Cosine", "ExpSine", "Pulse", "SawTooth", "Trapezoid",
-           "TimeTable", "CombiTimeTable", "IntegerTable", "Smoothness", "Extrapolation", "TimeEvents"]
+           "TimeTable", "CombiTimeTable", "IntegerTable", "Smoothness", "Extrapolation", "TimeEvents",
+           "IntegerConstant", "IntegerStep", "RealExpression", "IntegerExpression", "Sinc", "Exponentials",
+           "LogFrequencySweep", "SineVariableFrequencyAndAmplitude", "CosineVariableFrequencyAndAmplitude",
+           "KinematicPTP", "KinematicPTP2"]
 
 
 class Constant(SO):
@@ -154,6 +165,474 @@ class ExpSine(SignalSource):
         dt = time - self.startTime
         wave = self.amplitude * sp.exp(-dt * self.damping) * sp.sin(2 * sp.pi * self.f * dt + self.phase)
         return [Eq(self.y, self.offset + If(time < self.startTime, 0, wave))]
+
+
+class Sinc(SignalSource):
+    """Generate sinc signal (Modelica.Blocks.Sources.Sinc).
+
+    ``y = offset + amplitude*sin(x)/x`` with ``x = 2*pi*f*(time -
+    startTime)`` from ``startTime`` on (1 instead of ``sin(x)/x`` within
+    ``eps`` of it, where the quotient is 0/0); before it ``offset``, or with
+    ``continuous`` the value ``offset + amplitude``.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.Sinc"
+
+    amplitude = Parameter(1.0, description="Amplitude of sine wave")
+    # the MSL gives f only a start value (1), which a tool proposes
+    f = Parameter(1.0, unit="Hz", description="Frequency of sine wave")
+    continuous = Parameter(False, structural=True,
+                           description="Make output (continuously) differentiable by starting at offset + amplitude "
+                                       "rather than just offset")
+    x = Variable(unit="rad", description="Argument of the sinc function (protected)")
+
+    def equations(self):
+        elapsed = time - self.startTime
+        # sin(x)/x is 0/0 at the start: its limit 1 there, decided without an event
+        sinc = noEvent(sp.Piecewise((1, elapsed < EPS), (sp.sin(self.x) / self.x, True)))
+        if self.continuous:
+            output = self.offset + self.amplitude * If(time < self.startTime, 1, sinc)
+        else:
+            output = self.offset + If(time < self.startTime, 0, self.amplitude * sinc)
+        return [Eq(self.x, 2 * sp.pi * self.f * elapsed), Eq(self.y, output)]
+
+
+class Exponentials(DerivedDefaults, SignalSource):
+    """Generate a rising and falling exponential signal (Modelica.Blocks.Sources.Exponentials).
+
+    From ``startTime`` on, ``outMax*(1 - exp(-(time - startTime)/riseTimeConst))``
+    for ``riseTime`` seconds, then the value reached, ``y_riseTime``,
+    decaying as ``exp(-(time - startTime - riseTime)/fallTimeConst)``; all
+    plus ``offset`` (``offset`` alone before ``startTime``).
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.Exponentials"
+
+    outMax = Parameter(1.0, description="Height of output for infinite riseTime")  # noqa: N815
+    # the MSL gives riseTime only a start value (0.5), which a tool proposes
+    riseTime = Parameter(0.5, unit="s", min=0, description="Rise time")  # noqa: N815
+    riseTimeConst = Parameter(0.1, unit="s", min=SMALL,  # noqa: N815
+                              description="Rise time constant; rising is defined as "
+                                          "outMax*(1-exp(-riseTime/riseTimeConst))")
+    fallTimeConst = Parameter(None, unit="s", min=SMALL,  # noqa: N815
+                              description="Fall time constant (default riseTimeConst)")
+    y_riseTime = Variable(description="Output reached at the end of the rise (protected)")  # noqa: N815
+
+    derived_defaults = {"fallTimeConst": lambda block: block.riseTimeConst}
+
+    def equations(self):
+        elapsed = time - self.startTime
+        rising = self.outMax * (1 - sp.exp(-elapsed / self.riseTimeConst))
+        falling = self.y_riseTime * sp.exp(-(elapsed - self.riseTime) / self.fallTimeConst)
+        return [Eq(self.y_riseTime, self.outMax * (1 - sp.exp(-self.riseTime / self.riseTimeConst))),
+                Eq(self.y, self.offset + sp.Piecewise((0, time < self.startTime),
+                                                      (rising, time < self.startTime + self.riseTime),
+                                                      (falling, True)))]
+
+
+class LogFrequencySweep(SO):
+    """Logarithmic frequency sweep (Modelica.Blocks.Sources.LogFrequencySweep).
+
+    ``y = wMin`` before ``startTime``, then ``wMin*(wMax/wMin)^((time -
+    startTime)/duration)`` (a linear ramp of ``log10(y)``) for ``duration``
+    seconds, then ``wMax``.  ``duration = 0`` gives a step (the MSL takes
+    ``max(duration, eps)``).
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.LogFrequencySweep"
+
+    wMin = Parameter(None, min=EPS, description="Start frequency")  # noqa: N815
+    wMax = Parameter(None, min=EPS, description="End frequency")  # noqa: N815
+    startTime = Parameter(0.0, unit="s", description="Start time of frequency sweep")  # noqa: N815
+    # the MSL gives duration only a start value (1), which a tool proposes
+    duration = Parameter(1.0, unit="s", min=0.0, description="Duration of ramp (= 0.0 gives a Step)")
+
+    def equations(self):
+        duration = sp.Max(self.duration, EPS)
+        fraction = sp.Min(1, (time - self.startTime) / duration)
+        return [Eq(self.y, sp.Piecewise((self.wMin, time < self.startTime),
+                                        (self.wMin * (self.wMax / self.wMin) ** fraction,
+                                         time < self.startTime + duration),
+                                        (self.wMax, True)))]
+
+
+class _VariableHarmonic(SO):
+    """What SineVariableFrequencyAndAmplitude and CosineVariableFrequencyAndAmplitude share.
+
+    The phase is integrated from the frequency, ``der(phi) = 2*pi*f``; the
+    amplitude and the frequency are inputs, or with
+    ``useConstantAmplitude``/``useConstantFrequency`` the parameters
+    ``constantAmplitude``/``constantFrequency`` (the MSL feeds those through
+    a Constant block into a protected connector; here the parameter enters
+    the equation directly).  ``phi`` starts at its start value 0 (not fixed,
+    as in the MSL: it is the initial phase shift).
+    """
+
+    useConstantAmplitude = Parameter(False, structural=True, description="Enable constant amplitude")  # noqa: N815
+    constantAmplitude = Parameter(1.0, description="Constant amplitude")  # noqa: N815
+    useConstantFrequency = Parameter(False, structural=True, description="Enable constant frequency")  # noqa: N815
+    constantFrequency = Parameter(1.0, unit="Hz", description="Constant frequency")  # noqa: N815
+    offset = Parameter(0.0, description="Offset of the sine wave")
+    phi = Variable(start=0.0, unit="rad", description="Phase of the sine wave")
+    amplitude = RealInput(condition=lambda block: not block.useConstantAmplitude, description="Amplitude")
+    f = RealInput(condition=lambda block: not block.useConstantFrequency, unit="Hz", description="Frequency")
+
+    def _output(self, wave):
+        amplitude = self.constantAmplitude if self.useConstantAmplitude else self.amplitude
+        frequency = self.constantFrequency if self.useConstantFrequency else self.f
+        return [Eq(der(self.phi), 2 * sp.pi * frequency), Eq(self.y, self.offset + amplitude * wave(self.phi))]
+
+
+class SineVariableFrequencyAndAmplitude(_VariableHarmonic):
+    """Generate sine signal with variable frequency and amplitude
+    (Modelica.Blocks.Sources.SineVariableFrequencyAndAmplitude).
+
+    ``y = offset + amplitude*sin(phi)`` with ``der(phi) = 2*pi*f``.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.SineVariableFrequencyAndAmplitude"
+
+    def equations(self):
+        return self._output(sp.sin)
+
+
+class CosineVariableFrequencyAndAmplitude(_VariableHarmonic):
+    """Generate cosine signal with variable frequency and amplitude
+    (Modelica.Blocks.Sources.CosineVariableFrequencyAndAmplitude).
+
+    ``y = offset + amplitude*cos(phi)`` with ``der(phi) = 2*pi*f``.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.CosineVariableFrequencyAndAmplitude"
+
+    def equations(self):
+        return self._output(sp.cos)
+
+
+# --------------------------------------------------------------------------
+# point-to-point motion profiles
+# --------------------------------------------------------------------------
+
+
+class _PathPlanning(Component):
+    """What KinematicPTP and KinematicPTP2 share: vector parameters of equal size or of size 1.
+
+    The number of outputs ``nout`` is the largest size of the vectors
+    :attr:`vectors` names (the MSL's ``final nout = max(size(...))``), and a
+    vector of size 1 stands for ``nout`` equal elements (the MSL's
+    protected ``p_deltaq = ones(nout)*deltaq[1]``).  Vector parameters are
+    given their declared defaults when absent, so that every instance of a
+    size has its own values (instances of one size share a sized class).
+    """
+
+    #: The vector parameters whose sizes give nout.
+    vectors: tuple[str, ...] = ()
+
+    nout = Parameter(1, structural=True, min=1, description="Number of output signals (set from the vectors)")
+    qd_max = Parameter([1.0], min=SMALL, description="Maximum velocities der(q)")
+    qdd_max = Parameter([1.0], min=SMALL, description="Maximum accelerations der(qd)")
+    startTime = Parameter(0.0, unit="s", description="Time instant at which movement starts")  # noqa: N815
+
+    @classmethod
+    def _with_sizes(cls, modifiers: dict[str, Any]) -> dict[str, Any]:
+        """``modifiers`` with every vector (its default if absent, a scalar as a vector of one) and ``nout``."""
+        unsized = vars(cls).get("_unsized", cls)
+        declarations = unsized.declarations()
+        modifiers = dict(modifiers)
+        sizes = []
+        for name in cls.vectors:
+            value = modifiers.get(name, declarations[name].default)
+            if not isinstance(value, (list, tuple, Array)) and not hasattr(value, "shape"):
+                value = [value]
+            value = list(value)
+            if not value:
+                raise ArraySizeError(f"{cls.__name__}.{name} is empty", hint=f"give {name} at least one element")
+            modifiers[name] = value
+            sizes.append(len(value))
+        nout = max(sizes)
+        for name, size in zip(cls.vectors, sizes):
+            if size not in (1, nout):
+                raise ArraySizeError(f"{cls.__name__}.{name} has size {size}, but another vector has size {nout}",
+                                     hint="give every vector nout elements, or one element for all")
+        if "nout" in modifiers and modifiers["nout"] != nout:
+            raise ArraySizeError(f"{cls.__name__}: nout = {modifiers['nout']!r}, but the vectors have size {nout}",
+                                 hint="nout is set from the vectors; leave it out")
+        modifiers["nout"] = nout
+        return modifiers
+
+    def __new__(cls, *args: Any, **modifiers: Any):
+        return super().__new__(cls, *args, **cls._with_sizes(modifiers))
+
+    def __init__(self, **modifiers: Any) -> None:
+        super().__init__(**type(self)._with_sizes(modifiers))
+
+    def per_output(self, name: str) -> list:
+        """The vector parameter ``name`` with ``nout`` elements (a vector of one repeated)."""
+        vector = list(getattr(self, name))
+        return vector * self.nout if len(vector) == 1 else vector
+
+    def path_limits(self, distance: list) -> tuple[Any, Any]:
+        """``(1/sd_max, 1/sdd_max)``: the largest time needed per unit of velocity and of acceleration
+        over the axes, ``max(abs(distance./qd_max))`` and ``max(abs(distance./qdd_max))``: the path
+        parameter s runs from 0 to 1, the axis limiting each is the slowest one."""
+        qd_max, qdd_max = self.per_output("qd_max"), self.per_output("qdd_max")
+        return (sp.Max(*[sp.Abs(d / v) for d, v in zip(distance, qd_max)]),
+                sp.Max(*[sp.Abs(d / a) for d, a in zip(distance, qdd_max)]))
+
+
+def _ptp_phases(sd_max, sdd_max):
+    """``(Ta1, Ta2, noWphase, Tv, Te)`` of a point-to-point motion of the path parameter over [0, 1].
+
+    ``Ta1`` is the acceleration time of a motion without a phase at constant
+    speed (bang-bang), ``Ta2`` the time to reach ``sd_max``; if ``Ta2 >=
+    Ta1`` the speed limit is never reached (``noWphase``) and the motion
+    ends at ``Te = 2*Ta1``, else it cruises from ``Ta2`` to ``Tv = 1/sd_max``
+    and ends at ``Te = Tv + Ta2``.
+    """
+    Ta1 = sp.sqrt(1 / sdd_max)
+    Ta2 = sd_max / sdd_max
+    noWphase = Ta2 >= Ta1
+    Tv = sp.Piecewise((Ta1, noWphase), (1 / sd_max, True))
+    Te = sp.Piecewise((Ta1 + Ta1, noWphase), (Tv + Ta2, True))
+    return Ta1, Ta2, noWphase, Tv, Te
+
+
+class KinematicPTP(_PathPlanning):
+    """Move as fast as possible along a distance within given kinematic constraints
+    (Modelica.Blocks.Sources.KinematicPTP).
+
+    The output is the acceleration ``y[i] = deltaq[i]*sdd`` of a
+    point-to-point motion over ``deltaq`` starting at ``startTime``: the
+    path acceleration ``sdd`` is ``sdd_max`` until ``Ta1`` (no phase at
+    constant speed) or ``Ta2``, then 0 until ``Tv``, then ``-sdd_max``
+    until ``Te``, then 0; integrated twice it moves every axis by its
+    ``deltaq`` in the same time, with the slowest axis at its limits
+    ``qd_max``/``qdd_max``.  Vectors of size 1 stand for all axes.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.KinematicPTP"
+
+    vectors = ("deltaq", "qd_max", "qdd_max")
+
+    deltaq = Parameter([1.0], description="Distance to move")
+    y = RealOutput(shape="nout", description="Connector of Real output signals")
+    sdd = Variable(description="Path acceleration (protected)")
+
+    def equations(self):
+        deltaq = self.per_output("deltaq")
+        sd_max_inv, sdd_max_inv = self.path_limits(deltaq)
+        sd_max, sdd_max = 1 / sd_max_inv, 1 / sdd_max_inv
+        Ta1, Ta2, noWphase, Tv, Te = _ptp_phases(sd_max, sdd_max)
+        start = self.startTime
+        without_cruise = sp.Piecewise((sdd_max, time < Ta1 + start), (-sdd_max, time < Te + start), (0, True))
+        with_cruise = sp.Piecewise((sdd_max, time < Ta2 + start), (0, time < Tv + start),
+                                   (-sdd_max, time < Te + start), (0, True))
+        return [Eq(self.sdd, sp.Piecewise((0, time < start), (without_cruise, noWphase), (with_cruise, True))),
+                *[Eq(y, d * self.sdd) for y, d in zip(self.y, deltaq)]]
+
+
+class KinematicPTP2(_PathPlanning):
+    """Move as fast as possible from start to end position within given kinematic constraints with output
+    signals q, qd=der(q), qdd=der(qd) (Modelica.Blocks.Sources.KinematicPTP2).
+
+    The path parameter ``s`` runs from 0 to 1 as KinematicPTP's
+    acceleration profile integrated twice: ``q = q_begin + (q_end -
+    q_begin)*s``, ``qd`` and ``qdd`` its derivatives; ``moving[i]`` is true
+    until ``endTime`` for an axis that moves at all.  Where no axis moves
+    (every distance within ``10*eps``) everything is 0.
+
+    The MSL writes ``sd = der(s)``, ``sdd = der(sd)`` and has the tool
+    differentiate the piecewise polynomial ``s``; here ``sd`` and ``sdd``
+    are its derivatives written piece by piece (the same polynomials,
+    without an index reduction).
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.KinematicPTP2"
+
+    vectors = ("q_begin", "q_end", "qd_max", "qdd_max")
+
+    q_begin = Parameter([0.0], description="Start position")
+    q_end = Parameter([1.0], description="End position")
+    q = RealOutput(shape="nout", description="Reference position of path planning")
+    qd = RealOutput(shape="nout", description="Reference speed of path planning")
+    qdd = RealOutput(shape="nout", description="Reference acceleration of path planning")
+    moving = BooleanOutput(shape="nout", description="= true, if end position not yet reached; = false, if end "
+                                                     "position reached or axis is completely at rest")
+    endTime = Variable(unit="s", description="Time instant at which movement stops")  # noqa: N815
+    s = Variable(description="Path parameter, 0 at the start, 1 at the end (protected)")
+    sd = Variable(description="Path speed der(s) (protected)")
+    sdd = Variable(description="Path acceleration der(sd) (protected)")
+
+    #: The MSL's protected constant eps = 10*Modelica.Constants.eps: below it a distance is no motion.
+    still = 10 * EPS
+
+    def equations(self):
+        q_begin, q_end = self.per_output("q_begin"), self.per_output("q_end")
+        deltaq = [b - a for a, b in zip(q_begin, q_end)]
+        sd_max_inv, sdd_max_inv = self.path_limits(deltaq)
+        at_rest = sp.Or(sd_max_inv <= self.still, sdd_max_inv <= self.still)
+        # at rest the profile is 0 and its expressions unused: bounded away from 0 there, they stay finite
+        # (the relations of parameters are evaluated whichever branch holds)
+        sd_max, sdd_max = 1 / sp.Max(sd_max_inv, self.still), 1 / sp.Max(sdd_max_inv, self.still)
+        Ta1, Ta2, noWphase, Tv, Te = _ptp_phases(sd_max, sdd_max)
+        start = self.startTime
+        Ta1s, Ta2s, Tvs, Tes = Ta1 + start, Ta2 + start, Tv + start, Te + start
+        sd_max2 = sdd_max * Ta1
+        s1 = sdd_max * sp.Piecewise((Ta1 * Ta1, noWphase), (Ta2 * Ta2, True)) / 2
+        s2 = s1 + sp.Piecewise((sd_max2 * (Te - Ta1) - (sdd_max / 2) * (Te - Ta1) ** 2, noWphase),
+                               (sd_max * (Tv - Ta2), True))
+        s3 = s2 + sd_max * (Te - Tv) - (sdd_max / 2) * (Te - Tv) * (Te - Tv)
+        # each piece of s as (s, der(s), der(s, 2))
+        since_start, since_a1, since_v = time - start, time - Ta1s, time - Tvs
+        accelerating = ((sdd_max / 2) * since_start ** 2, sdd_max * since_start, sdd_max)
+        without_cruise = [(accelerating, time < Ta1s),
+                          ((s1 + sd_max2 * since_a1 - (sdd_max / 2) * since_a1 ** 2, sd_max2 - sdd_max * since_a1,
+                            -sdd_max), time < Tes),
+                          ((s2, 0, 0), True)]
+        with_cruise = [(accelerating, time < Ta2s),
+                       ((s1 + sd_max * (time - Ta2s), sd_max, 0), time < Tvs),
+                       ((s2 + sd_max * since_v - (sdd_max / 2) * since_v ** 2, sd_max - sdd_max * since_v, -sdd_max),
+                        time < Tes),
+                       ((s3, 0, 0), True)]
+
+        def profile(k: int):
+            moving = sp.Piecewise((0, time < start),
+                                  (sp.Piecewise(*[(piece[k], c) for piece, c in without_cruise]), noWphase),
+                                  (sp.Piecewise(*[(piece[k], c) for piece, c in with_cruise]), True))
+            return sp.Piecewise((0, at_rest), (moving, True))
+
+        equations = [Eq(self.s, profile(0)), Eq(self.sd, profile(1)), Eq(self.sdd, profile(2)),
+                     Eq(self.endTime, sp.Piecewise((0, at_rest), (Tes, True)))]
+        # time < endTime with endTime's parameter expression: a time event, hit exactly
+        motion_ref = time < sp.Piecewise((0, at_rest), (Tes, True))
+        for i, d in enumerate(deltaq):
+            equations += [Eq(self.qdd[i + 1], d * self.sdd), Eq(self.qd[i + 1], d * self.sd),
+                          Eq(self.q[i + 1], q_begin[i] + d * self.s)]
+            # the MSL compares the given vectors, q_begin[i] and q_end[i]: the same after the broadcast
+            moves = sp.Abs(d) > self.still
+            equations.append(Eq(self.moving[i + 1], sp.And(moves, motion_ref) | sp.false))
+        return equations
+
+
+# --------------------------------------------------------------------------
+# expressions: an output bound to an expression given as a modifier
+# --------------------------------------------------------------------------
+
+
+class _BoundOutput(Component):
+    """An output ``y`` bound to an expression given as ``y=...``, as Modelica's ``RealExpression(y=...)``.
+
+    ``y`` may be a number, a sympy expression of ``time`` and of the
+    model's variables (``y=self.inertia.w`` in ``build()``: the symbols of
+    components attached before), or a callable taking the block and
+    returning one (evaluated when the equations are written, so it may
+    name components attached later).  A dict still modifies the output's
+    attributes (``y=dict(start=1)``).
+    """
+
+    #: The value of the output when no expression is given (the MSL's binding).
+    default_expression: Any = 0
+
+    def __init__(self, **modifiers: Any) -> None:
+        expression = self.default_expression
+        if "y" in modifiers and not isinstance(modifiers["y"], dict):
+            expression = modifiers.pop("y")
+        super().__init__(**modifiers)
+        object.__setattr__(self, "_expression", expression)
+
+    def expression(self):
+        """The bound expression, as sympy."""
+        value = self._expression(self) if callable(self._expression) else self._expression
+        if isinstance(value, bool):
+            return sp.true if value else sp.false
+        try:
+            return sp.sympify(value)
+        except (sp.SympifyError, TypeError) as exc:
+            where = self.path or type(self).__name__
+            raise ModifierError(f"{where}.y = {value!r} is not an expression",
+                                hint="give a number, a sympy expression of time or of the model's variables, "
+                                     "or a function of the block returning one") from exc
+
+    def equations(self):
+        return [Eq(self.y, self.expression())]
+
+
+class RealExpression(_BoundOutput):
+    """Set output signal to a time varying Real expression (Modelica.Blocks.Sources.RealExpression).
+
+    ``RealExpression(y=expr)``: ``y = expr``, 0 by default; ``expr`` a number,
+    a sympy expression of ``time`` and the model's variables, or a function
+    of the block returning one (``RealExpression(y=If(time < 1, 0, 1))``).
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.RealExpression"
+
+    y = RealOutput(description="Value of Real output")
+    default_expression = 0.0
+
+
+class IntegerExpression(_BoundOutput):
+    """Set output signal to a time varying Integer expression (Modelica.Blocks.Sources.IntegerExpression).
+
+    ``IntegerExpression(y=expr)``: ``y = expr``, 0 by default; ``expr``
+    Integer-valued (changing at events only), given as for
+    :class:`RealExpression`.
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.IntegerExpression"
+
+    y = IntegerOutput(description="Value of Integer output")
+    default_expression = 0
+
+
+# --------------------------------------------------------------------------
+# Integer sources
+# --------------------------------------------------------------------------
+
+
+class IntegerSO(Component):
+    """Single Integer output block (Modelica.Blocks.Interfaces.IntegerSO): the output ``y``."""
+
+    modelica_name = "Modelica.Blocks.Interfaces.IntegerSO"
+
+    y = IntegerOutput(description="Connector of Integer output signal")
+
+
+class IntegerSignalSource(IntegerSO):
+    """Base of Integer signal sources (Modelica.Blocks.Interfaces.IntegerSignalSource): ``offset`` and
+    ``startTime``."""
+
+    modelica_name = "Modelica.Blocks.Interfaces.IntegerSignalSource"
+
+    offset = Parameter(0, description="Offset of output signal y")
+    startTime = Parameter(0.0, unit="s", description="Output y = offset for time < startTime")  # noqa: N815
+
+
+class IntegerConstant(IntegerSO):
+    """Generate constant signal of type Integer (Modelica.Blocks.Sources.IntegerConstant): ``y = k``."""
+
+    modelica_name = "Modelica.Blocks.Sources.IntegerConstant"
+
+    # the MSL gives k only a start value (1): it must be set, and 1 is what a tool proposes
+    k = Parameter(1, description="Constant output value")
+
+    def equations(self):
+        return [Eq(self.y, self.k)]
+
+
+class IntegerStep(IntegerSignalSource):
+    """Generate step signal of type Integer (Modelica.Blocks.Sources.IntegerStep).
+
+    ``y = offset + (0 if time < startTime else height)``; the step is a time
+    event (at ``time = startTime`` the new value holds).
+    """
+
+    modelica_name = "Modelica.Blocks.Sources.IntegerStep"
+
+    height = Parameter(1, description="Height of step")
+
+    def equations(self):
+        return [Eq(self.y, self.offset + If(time < self.startTime, 0, self.height))]
 
 
 # --------------------------------------------------------------------------

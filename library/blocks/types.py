@@ -12,7 +12,59 @@ from acausal.errors import ParameterError
 from acausal.hybrid import smooth
 from acausal.language import If
 
-__all__ = ["Regularization", "regularization", "regularized_sign"]
+__all__ = ["Init", "SimpleController", "Regularization", "regularization", "regularized_sign"]
+
+
+class Init(enum.IntEnum):
+    """Type of initialization (Modelica.Blocks.Types.Init); the values are Modelica's ordinals."""
+
+    NoInit = 1  #: no initialization (start values are guesses)
+    SteadyState = 2  #: steady state initialization (derivatives of states are zero)
+    InitialState = 3  #: initialization with initial states
+    InitialOutput = 4  #: initialization with initial outputs (and steady state of the states if possible)
+
+
+# set after the body: in an IntEnum's body a str would become a member
+Init.modelica_name = "Modelica.Blocks.Types.Init"
+
+
+def _init_type(value: Any) -> Init:
+    """``value`` as an :class:`Init` (also accepts its name)."""
+    if isinstance(value, str):
+        return Init[value]
+    return Init(value)
+
+
+class SimpleController(enum.IntEnum):
+    """Type of a simple controller (Modelica.Blocks.Types.SimpleController): which of P, I, D it has.
+
+    The values are Modelica's ordinals.
+    """
+
+    P = 1  #: proportional only
+    PI = 2  #: proportional and integral
+    PD = 3  #: proportional and derivative
+    PID = 4  #: proportional, integral and derivative
+
+    @property
+    def has_integral(self) -> bool:
+        """Whether the controller has an integral part (PI, PID)."""
+        return self in (SimpleController.PI, SimpleController.PID)
+
+    @property
+    def has_derivative(self) -> bool:
+        """Whether the controller has a derivative part (PD, PID)."""
+        return self in (SimpleController.PD, SimpleController.PID)
+
+
+SimpleController.modelica_name = "Modelica.Blocks.Types.SimpleController"
+
+
+def simple_controller(value: Any) -> SimpleController:
+    """``value`` as a :class:`SimpleController` (also accepts its name, ``"PI"``)."""
+    if isinstance(value, str):
+        return SimpleController[value]
+    return SimpleController(value)
 
 
 class Regularization(enum.IntEnum):
