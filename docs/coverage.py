@@ -1,4 +1,4 @@
-"""Write docs/coverage.md: every class of MSL Rotational and Translational and how far acausal has it.
+"""Write docs/coverage.md: every class of MSL Rotational, Translational and Blocks and how far acausal has it.
 
 Run ``python docs/coverage.py`` from the repository root after adding a
 component, an example or a test; ``tests/test_coverage_table.py`` fails when
@@ -75,6 +75,67 @@ MSL = {
     "Modelica.Mechanics.Translational.Examples": (
         "SignConvention InitialConditions WhyArrows Accelerate CompareBrakingForce Damper Oscillator Sensors "
         "Friction PreLoad ElastoGap Brake HeatLosses EddyCurrentBrake Vehicle GenerationOfFMUs"),
+    "Modelica.Blocks.Continuous": (
+        "Integrator LimIntegrator Derivative FirstOrder SecondOrder PI PID LimPID "
+        "TransferFunction StateSpace Der LowpassButterworth CriticalDamping Filter"),
+    "Modelica.Blocks.Sources": (
+        "RealExpression IntegerExpression BooleanExpression ContinuousClock Constant Step Ramp "
+        "Sine Cosine SineVariableFrequencyAndAmplitude CosineVariableFrequencyAndAmplitude Sinc "
+        "ExpSine Exponentials Pulse SawTooth Trapezoid LogFrequencySweep KinematicPTP "
+        "KinematicPTP2 TimeTable CombiTimeTable BooleanConstant BooleanStep BooleanPulse "
+        "SampleTrigger BooleanTable RadioButtonSource IntegerConstant IntegerStep IntegerTable"),
+    "Modelica.Blocks.Math": (
+        "InverseBlockConstraints Gain MatrixGain MultiSum MultiProduct MultiSwitch Sum Feedback "
+        "Add Add3 Product Division Abs Sign Sqrt Sin Cos Tan Asin Acos Atan Atan2 Sinh Cosh Tanh "
+        "Exp Power Exponentiation Log Log10 WrapAngle RealToInteger IntegerToReal BooleanToReal "
+        "BooleanToInteger RealToBoolean IntegerToBoolean RectangularToPolar PolarToRectangular "
+        "Mean RectifiedMean ContinuousMean RootMeanSquare SignalExtrema ContinuousSignalExtrema "
+        "Variance StandardDeviation Harmonic TotalHarmonicDistortion RealFFT Pythagoras Max Min "
+        "MinMax LinearDependency Edge BooleanChange IntegerChange"),
+    "Modelica.Blocks.Math.UnitConversions": (
+        "To_degC From_degC To_degF From_degF To_degRk From_degRk To_deg From_deg To_rpm From_rpm "
+        "To_kmh From_kmh To_day From_day To_hour From_hour To_minute From_minute To_litre "
+        "From_litre To_kWh From_kWh To_bar From_bar To_gps From_gps"),
+    "Modelica.Blocks.MathInteger": (
+        "MultiSwitch Sum Product TriggeredAdd"),
+    "Modelica.Blocks.MathBoolean": (
+        "MultiSwitch And Or Xor Nand Nor Not RisingEdge FallingEdge ChangingEdge OnDelay"),
+    "Modelica.Blocks.Nonlinear": (
+        "Limiter VariableLimiter SlewRateLimiter DeadZone FixedDelay PadeDelay VariableDelay"),
+    "Modelica.Blocks.Logical": (
+        "And Or Xor Nor Nand Not Pre Edge FallingEdge Change GreaterThreshold "
+        "GreaterEqualThreshold LessThreshold LessEqualThreshold Greater GreaterEqual Less "
+        "LessEqual ZeroCrossing LogicalSwitch Switch Hysteresis OnOffController "
+        "TriggeredTrapezoid Timer LogicalDelay RSFlipFlop AssertCondition TerminateSimulation"),
+    "Modelica.Blocks.Discrete": (
+        "Sampler ZeroOrderHold FirstOrderHold UnitDelay TransferFunction StateSpace "
+        "TriggeredSampler TriggeredMax"),
+    "Modelica.Blocks.Routing": (
+        "Replicator IntegerReplicator BooleanReplicator ExtractSignal Extractor Multiplex "
+        "Multiplex2 Multiplex3 Multiplex4 Multiplex5 Multiplex6 DeMultiplex DeMultiplex2 "
+        "DeMultiplex3 DeMultiplex4 DeMultiplex5 DeMultiplex6 RealPassThrough IntegerPassThrough "
+        "BooleanPassThrough"),
+    "Modelica.Blocks.Tables": (
+        "CombiTable1Ds CombiTable1Dv CombiTable2Ds CombiTable2Dv"),
+    "Modelica.Blocks.Interaction.Show": (
+        "RealValue IntegerValue BooleanValue"),
+    "Modelica.Blocks.Noise": (
+        "GlobalSeed UniformNoise NormalNoise TruncatedNormalNoise BandLimitedWhiteNoise"),
+    "Modelica.Blocks.Examples": (
+        "PID_Controller Filter FilterWithDifferentiation FilterWithRiseTime SlewRateLimiter "
+        "InverseModel ShowLogicalSources LogicalNetwork1 RealNetwork1 IntegerNetwork1 "
+        "BooleanNetwork1 Interaction1 BusUsage Rectifier6pulseFFT Rectifier12pulseFFT "
+        "TotalHarmonicDistortion Modulation SinCosEncoder CompareSincExpSine "
+        "DemonstrateSignalExtrema DemonstrateContinuousSignalExtrema DemoSignalCharacteristic"),
+    "Modelica.Blocks.Examples.Noise": (
+        "UniformNoise AutomaticSeed Distributions UniformNoiseProperties NormalNoiseProperties "
+        "Densities ImpureGenerator ActuatorWithNoise DrydenContinuousTurbulence"),
+    "ModelicaTest.Blocks": (
+        "Continuous Continuous_SteadyState Continuous_InitialState Continuous_InitialOutput "
+        "SelfResettingIntegrator ResetHoldIntegrator LimResetIntegrator IntegratorForceState "
+        "Limiters StrictLimiters LimitersHomotopy KinematicPTP UnitDeduction Logical IntegerTable "
+        "BooleanTable RootMeanSquare FirstOrderHold OnDelay Mean ConversionBlocks PadeDelay1 "
+        "PadeDelay2 Discrete Hysteresis MuxDemux LimPID Exponentiation ZeroThresholds"),
 }
 
 #: Where acausal keeps the classes of each MSL package.
@@ -87,6 +148,19 @@ HOME = {
     "Modelica.Mechanics.Translational.Sources": "acausal.library.translational",
     "Modelica.Mechanics.Translational.Sensors": "acausal.library.translational",
     "Modelica.Mechanics.Translational.Interfaces": "acausal.components.translational",
+    "Modelica.Blocks.Continuous": "acausal.library.blocks.continuous acausal.library.blocks.filters",
+    "Modelica.Blocks.Sources": "acausal.library.blocks.sources acausal.library.blocks.booleans",
+    "Modelica.Blocks.Math": "acausal.library.blocks.math acausal.library.blocks.booleans",
+    "Modelica.Blocks.Math.UnitConversions": "acausal.library.blocks.unit_conversions",
+    "Modelica.Blocks.MathInteger": "acausal.library.blocks.math_integer",
+    "Modelica.Blocks.MathBoolean": "acausal.library.blocks.math_boolean",
+    "Modelica.Blocks.Nonlinear": "acausal.library.blocks.nonlinear",
+    "Modelica.Blocks.Logical": "acausal.library.blocks.logical",
+    "Modelica.Blocks.Discrete": "acausal.library.blocks.discrete",
+    "Modelica.Blocks.Routing": "acausal.library.blocks.routing",
+    "Modelica.Blocks.Tables": "acausal.library.blocks.tables",
+    "Modelica.Blocks.Interaction.Show": "acausal.library.blocks.interaction",
+    "Modelica.Blocks.Noise": "acausal.library.blocks.noise",
 }
 
 
@@ -180,9 +254,14 @@ def _called_class(func: ast.expr, names: dict[str, str], modules: dict[str, str]
 
 
 def _short(modelica_class: str) -> str:
-    """Modelica.Mechanics.Rotational.Examples.First -> Rotational.First; ModelicaTest.Blocks.X -> X."""
+    """Modelica.Mechanics.Rotational.Examples.First -> Rotational.First; ModelicaTest.Blocks.X -> X;
+    Modelica.Blocks.Examples.Noise.UniformNoise -> Blocks.UniformNoise."""
     parts = modelica_class.split(".")
-    return f"{parts[-3]}.{parts[-1]}" if parts[-2] == "Examples" else parts[-1]
+    if parts[-2] == "Examples":
+        return f"{parts[-3]}.{parts[-1]}"
+    if parts[-3:-1] == ["Examples", "Noise"]:
+        return f"{parts[-4]}.{parts[-1]}"
+    return parts[-1]
 
 
 def table() -> str:
@@ -194,7 +273,7 @@ def table() -> str:
             in_reference.setdefault(klass, []).append(_short(modelica_class))
     analytic = analytic_uses()
 
-    lines = ["# Coverage of MSL Rotational and Translational", "",
+    lines = ["# Coverage of MSL Rotational, Translational and Blocks", "",
              "Generated by `python docs/coverage.py` from the library, the examples and the tests "
              "(`tests/test_coverage_table.py` checks that this file is up to date); the rules are in "
              "the script's docstring.", ""]
@@ -202,7 +281,7 @@ def table() -> str:
     for package, members in MSL.items():
         names = members.split()
         lines += [f"## {package}", ""]
-        if package.endswith(".Examples"):
+        if package.endswith((".Examples", ".Examples.Noise")) or package.startswith("ModelicaTest."):
             lines += ["| example | state | acausal example |", "|---|---|---|"]
             done = 0
             for name in names:
