@@ -1296,7 +1296,9 @@ def repair_parser() -> None:
     * ``[1, 2]`` (a 1 x 2 matrix) becomes ``{1, 2}`` (a vector) and
       ``[A, B]`` does not concatenate;
     * the condition of a conditional declaration (``Real x if useX;``,
-      MLS 4.4.5) is dropped.
+      MLS 4.4.5) is dropped;
+    * a declaration's annotation (``annotation(Evaluate=true)``, MLS 18.3)
+      is dropped.
 
     After the repair a range has ``start``, ``step`` and ``stop`` in place;
     a named argument is ``Expression(operator="=", operands=[Primary(name),
@@ -1305,7 +1307,8 @@ def repair_parser() -> None:
     (the array constructor itself, or the one operand of a reduction); and
     ``[...]`` is ``Expression(operator="[]", operands=[Array(row), ...])``;
     a declaration's condition is the expression ``symbol.condition`` (None
-    without one).  :func:`to_sympy` reads all of them.  pymoca's own node classes are used,
+    without one), its annotation the class modification ``symbol.annotation``
+    (None without one).  :func:`to_sympy` reads all of them.  pymoca's own node classes are used,
     so trees stay picklable without acausal.  The parse cache of pymoca may
     hold trees made before the repair: parse with ``bypass_cache=True``.
     """
@@ -1355,16 +1358,23 @@ def repair_parser() -> None:
         rows = [_ast.Array(values=[self.ast[x] for x in row.expression()]) for row in ctx.expression_list()]
         self.ast[ctx] = _ast.Expression(operator=_CONCATENATE, operands=rows)
 
+    def declaration_annotation(self, ctx) -> Any:
+        comment = ctx.comment()
+        annotation = comment.annotation() if comment is not None else None
+        return self.ast.get(annotation) if annotation is not None else None
+
     def exit_component_declaration(self, ctx) -> None:
         symbol = self.ast[ctx]
         plain_declarations[0](self, ctx)
         condition = ctx.condition_attribute()
         symbol.condition = self.ast[condition.expression()] if condition is not None else None
+        symbol.annotation = declaration_annotation(self, ctx)
 
     def exit_component_declaration1(self, ctx) -> None:  # in a modification: never conditional
         symbol = self.ast[ctx]
         plain_declarations[1](self, ctx)
         symbol.condition = None
+        symbol.annotation = declaration_annotation(self, ctx)
 
     listener.exitComponent_declaration = exit_component_declaration
     listener.exitComponent_declaration1 = exit_component_declaration1

@@ -15,7 +15,17 @@ parser, finds the class asked for, and makes a Python class of it:
   become declarations with their attributes, ``connect`` statements become
   ``connect``, equations (``der``, ``pre``, if, when, for, reinit, assert,
   terminate) become acausal's, and ``annotation(experiment(...))`` the
-  ``Experiment``.
+  ``Experiment`` (``annotation(__acausal(modelicaClass="..."))``, which
+  :func:`acausal.modelica.dump` writes, the ``modelica_class``);
+* Integer, Boolean and String parameters are structural (used by value
+  while translating), Real ones tunable, unless the declaration's
+  ``annotation(Evaluate=...)`` says otherwise (MLS 18.3); a parameter an
+  equation passes to a Modelica function is structural too, since the
+  function is evaluated when the model is read (``(b, a) = f(T, n)``, MLS
+  8.3.1, gives each name on the left its output);
+* array sizes are numbers, structural parameters or expressions of them
+  (``Real a[n + 1]``); the attributes of an array a library class declares
+  element by element (``y(start={0, 1})``) are given element by element.
 
 Names are looked up as Modelica 3.6, section 5.3 says: the class's own
 imports, then the enclosing classes from the innermost outwards (so
@@ -687,16 +697,18 @@ class Reader:
         plan = _ClassPlan(full, node)
         for name, symbol in node.symbols.items():
             self._symbol(plan, name, symbol)
+        self._function_inputs_structural(plan, node)
         reader = self
         namespace: dict[str, Any] = {"__module__": __name__, "__qualname__": full.rpartition(".")[2],
                                      "__doc__": node.comment or f"{full} (read from {self.source.origin})",
                                      **plan.declarations}
         if top:
-            namespace["modelica_class"] = full
+            namespace["modelica_class"] = _modelica_class(getattr(node, "annotation", None)) or full
             experiment = _experiment(getattr(node, "annotation", None))
             if experiment is not None:
                 namespace["experiment"] = experiment
         namespace["_modelica_source"] = self.source.origin
+        namespace["_modelica_full"] = full  # the scope its expressions' names are looked up in
 
         made_class: list[type] = []  # this class, once made: its bases build first
 
@@ -730,6 +742,15 @@ class Reader:
                 return super(made, self).parameter_binding(name)
 
             namespace["parameter_binding"] = parameter_binding
+
+            def _modifier_value(self, name: str, default: Any) -> Any:
+                # a structural parameter bound to an expression (parameter Integer m = n): its
+                # value, read where the language asks for a structural parameter's value
+                if name not in self._modifiers and name in plan.derived:
+                    return _python(reader._value(plan.derived[name], self, f"{full}.{name}"))
+                return super(made, self)._modifier_value(name, default)
+
+            namespace["_modifier_value"] = _modifier_value
         made = type(full.rpartition(".")[2], tuple(dict.fromkeys(bases)), namespace)
         made_class.append(made)
         if extends_modifiers:
@@ -745,6 +766,54 @@ class Reader:
 
             made.__init__ = __init__
         return made
+
+    def _function_inputs_structural(self, plan: _ClassPlan, node) -> None:
+        """Make structural the parameters an equation passes to a Modelica function
+        (``(b, a) = padeCoefficients(delayTime, n, m)``).
+
+        acausal evaluates a Modelica function when it reads the model (see
+        :mod:`acausal.modelica.functions`), so its inputs must have values then; a
+        structural parameter is one acausal uses by value while translating, as a tool
+        evaluates such a parameter.  Modelica.Math's elementary functions are acausal's
+        own and take any expression.
+        """
+        names: set[str] = set()
+
+        def visit(item) -> None:
+            kind = type(item).__name__
+            if kind == "Expression":
+                operator = item.operator
+                if not isinstance(operator, str):
+                    callee = _ref_text(operator)
+                    if callee.rpartition(".")[0] not in ("Modelica.Math", "Math"):
+                        for operand in item.operands:
+                            collect(operand)
+                for operand in item.operands:
+                    visit(operand)
+            elif kind == "Array":
+                for value in item.values:
+                    visit(value)
+
+        def collect(item) -> None:
+            kind = type(item).__name__
+            if kind == "ComponentRef":
+                names.add(item.name)
+            elif kind == "Expression":
+                for operand in item.operands:
+                    collect(operand)
+            elif kind == "Array":
+                for value in item.values:
+                    collect(value)
+
+        for equation in [*(node.equations or []), *(getattr(node, "initial_equations", None) or [])]:
+            if type(equation).__name__ == "Equation":
+                visit(equation.right)
+                if not isinstance(equation.left, list):
+                    visit(equation.left)
+        for name in names:
+            declaration = plan.declarations.get(name)
+            if isinstance(declaration, Parameter) and declaration.shape is None:
+                declaration.structural = True
 
     # -- declarations ------------------------------------------------------------------
     def _symbol(self, plan: _ClassPlan, name: str, symbol) -> None:
@@ -786,9 +855,14 @@ class Reader:
             value = given["value"][-1]  # pymoca keeps a binding `= expr` as the element "value"
         has_value = value is not None and not (getattr(value, "value", 0) is None and type(value).__name__ == "Primary")
         structural = ("parameter" in prefixes or "constant" in prefixes) and (base != "Real" or "constant" in prefixes)
+        evaluate = _evaluate_annotation(symbol)
+        if "parameter" in prefixes and evaluate is not None:
+            # annotation(Evaluate=true) asks the tool to use the value while translating (MLS
+            # 18.3): acausal's structural parameter; Evaluate=false keeps it tunable
+            structural = evaluate
         # an array whose size its value gives (x[:]), and a structural array (a Python value): no shape
         open_size = any(type(d).__name__ == "Slice" for d in dims)
-        shape = self._shape(dims, plan.full) if dims and not open_size and not structural else None
+        shape = self._shape(dims, plan.full, plan.derived) if dims and not open_size and not structural else None
         if "parameter" in prefixes or "constant" in prefixes:
             default = None
             if has_value:
@@ -846,14 +920,16 @@ class Reader:
                             "known when the model is built", components=(name,),
                             hint="a declaration's condition is a Boolean parameter expression")
 
-    def _shape(self, dims: list, enclosing: str):
+    def _shape(self, dims: list, enclosing: str, derived: dict | None = None):
         out = []
         for dim in dims:
             literal = _literal(dim)
             if isinstance(literal, (int, float)) and literal is not _NOT_LITERAL:
                 out.append(int(literal))
-            elif hasattr(dim, "name") and not getattr(dim, "child", None):
+            elif hasattr(dim, "name") and not getattr(dim, "child", None) and dim.name not in (derived or {}):
                 out.append(dim.name)  # a structural parameter
+            elif type(dim).__name__ in ("Expression", "ComponentRef"):
+                out.append(_SizeExpression(dim, f"{enclosing}: an array size", derived))  # n + 1
             else:
                 raise ModelicaError(f"{self.source.origin}: an array size {dim} is not supported",
                                     hint="give the size as a number or a parameter name")
@@ -957,7 +1033,9 @@ class Reader:
             kind = type(item).__name__
             if kind == "ConnectClause":
                 continue
-            if kind == "Equation":
+            if kind == "Equation" and isinstance(item.left, list):  # (b, a) = f(...)
+                out += self._outputs_equation(item, instance, loop)
+            elif kind == "Equation":
                 out.append(Eq(self._value(item.left, instance, "equation", loop),
                               self._value(item.right, instance, "equation", loop)))
             elif kind == "ForEquation":
@@ -987,6 +1065,31 @@ class Reader:
             else:
                 raise ModelicaError(f"{self.source.origin}: {kind} in {full} is not supported",
                                     hint="equations, if, when, for, connect, assert, terminate and reinit are")
+        return out
+
+    def _outputs_equation(self, item, instance, loop: dict) -> list:
+        """``(b, a) = f(x)`` (MLS 8.3.1): a function's outputs equal to the names on the left,
+        in order; an empty place (``(, a) = f(x)``) takes no output.  The function is
+        evaluated now (its inputs are parameters known when the model is built)."""
+        call = item.right
+        operator = getattr(call, "operator", None)
+        if type(call).__name__ != "Expression" or operator is None or isinstance(operator, str):
+            raise ModelicaError(f"{self.source.where('=')}: the right side of an equation with several "
+                                "names on the left must be a function call")
+        name = _ref_text(operator)
+        node, full = self._function(name, self._enclosing(instance))
+        positional, named = _expressions().call_arguments(call.operands, name)
+        outputs = call_function(node, full, [self._value(a, instance, name, loop) for a in positional],
+                                {k: self._value(a, instance, name, loop) for k, a in named.items()},
+                                self.functions)
+        if len(item.left) > len(outputs):
+            raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: {full}() has {len(outputs)} outputs, "
+                                f"the equation names {len(item.left)}")
+        out = []
+        for target, value in zip(item.left, outputs):
+            if target is None or (type(target).__name__ == "Primary" and target.value is None):
+                continue
+            out.append(Eq(self._value(target, instance, "equation", loop), value))
         return out
 
     def _if_equation(self, item, instance, loop: dict, full: str) -> list:
@@ -1028,7 +1131,7 @@ class Reader:
             return literal  # a number, string or Boolean as it is written
         if type(node).__name__ == "ComponentRef":  # a name alone: no expression to convert
             return resolve(_ref_text(node), _subscripts(node, self, instance, loop or {}, where))
-        enclosing = type(instance).__dict__.get("_modelica_full") or next(iter(self._enclosings()), "")
+        enclosing = self._enclosing(instance)
         try:
             value = _expressions().to_sympy(node, resolve, functools.partial(self._call, enclosing))
         except ModelicaError as exc:
@@ -1041,7 +1144,6 @@ class Reader:
         if name in loop and not indices:
             return loop[name]
         head, _, rest = name.partition(".")
-        full = type(instance).__dict__.get("_modelica_full") or ""
         target: Any = _MISSING
         if instance is not None and head in loop:
             target = loop[head]
@@ -1121,6 +1223,11 @@ class Reader:
         literal = _literal(value)
         return literal if literal is not _NOT_LITERAL and literal is not None else _MISSING
 
+    def _enclosing(self, instance) -> str:
+        """The class whose scope an expression of ``instance`` is read in (MLS 5.3): the class
+        it was made of (a sized subclass inherits it), else the innermost class of the file."""
+        return getattr(type(instance), "_modelica_full", None) or next(iter(self._enclosings()), "")
+
     def _enclosings(self) -> list[str]:
         return sorted(self.scope.file_classes, key=len, reverse=True)
 
@@ -1170,6 +1277,47 @@ def _literal(node) -> Any:
         values = [_literal(v) for v in node.values]
         return _NOT_LITERAL if any(v is _NOT_LITERAL for v in values) else values
     return _NOT_LITERAL
+
+
+class _SizeExpression:
+    """An array size written as an expression of structural parameters (``Real a[n + 1]``): the
+    language calls it with ``value(name)``, which reads the instance's structural parameters."""
+
+    def __init__(self, node, where: str, derived: dict | None = None) -> None:
+        self.node = node
+        self.where = where
+        self.derived = derived if derived is not None else {}  # parameter -> its binding's node
+        self.text = str(_expressions().to_sympy(node, lambda name, indices: sp.Symbol(name)))
+
+    def __call__(self, value: Callable[[str], Any]) -> int:
+        def resolve(name: str, indices: list) -> Any:
+            found = value(name)
+            if found is None and name in self.derived:  # parameter Integer m = n: n's value
+                found = _expressions().to_sympy(self.derived[name], resolve)
+            for group in indices:
+                for i in group:
+                    found = found[int(i) - 1]
+            return found
+
+        size = _expressions().to_sympy(self.node, resolve)
+        if not getattr(size, "is_Integer", False) and not isinstance(size, int):
+            raise ModelicaError(f"{self.where} {self.text} is {size}, not an Integer known when the "
+                                "model is built", hint="an array size reads structural parameters only")
+        return int(size)
+
+
+def _evaluate_annotation(symbol) -> bool | None:
+    """The value of a declaration's ``annotation(Evaluate=...)``, or None without one."""
+    try:
+        elements = _modifications(getattr(symbol, "annotation", None))
+    except ModelicaError:  # an annotation holding what a modification does not (graphics, choices)
+        return None
+    for element, items in elements:
+        if element == "Evaluate" and items and not _is_modification(items[-1]):
+            value = _literal(items[-1])
+            if isinstance(value, bool):
+                return value
+    return None
 
 
 def _number(value: Any, default: Any = None) -> Any:
@@ -1234,6 +1382,9 @@ def _merge(inner: dict, outer: dict) -> dict:
 def _fitted(klass: type, modifiers: dict, instance) -> dict:
     """``modifiers`` as ``klass``'s declarations take them.
 
+    * The attributes of an array of variables a class declares element by
+      element (``y(start={0, 1}, each fixed=true)``): one dict per element,
+      as such a class takes them.
     * A matrix parameter given one row: pymoca reads Modelica's ``[0, -1]``
       (a 1 x 2 matrix) as the vector ``{0, -1}``; a parameter whose default
       is a matrix takes it as one row.
@@ -1243,8 +1394,13 @@ def _fitted(klass: type, modifiers: dict, instance) -> dict:
     """
     declarations = klass.declarations()
     out = dict(modifiers)
+    arrays = klass.array_declarations() if hasattr(klass, "array_declarations") else {}
     for key, value in modifiers.items():
         declaration = declarations.get(key)
+        if declaration is None and key in arrays and isinstance(value, dict) \
+                and any(isinstance(v, list) for v in value.values()):
+            out[key] = _per_element_attributes(value, key)
+            continue
         if not isinstance(declaration, Parameter):
             continue
         if declaration.structural and instance is not None:
@@ -1255,6 +1411,16 @@ def _fitted(klass: type, modifiers: dict, instance) -> dict:
             value = [value]
         out[key] = value
     return out
+
+
+def _per_element_attributes(attributes: dict, name: str) -> list[dict]:
+    """``dict(start=[0, 1], fixed=True)`` as ``[dict(start=0, fixed=True), dict(start=1, fixed=True)]``:
+    a list gives each element its value, anything else is every element's."""
+    sizes = {len(v) for v in attributes.values() if isinstance(v, list)}
+    if len(sizes) != 1:
+        raise ModelicaError(f"the attributes of {name} give arrays of different sizes ({sorted(sizes)})")
+    n = sizes.pop()
+    return [{a: (v[i] if isinstance(v, list) else v) for a, v in attributes.items()} for i in range(n)]
 
 
 def _evaluated(value: Any, instance) -> Any:
@@ -1274,7 +1440,11 @@ def _evaluated(value: Any, instance) -> Any:
         owner_path, _, member = dotted.rpartition(".")
         owner = instance
         for part in owner_path.split(".") if owner_path else []:
-            owner = owner._children[part]
+            owner = owner._children.get(part) if owner is not None else None
+        if owner is None or not isinstance(owner.declarations().get(member), Parameter):
+            # a variable (a time-varying input given to such a parameter, as MSL's
+            # ``number=multiSwitch1.y``): it stays a symbol, only parameters have values now
+            continue
         binding = owner.parameter_binding(member)
         values[symbol] = _evaluated(binding, owner)
     return _python(value.xreplace({k: sp.sympify(v) for k, v in values.items()}))
@@ -1292,6 +1462,21 @@ def _element_modifiers(modifiers: dict, i: int, n: int) -> dict:
         else:
             out[key] = value
     return out
+
+
+def _modelica_class(annotation) -> str | None:
+    """The class a model written by :func:`acausal.modelica.dump` reproduces:
+    ``annotation(__acausal(modelicaClass="..."))``, or None."""
+    for element, items in _modifications(annotation) if annotation is not None else []:
+        if element != "__acausal":
+            continue
+        for item in items:
+            if _is_modification(item):
+                for key, inner in _modifications(item):
+                    literal = _literal(inner[-1]) if inner else _NOT_LITERAL
+                    if key == "modelicaClass" and isinstance(literal, str) and literal:
+                        return literal
+    return None
 
 
 def _experiment(annotation) -> Experiment | None:

@@ -9,7 +9,9 @@
   own, written out from its declarations and equations (a sympy to
   Modelica printer, :func:`acausal.modelica.expressions.to_modelica`),
 * the model's own parameters, variables and equations, its ``connect``
-  statements, and its experiment as ``annotation(experiment(...))``.
+  statements, and its experiment as ``annotation(experiment(...))``; the
+  Modelica class it reproduces (``modelica_class``) as the vendor annotation
+  ``__acausal(modelicaClass="...")``.
 
 The text reads back (:func:`acausal.modelica.load`) into the same flat
 model, so any Modelica tool can check what acausal computes, and a student
@@ -31,6 +33,9 @@ from ..language import (BoundConnector, Component, Connector, Model, Parameter, 
 __all__ = ["dump"]
 
 _INDENT = "  "
+
+#: acausal's vendor-specific annotation (MLS 18.1: ``__`` and the tool's name).
+_VENDOR = "__acausal"
 
 
 def _msl_name(klass: type) -> str | None:
@@ -136,15 +141,78 @@ class _Writer:
         return "\n".join(lines)
 
     def declarations(self, component: Component) -> list[str]:
+        from ..arrays import element_name, indices
+
         lines = []
         name = self.namer(component)
+        # a sized class declares every element of an array: Modelica declares the array once
+        arrays = type(component).array_declarations() if hasattr(type(component), "array_declarations") else {}
+        element_of = {element_name(array, index): array for array, (_, shape) in arrays.items()
+                      for index in indices(shape)}
+        written: set[str] = set()
         for key, declaration in type(component).declarations().items():
             if not declaration.enabled(component):
                 continue
-            text = self.declaration(component, key, declaration, name)
+            array = element_of.get(key)
+            if array is not None:
+                if array in written:
+                    continue
+                written.add(array)
+                text = self.array_declaration(component, array, *arrays[array], name)
+            else:
+                text = self.declaration(component, key, declaration, name)
             if text:
                 lines.append(_INDENT + text)
         return lines
+
+    def array_declaration(self, component: Component, array: str, declaration, shape: tuple[int, ...],
+                          name) -> str:
+        """The declaration of the whole array ``array`` of ``shape`` (its elements' values and
+        attributes as arrays), as the sizes of this instance give it."""
+        from ..arrays import element_name, indices
+
+        names = [element_name(array, index) for index in indices(shape)]
+        dims = f"[{', '.join(str(n) for n in shape)}]"
+        described = f' "{declaration.description}"' if declaration.description else ""
+
+        def whole(values: list) -> str:
+            return _value(np.asarray(values + [None], dtype=object)[:-1].reshape(shape).tolist(), name)
+
+        if isinstance(declaration, Connector):
+            msl = _msl_name(type(declaration))
+            if msl is None:
+                raise ModelicaError(f"the connector {type(declaration).__name__} of {type(component).__name__} "
+                                    f"has no Modelica class")
+            return f"{msl} {array}{dims}{described};"
+        if isinstance(declaration, Parameter):
+            values = [component.parameter_binding(n) for n in names]
+            kinds = {_kind(v) for v in values if v is not None}
+            kind = kinds.pop() if len(kinds) == 1 else "Real"
+            attributes = [f'unit="{declaration.unit}"'] if declaration.unit else []
+            known = all(v is not None for v in values)
+            binding = f" = {whole(values)}" if known and names else ""
+            if declaration.fixed is not True:
+                attributes += ([f"start={whole(values)}"] if known and names else []) + ["fixed=false"]
+                binding = ""
+            modification = f"({', '.join(attributes)})" if attributes else ""
+            return f"parameter {kind} {array}{dims}{modification}{binding}{described}{_evaluate(declaration, kind)};"
+        if isinstance(declaration, Variable):
+            kind = {"boolean": "Boolean", "integer": "Integer"}.get(declaration.kind, "Real")
+            prefix = {"input": "input ", "output": "output "}.get(declaration.causality, "")
+            if getattr(declaration, "discrete", False):
+                prefix = "discrete " + prefix
+            attributes = []
+            if declaration.unit and kind == "Real":
+                attributes.append(f'unit="{declaration.unit}"')
+            starts = [component.attribute(n, "start") for n in names]
+            fixed = [bool(component.attribute(n, "fixed")) for n in names]
+            if any(s not in (None, 0, 0.0, False) for s in starts) or any(fixed):
+                attributes.append(f"start={whole([0.0 if s is None else s for s in starts])}")
+            if any(fixed):
+                attributes.append(f"fixed={whole(fixed)}" if not all(fixed) else "each fixed=true")
+            modification = f"({', '.join(attributes)})" if attributes else ""
+            return f"{prefix}{kind} {array}{dims}{modification}{described};"
+        return ""
 
     def declaration(self, component: Component, key: str, declaration, name) -> str:
         described = f' "{declaration.description}"' if declaration.description else ""
@@ -156,6 +224,11 @@ class _Writer:
             return f"{msl} {key}{described};"
         if isinstance(declaration, Parameter):
             value = component.parameter_binding(key)
+            if value is None and declaration.structural:
+                # a structural parameter left unset only chooses what build() makes (``m`` is
+                # ``n`` unless given): the class is written from what it made, which does not
+                # read it, and Modelica has no value to give it
+                return ""
             kind = _kind(value)
             attributes = [f'unit="{declaration.unit}"'] if declaration.unit else []
             binding = "" if value is None else f" = {_value(value, name)}"
@@ -164,7 +237,7 @@ class _Writer:
                 binding = ""
             modification = f"({', '.join(attributes)})" if attributes else ""
             prefix = "parameter"
-            return f"{prefix} {kind} {key}{modification}{binding}{described};"
+            return f"{prefix} {kind} {key}{modification}{binding}{described}{_evaluate(declaration, kind)};"
         if isinstance(declaration, Variable):
             kind = {"boolean": "Boolean", "integer": "Integer"}.get(declaration.kind, "Real")
             prefix = {"input": "input ", "output": "output "}.get(declaration.causality, "")
@@ -249,7 +322,48 @@ def _tree(component: Component) -> dict:
     for key, nested in component._nested_modifiers.items():
         if nested:
             tree[key] = nested
-    return tree
+    return _whole_arrays(component, tree)
+
+
+def _whole_arrays(component: Component, tree: dict) -> dict:
+    """``tree`` with the modifiers of array elements (``a[1]``, ``A[1,2]``, ``x[2](start=...)``)
+    brought together into one modifier of the whole array (``a={...}``, ``x(start={...})``).
+
+    A sized component keeps a modifier per element, but Modelica's modification names a
+    component without subscripts (MLS 7.2): an array is modified whole.  Elements not given
+    take their current value, so the array written is the one the component has.
+    """
+    arrays = type(component).array_declarations() if hasattr(type(component), "array_declarations") else {}
+    if not arrays:
+        return tree
+    from ..arrays import element_name, indices
+
+    out: dict[str, Any] = {}
+    grouped: dict[str, str] = {}  # element name -> its array
+    for name, (_, shape) in arrays.items():
+        for index in indices(shape):
+            grouped[element_name(name, index)] = name
+    for key, value in tree.items():
+        array = grouped.get(key)
+        if array is None:
+            out[key] = value
+            continue
+        if array in out:
+            continue  # written with the first element given
+        declaration, shape = arrays[array]
+        names = [element_name(array, index) for index in indices(shape)]
+        if isinstance(declaration, Parameter):
+            values = [component._modifiers[n] if n in component._modifiers else component.parameter_binding(n)
+                      for n in names]
+            out[array] = np.asarray(values + [None], dtype=object)[:-1].reshape(shape).tolist()
+        else:
+            given = list(dict.fromkeys(attribute for n in names if isinstance(tree.get(n), dict)
+                                       for attribute in tree[n]))
+            out[array] = {attribute: np.asarray([tree[n][attribute] if attribute in tree.get(n, {})
+                                                  else component.attribute(n, attribute) for n in names] + [None],
+                                                 dtype=object)[:-1].reshape(shape).tolist()
+                          for attribute in given}
+    return out
 
 
 class _PerElement(list):
@@ -344,6 +458,15 @@ def _kind(value: Any) -> str:
     return "Real"
 
 
+def _evaluate(declaration: Parameter, kind: str) -> str:
+    """``annotation(Evaluate=...)`` where a parameter's kind alone would not say whether it is
+    structural: the reader takes Integer, Boolean and String parameters for structural, Real
+    ones for tunable (the annotation says otherwise, MLS 18.3)."""
+    if declaration.structural == (kind != "Real"):
+        return ""
+    return f" annotation(Evaluate={'true' if declaration.structural else 'false'})"
+
+
 def _attribute(key: str) -> str:
     return {"display_unit": "displayUnit", "state_select": "stateSelect"}.get(key, key)
 
@@ -386,12 +509,22 @@ def dump(model: Component | type, name: str | None = None) -> str:
         lines += [_INDENT + line if line else line for line in text.splitlines()]
     lines += body
     experiment = getattr(type(instance), "experiment", None)
+    annotations = []
     if isinstance(instance, Model) and experiment is not None:
         values = [f"StartTime={_number(experiment.start_time)}", f"StopTime={_number(experiment.stop_time)}"]
         if experiment.interval is not None:
             values.append(f"Interval={_number(experiment.interval)}")
         if experiment.tolerance is not None:
             values.append(f"Tolerance={_number(experiment.tolerance)}")
-        lines.append(f"{_INDENT}annotation(experiment({', '.join(values)}));")
+        annotations.append(f"experiment({', '.join(values)})")
+    modelica_class = getattr(type(instance), "modelica_class", None)
+    if isinstance(instance, Model) and isinstance(modelica_class, str) and modelica_class \
+            and modelica_class != title:
+        # the class this model reproduces, in acausal's vendor annotation (MLS 18.1): read
+        # back, the model keeps its reference results and its instance names
+        # (getInstanceName(), which seeds noise, starts with the class's name)
+        annotations.append(f"{_VENDOR}(modelicaClass={_value(modelica_class, None)})")
+    if annotations:
+        lines.append(f"{_INDENT}annotation({', '.join(annotations)});")
     lines.append(f"end {title};")
     return "\n".join(lines) + "\n"

@@ -268,3 +268,52 @@ def test_parses_are_kept_in_the_disk_cache(tmp_path, monkeypatch):
     assert len(parses) == 2
     np.testing.assert_array_equal(first["x"], third["x"])
     reader._parsed.cache_clear()
+
+
+COEFFICIENTS = """
+model Coefficients "sizes written as expressions, a function with two outputs, Evaluate"
+  function twoPowers
+    input Real T;
+    input Integer n;
+    output Real b[n] "T^1 ... T^n";
+    output Real a[n + 1] "1, T ... T^n";
+  algorithm
+    a[1] := 1;
+    for i in 1:n loop
+      b[i] := T^i;
+      a[i + 1] := b[i];
+    end for;
+  end twoPowers;
+  parameter Real T = 2;
+  parameter Integer n = 2;
+  parameter Integer m = n "bound to another structural parameter";
+  parameter Real k = 3 annotation(Evaluate=true);
+  Real b[m];
+  Real a[m + 1];
+equation
+  (b, a) = twoPowers(T, m);
+end Coefficients;
+"""
+
+
+def test_sizes_as_expressions_and_an_equation_of_several_function_outputs():
+    model = load(COEFFICIENTS)
+    flat = flatten(model())
+    residuals = sorted(str(e.residual) for e in flat.equations)
+    assert residuals == ["a[1] - 1.0", "a[2] - 2.0", "a[3] - 4.0", "b[1] - 2.0", "b[2] - 4.0"]
+    # T is passed to a function, which acausal evaluates when it reads the model: T is
+    # structural (used by value), as is k, which its annotation asks to evaluate
+    assert {p.name for p in flat.parameters} == set()
+
+
+def test_a_structural_parameter_given_a_variable_keeps_it():
+    """Show.IntegerValue's ``number`` is a time-varying input the library declares structural:
+    a modifier giving it another block's output is kept as that variable (MSL IntegerNetwork1)."""
+    model = load("""
+model ShowIt
+  Modelica.Blocks.Sources.IntegerConstant c(k=3);
+  Modelica.Blocks.Interaction.Show.IntegerValue show(use_numberPort=false, number=c.y);
+end ShowIt;
+""")
+    flat = flatten(model())
+    assert {(e.variable, str(e.rhs)) for e in flat.discrete_equations} >= {("show.showNumber", "c.y")}

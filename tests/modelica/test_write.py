@@ -18,7 +18,7 @@ import pytest
 
 pytest.importorskip("pymoca")
 
-from acausal import simulate  # noqa: E402
+from acausal import Model, simulate  # noqa: E402
 from acausal.compiler.flatten import flatten  # noqa: E402
 from acausal.modelica import dump, load  # noqa: E402
 from acausal.tools.modelfile import _import_file, _models_defined  # noqa: E402
@@ -74,7 +74,9 @@ def test_library_components_are_written_as_their_msl_classes_with_their_modifier
     assert "Modelica.Mechanics.Rotational.Components.Inertia inertia2(J=2, phi(start=0, fixed=true), " \
            "w(start=0, fixed=true));" in text
     assert "connect(inertia1.flange_b, idealGear.flange_a);" in text
-    assert "annotation(experiment(StartTime=0.0, StopTime=1.0, Interval=0.001));" in text
+    assert "annotation(experiment(StartTime=0.0, StopTime=1.0, Interval=0.001), " \
+           "__acausal(modelicaClass=\"Modelica.Mechanics.Rotational.Examples.First\"));" in text
+    assert load(text).modelica_class == "Modelica.Mechanics.Rotational.Examples.First"
 
 
 def test_a_class_of_the_user_s_own_is_written_with_its_equations():
@@ -108,3 +110,30 @@ def test_the_command_line_writes_a_file_that_simulates(tmp_path):
 
     columns = np.genfromtxt(csv, delimiter=",", names=True)
     np.testing.assert_allclose(columns["inertia3w"], simulate(First())["inertia3.w"], rtol=0, atol=1e-12)
+
+
+def test_arrays_are_modified_and_declared_whole():
+    """Modelica names a component without subscripts in a modification (MLS 7.2): the
+    elements of an array a component holds one by one are written as one array."""
+    from acausal.examples.blocks_pade_delay import PadeDelay1
+    from acausal.library.blocks import Constant
+    from acausal.library.blocks.continuous import StateSpace, TransferFunction
+
+    class Arrays(Model):
+        def build(self):
+            self.tf = TransferFunction(a=[1.0, 2.0], b=[1.0])
+            self.ss = StateSpace(A=[[1.0, 0.0], [0.0, 1.0]], B=[[1.0], [1.0]], C=[[1.0, 1.0]],
+                                 x=dict(start=[1.0, 2.0], fixed=True))
+            self.one = Constant(k=1.0)
+            self.connect(self.one.y, self.tf.u)
+            self.connect(self.one.y, self.ss.u[1])
+
+    text = dump(Arrays())
+    assert "tf(a={1.0, 2.0}, b={1.0}" in text and "A=[1.0, 0.0; 0.0, 1.0]" in text
+    assert "x(start={1.0, 2.0}, fixed={true, true})" in text
+    assert _flat_form(load(text)()) == _flat_form(Arrays())
+    own = dump(PadeDelay1())
+    assert 'Real x[10] "State of transfer function' in own and "Real x[1] " not in own
+    # a structural Real parameter is marked so that it reads back structural (MLS 18.3)
+    assert 'parameter Real delayTime(unit="s") = 0.2 "Delay time of output with respect to input signal" ' \
+           'annotation(Evaluate=true);' in own
