@@ -37,7 +37,7 @@ from .language import (
     time,
 )
 from .functions import prescribed
-from .hybrid import (Assert, When, ceil, change, div, edge, floor, integer, mod, noEvent, reinit, rem,
+from .hybrid import (Assert, When, ceil, change, delay, div, edge, floor, integer, mod, noEvent, reinit, rem,
                      sample, smooth, terminal, terminate)
 from .runtime.result import Event, SimulationResult
 from .runtime.simulate import METHODS, simulate
@@ -67,7 +67,7 @@ __all__ = [
     "Array", "ComponentArray", "each",
     # the hybrid language (Modelica chapter 8)
     "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "Assert", "terminate",
-    "floor", "ceil", "integer", "div", "mod", "rem",
+    "floor", "ceil", "integer", "div", "mod", "rem", "delay",
     # functions with given derivatives (Modelica's derivative annotation)
     "prescribed",
     # the engine

@@ -57,6 +57,8 @@ __all__ = [
     "div",
     "mod",
     "rem",
+    "delay",
+    "Delay",
     "EVENT_FUNCTIONS",
 ]
 
@@ -262,6 +264,65 @@ def smooth(order: int, expr: Any) -> sp.Basic:
     if int(order) < 0:
         return sp.sympify(expr)
     return NoEvent(sp.sympify(expr))
+
+
+# -- delay ----------------------------------------------------------------------------
+
+
+class Delay(sp.Function):
+    """``delay(expr, delayTime[, delayMax])`` as written in an equation (made by :func:`delay`).
+
+    Flattening replaces every application by the value the runtime reads from
+    the recorded solution (:mod:`acausal.compiler.delays`).
+    """
+
+    nargs = (2, 3)
+
+    def _eval_is_real(self):
+        return self.args[0].is_real
+
+
+def delay(expr: Any, delayTime: Any = None, delayMax: Any = None) -> sp.Basic:  # noqa: N803 - Modelica's names
+    """``delay(expr, delayTime)`` or ``delay(expr, delayTime, delayMax)``: ``expr`` delayed.
+
+    The value of ``expr`` at ``time - delayTime``; while ``time - delayTime``
+    lies at or before the start time, the value of ``expr`` at the start time
+    (Modelica 3.6, 3.7.4.1).
+
+    Parameters
+    ----------
+    expr : sympy expression
+        A Real expression of the model's continuous variables and time.
+    delayTime : sympy expression or number
+        ``>= 0``.  An expression of parameters is a *fixed* delay; one that
+        reads variables (or time) is a *variable* delay and needs ``delayMax``.
+    delayMax : sympy expression or number, optional
+        An expression of parameters with ``0 <= delayTime <= delayMax`` at
+        all times (checked while simulating).
+
+    Raises
+    ------
+    EquationError
+        For a missing ``delayTime``, a negative number as ``delayTime`` or
+        ``delayMax``, or ``delayMax`` smaller than a numeric ``delayTime``.
+        A variable ``delayTime`` without ``delayMax`` is refused when the model
+        is flattened (only then is it known what is a parameter).
+    """
+    if delayTime is None:
+        raise EquationError("delay() needs a delay time: delay(expr, delayTime) or "
+                            "delay(expr, delayTime, delayMax)",
+                            hint="give the delay time, e.g. delay(self.u, self.T) with a parameter T")
+    args = [sp.sympify(expr), sp.sympify(delayTime)]
+    if delayMax is not None:
+        args.append(sp.sympify(delayMax))
+    for what, value in zip(("delayTime", "delayMax"), args[1:]):
+        if value.is_number and (not value.is_real or value < 0):
+            raise EquationError(f"delay(): {what} = {value} must be a real number >= 0",
+                                hint="a delay looks into the past: the delay time is not negative")
+    if len(args) == 3 and args[1].is_number and args[2].is_number and args[1] > args[2]:
+        raise EquationError(f"delay(): delayTime = {args[1]} exceeds delayMax = {args[2]}",
+                            hint="delayMax bounds the delay time from above")
+    return Delay(*args)
 
 
 # -- declarations inside equations() ------------------------------------------------

@@ -32,7 +32,7 @@ from sympy.core.function import AppliedUndef, UndefinedFunction
 
 from ..names import INITIAL_NAME, TERMINAL_NAME, der_name, parse, pre_name
 from .. import hybrid
-from ..hybrid import EVENT_FUNCTIONS, NoEvent, Reinit, Terminate, When
+from ..hybrid import EVENT_FUNCTIONS, Delay, NoEvent, Reinit, Terminate, When
 from ..errors import AcausalError, ConnectorError, EquationError, ModelDefinitionError, ParameterError
 from ..language import (
     Boolean,
@@ -295,6 +295,8 @@ class FlatModel:
     #: from the parameter vector as the parameters ``<variable>.start``
     #: (:attr:`start_parameters`), so that another value needs no new translation
     tunable_starts: tuple[str, ...] = ()
+    #: the ``delay()`` operators of the continuous equations (:mod:`acausal.compiler.delays`)
+    delays: tuple = ()
 
     def hints_for(self, situation: str, components) -> tuple[str, ...]:
         """The distinct hints the ``components`` (dotted paths) declare for ``situation``.
@@ -450,6 +452,7 @@ class _Flattener:
         for component in self.components:
             self._collect_equations(component)
         self._connect()
+        self._extract_delays()
         for name in self.unknown_parameters:
             origin = Origin(name.rpartition(".")[0], "", "binding", 0, f"der({name}) = 0")
             self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
@@ -474,6 +477,7 @@ class _Flattener:
             hints={c.path: h for c in self.components if (h := component_hints(type(c)))},
             hybrid=HybridPart(tuple(self.reinits), tuple(self.asserts), tuple(self.terminations)),
             tunable_starts=tunable,
+            delays=tuple(self.delays),
         )
 
     def _model_name(self) -> str:
@@ -1062,6 +1066,32 @@ class _Flattener:
         return relation.xreplace(mirrors)
 
     # -- the hybrid part ----------------------------------------------------------
+
+    def _extract_delays(self) -> None:
+        """``delay(u, T)`` becomes a value read from the run's history and a hidden
+        variable ``$delayK = u`` (:func:`acausal.compiler.delays.extract_delays`)."""
+        from .delays import DELAY_STEM, extract_delays
+
+        def hidden(component: str) -> str:
+            name = f"{component + '.' if component else ''}{DELAY_STEM}{self.hidden_count}"
+            self.hidden_count += 1
+            self.variables[name] = FlatVariable(
+                name=name, kind="continuous", start=0.0, fixed=False, nominal=1.0,
+                state_select=StateSelect(2), unit="", component=component)
+            return name
+
+        elsewhere = [(f"{d.origin}", d.rhs) for d in self.discrete_equations]
+        elsewhere += [(f"{a.origin}", a.condition) for a in self.asserts]
+        elsewhere += [(f"{r.origin}", r.value) for r in self.reinits]
+        elsewhere += [(f"{e.origin}", e.residual) for e in self.initial_equations]
+        parameters = {n for n in self.parameters if n not in self.unknown_parameters}
+        if not any(e.residual.has(Delay) for e in self.equations) and not any(
+                isinstance(x, sp.Basic) and x.has(Delay) for _, x in elsewhere):
+            self.delays = []
+            return
+        equations, self.delays = extract_delays(self.equations, self.variables, parameters, hidden,
+                                                elsewhere, FlatEquation)
+        self.equations[:] = equations
 
     def _hidden_variable(self, stem: str, kind: str, component: str) -> sp.Symbol:
         """A variable the engine introduces (a when-condition, a held value), named

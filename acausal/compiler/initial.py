@@ -64,6 +64,7 @@ from ..errors import InitializationError, OverDeterminedError
 from ..language import real_symbol
 from .algebraic import AlgebraicResult, NewtonSolve, solve_blocks
 from .alias import AliasResult, derivative_substitution
+from .delays import at_start
 from .blt import BLTResult, sort_blt
 from .cache import ModelCache
 from .codegen import GeneratedCode, generate
@@ -332,7 +333,8 @@ class InitialSystem:
 
 
 def compile_initial_system(mode: ModeSystem, initial_equations: Sequence[FlatEquation], context: str,
-                           cache: ModelCache, declared: Mapping[str, FlatVariable] | None = None) -> InitialSystem:
+                           cache: ModelCache, declared: Mapping[str, FlatVariable] | None = None,
+                           delays: Sequence = ()) -> InitialSystem:
     """The initialization problem of ``mode``'s discrete state.
 
     Parameters
@@ -390,6 +392,9 @@ def compile_initial_system(mode: ModeSystem, initial_equations: Sequence[FlatEqu
                 (fixed_states if name in state_set else fixed_others).append((name, eq))
         check_fixed_constants(mode.aliases, parameters.symbols)
         dae = list(mode.structure.equations)
+        if delays:
+            # at the start time a delayed value is its expression's value now (Modelica 3.7.4.1)
+            dae = [FlatEquation(at_start(e.residual, delays, substitution), e.origin) for e in dae]
         equations = dae + user + [e for _, e in fixed_states] + [e for _, e in fixed_others]
         fixed_names = [n for n, _ in fixed_states] + [n for n, _ in fixed_others]
         unknowns = list(mode.structure.unknowns) + list(mode.structure.states)

@@ -121,6 +121,10 @@ class Translation:
         self.notes: list[str] = []
         self._by_equations: dict[tuple, ModeSystem] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
+        if flat.delays:
+            # a delayed value links the equations that read it to its expression's
+            # equations through the run's history, which the incidence does not show
+            clusters = False
         if clustering is None and clusters and USE_CLUSTERS and partitioned.selectors:
             found = find_clusters(partitioned, self.continuous)
             clustering = found if len(found) > 1 else None
@@ -560,7 +564,7 @@ class Translation:
         if self.partitioned.is_hybrid:
             context += f" [{mode.description}]"
         return compile_initial_system(mode, self.specialise(key, self.partitioned.initial_equations),
-                                      context, self.cache, self.continuous)
+                                      context, self.cache, self.continuous, self.flat.delays)
 
     def _bound_initial(self, source: InitialSystem, mode: ModeSystem, parameters) -> InitialSystem | None:
         """``source`` bound to ``parameters`` (None: its Newton guesses are other start values, noted)."""
@@ -1304,5 +1308,7 @@ def _demand(flat: FlatModel, outputs: Iterable[str] | None) -> frozenset[str] | 
         raise ModelDefinitionError(f"{flat.name} has no variable {unknown[0]!r}",
                                    hint=f"did you mean {', '.join(close)}?" if close else
                                    "outputs are dotted variable names, e.g. component.variable")
+    # the expressions of delay() are read back from the history: always computed
+    demand |= {d.variable for d in flat.delays}
     return frozenset(n for n in demand if n in known and n not in flat.parameter_values
                      or is_derivative(n))

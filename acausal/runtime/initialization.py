@@ -39,6 +39,7 @@ from ..errors import InitializationError, StartValueWarning
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values
+from ..compiler.delays import active_history
 
 __all__ = ["InitialState", "initialize", "start_guess", "start_system", "start_value_message"]
 
@@ -110,6 +111,10 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
             relations = start_value_relations(translation, start_time)
             continue
         system = translation.system(key)
+        delays = active_history() if flat.delays else None
+        if delays is not None and not delays.started:
+            # the delayed values at the start time: their expressions' values now
+            delays.set_start(start_time, with_aliases(values, system))
         x = evaluator._states(system, values, discrete)
         # |g| within the relation margin counts as g = 0, as at events: a load one
         # ulp above a static limit does not start a slip at t = 0 either
@@ -150,6 +155,17 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
                                                translation.cache.parameters.symbols))
     outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False, ticks=ticks)
     return InitialState(start_time, values, discrete, relations, outcome, tuple(notes), ticks)
+
+
+def with_aliases(values: Mapping[str, float], system) -> dict:
+    """``values`` with the aliases of ``system`` (its alias plan) added."""
+    out = dict(values)
+    for name, coeff, source in getattr(system, "alias_plan", ()) or ():
+        if source is None:
+            out[name] = coeff
+        elif source in out:
+            out[name] = coeff * out[source]
+    return out
 
 
 def declared_aliases(system, variables: Mapping, names: Sequence[str]) -> dict[str, list[str]]:

@@ -39,6 +39,8 @@ from ..errors import (AcausalError, AssertionViolation, ChatteringError, Initial
                       StructuralError, ZenoError)
 from ..language import Component
 from ..names import base_name, der_name
+from ..compiler.delays import activate
+from .delays import DelayHistory
 from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, states_at, step_samples,
                         ticking_at,
                         held_roots, held_time_events, time_event_roots)
@@ -363,6 +365,12 @@ class _Run:
         self.rtol = rtol
         self.atol = atol
         self.max_step = np.inf if max_step is None else max_step
+        #: the run's history for delay() (None: the model has none, and pays nothing)
+        self.delays = (DelayHistory(translation.flat.delays, translation.cache.parameters.symbols)
+                       if translation.flat.delays else None)
+        if self.delays is not None:
+            # t - T never lies in the step being taken (fixed delays)
+            self.max_step = min(self.max_step, self.delays.max_step)
         self.chattering_events = chattering_events
         self.events: list[Event] = []
         self.terminated: tuple | None = None  #: (time, messages) of a terminate()
@@ -407,6 +415,14 @@ class _Run:
     # -- main loop ----------------------------------------------------------------
 
     def execute(self, t0: float, t1: float, interval: float, t_setup: float) -> SimulationResult:
+        if self.delays is None:
+            return self._execute(t0, t1, interval, t_setup)
+        # the generated code of this thread reads this run's history (initialization,
+        # integration, events and the result's columns)
+        with activate(self.delays):
+            return self._execute(t0, t1, interval, t_setup)
+
+    def _execute(self, t0: float, t1: float, interval: float, t_setup: float) -> SimulationResult:
         error = None
         status = -1
         message = "The simulation reached the stop time."
@@ -512,6 +528,10 @@ class _Run:
         self._update_time_roots(values)
         x = np.array([values[s] for s in system.states], dtype=float)
         recorder.add(t, system, x, discrete)
+        delays = self.delays
+        if delays is not None:
+            delays.add_point(t, x, system)
+            delays.discontinuity(t, 0, t1)
         # assertions hold from the start: a violated one stops the run at its first row
         self._check_asserts(t, system, x, discrete)
         recorder.skip_grid_through(t, round_off=False)
@@ -520,12 +540,20 @@ class _Run:
             self.t = t
             self._check_budgets()
             t_bound = min(t1, self._next_time_event(t, relations))
+            if delays is not None:
+                t_bound = min(t_bound, delays.next_break(t))
+                delays.segment_start = t
             if not system.states and not self.evaluator.relevant_relations(discrete, relations):
                 # nothing to integrate and no crossing to look for: straight to the next time event
                 self._emit(t_bound, False, system, lambda s: x, discrete)
                 t_new, x_new, event_at = t_bound, x, None
             else:
                 t_new, x_new, event_at = self._segment(system, t, x, t_bound, discrete, relations)
+            if delays is not None and event_at is None and t_new < t1 and delays.pass_break(t_new, t1) \
+                    and self._next_time_event(t, relations) != t_new:
+                # a discontinuity of a delayed value: the integrator restarts here, no event
+                t, x = t_new, np.array(x_new, dtype=float)
+                continue
             if event_at is not None:
                 t_e, x_e, fired = event_at
                 kind = "state"
@@ -569,6 +597,9 @@ class _Run:
             self._update_time_roots(outcome.values)
             x = np.array([outcome.values[s] for s in system.states], dtype=float)
             _check_finite(t_e, system.states, x, "the states after the event")
+            if delays is not None:
+                delays.add_point(t_e, x, system)
+                delays.discontinuity(t_e, 0, t1)
             self._check_asserts(t_e, system, x, discrete)
             recorder.add(t_e, system, x, discrete)
             t = t_e
@@ -796,8 +827,11 @@ class _Run:
                                       f"{solver.step_size})",
                                       hint="try a smaller tolerance, an implicit method (Radau, BDF) "
                                            "or a max_step")
-                dense = solver.dense_output() if (watched or recorder.grid_left) else None
+                delays = self.delays
+                dense = solver.dense_output() if (watched or recorder.grid_left or delays) else None
                 y_new = solver.y.copy()
+                if delays is not None and t_new > t_old:
+                    delays.add_step(t_old, t_new, dense, system)
                 # the output points of this step, and the states there and at the samples
                 # from one evaluation of the dense output
                 rows = recorder.pending(t_new, t_new < t_bound)
@@ -812,6 +846,8 @@ class _Run:
                     at_rows = None  # evaluated as they are written
                 if event is not None:
                     t_e, x_e, fired = event
+                    if delays is not None and t_new > t_old:
+                        delays.trim_last(t_e)
                     before = rows[rows < t_e]
                     self._emit_rows(before, at_rows[:len(before)], system, discrete)
                     names = tuple(self.relations[k].text for k in fired)

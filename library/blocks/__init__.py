@@ -78,3 +78,6 @@ __all__ += ["Add3", "Division", "Abs", "Sign", "Sqrt", "Cos", "Tan", "Asin", "Ac
             "Harmonic", "ContinuousMean", "Variance", "StandardDeviation", "SignalExtrema", "ContinuousSignalExtrema",
             "Pythagoras", "BooleanChange", "IntegerChange", "RisingEdge", "ChangingEdge", "TriggeredAdd",
             "LogicalDelay", "RealValue", "IntegerValue", "BooleanValue"]
+
+from .nonlinear import FixedDelay, VariableDelay  # noqa: E402 - the exact delays (delay() operator)
+__all__ += ["FixedDelay", "VariableDelay"]

@@ -7,9 +7,10 @@ Modelica's ``homotopy(actual, simplified)`` is the actual expression here:
 the engine has no homotopy-based initialization, so ``homotopyType`` is
 accepted for compatibility and has no effect.
 
-:class:`PadeDelay` approximates a delay by a rational transfer function; the
-exact delays (FixedDelay, VariableDelay) need Modelica's ``delay()``
-operator, which the engine does not have.
+:class:`PadeDelay` approximates a delay by a rational transfer function;
+:class:`FixedDelay` and :class:`VariableDelay` are exact, with Modelica's
+``delay()`` operator (:func:`acausal.hybrid.delay`): the runtime reads the
+delayed input back from the recorded solution.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import sympy as sp
 
 from acausal.components.blocks import SISO
 from acausal.components.declarations import DerivedDefaults
-from acausal.hybrid import Assert, noEvent
+from acausal.hybrid import Assert, delay, noEvent
 from acausal.errors import ParameterError
 from acausal.language import Eq, Parameter, RealInput, Variable, der
 
@@ -317,3 +318,74 @@ class PadeDelay(SISO):
 def _dot(coefficients: Sequence[float], symbols: Sequence[sp.Expr]) -> sp.Expr:
     """``sum(coefficients[i]*symbols[i])`` with the coefficients as sympy Floats."""
     return sp.Add(*[sp.Float(k) * v for k, v in zip(coefficients, symbols)])
+
+
+class FixedDelay(SISO):
+    """Delay block with fixed DelayTime (Modelica.Blocks.Nonlinear.FixedDelay).
+
+    ``y = u(time - delayTime)`` for ``time > time.start + delayTime``, and
+    ``y = u(time.start)`` before, with Modelica's ``delay(u, delayTime)``.
+
+    Parameters
+    ----------
+    delayTime : float, default 1
+        Delay time of output with respect to input signal, in s; tunable,
+        ``> 0`` (a zero delay is refused when the run starts).
+
+    Notes
+    -----
+    The integrator's step is at most ``delayTime``, and a jump of ``u`` at an
+    event reappears in ``y`` exactly ``delayTime`` later, where the
+    integrator restarts (see ``docs/hybrid.md``).
+
+    Examples
+    --------
+    >>> from acausal.library.blocks import FixedDelay
+    >>> FixedDelay.modelica_name
+    'Modelica.Blocks.Nonlinear.FixedDelay'
+    """
+
+    modelica_name = "Modelica.Blocks.Nonlinear.FixedDelay"
+
+    # the MSL gives delayTime only a start value (1), which a tool proposes
+    delayTime = Parameter(1.0, unit="s",  # noqa: N815
+                          description="Delay time of output with respect to input signal")
+
+    def equations(self):
+        return [Eq(self.y, delay(self.u, self.delayTime))]
+
+
+class VariableDelay(SISO):
+    """Delay block with variable DelayTime (Modelica.Blocks.Nonlinear.VariableDelay).
+
+    ``y = u(time - delayTime)`` for ``time > time.start + delayTime``, and
+    ``y = u(time.start)`` before, with Modelica's
+    ``delay(u, delayTime, delayMax)``; the delay time is an input.
+
+    Parameters
+    ----------
+    delayMax : float, default 1
+        Maximum delay time, in s (``>= 0``).  The input must keep
+        ``0 <= delayTime <= delayMax``; the run stops with an error naming
+        the time where it does not.
+
+    Notes
+    -----
+    The step is not bounded by the delay time: where ``time - delayTime``
+    lies in the step being taken, the trial evaluations extrapolate the last
+    accepted step (see ``docs/hybrid.md``).
+
+    Examples
+    --------
+    >>> from acausal.library.blocks import VariableDelay
+    >>> VariableDelay.modelica_name
+    'Modelica.Blocks.Nonlinear.VariableDelay'
+    """
+
+    modelica_name = "Modelica.Blocks.Nonlinear.VariableDelay"
+
+    delayMax = Parameter(1.0, unit="s", min=0, description="Maximum delay time")  # noqa: N815
+    delayTime = RealInput(description="Delay time of output with respect to input signal")  # noqa: N815
+
+    def equations(self):
+        return [Eq(self.y, delay(self.u, self.delayTime, self.delayMax))]
