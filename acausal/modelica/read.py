@@ -553,12 +553,34 @@ def _modifications(modification) -> list[tuple[str, list]]:
     for argument in getattr(modification, "arguments", None) or []:
         value = getattr(argument, "value", None)
         if getattr(argument, "redeclare", False):
-            raise ModelicaError("redeclare is not supported", hint="give the component's class directly")
+            if _redeclared_type(argument) is not None:
+                continue  # redeclare type T = ...: see _redeclared_types
+            raise ModelicaError("redeclare of a component or a class is not supported",
+                                hint="give the component's class directly (redeclare of a simple type, "
+                                     "redeclare type T = Real(...), is)")
         component = getattr(value, "component", None)
         if component is None:  # a component clause or a short class definition in a modification
             raise ModelicaError(f"modification {type(value).__name__} is not supported")
         out.append((_ref_text(component), list(getattr(value, "modifications", None) or [])))
     return out
+
+
+def _redeclared_type(argument) -> Any:
+    """The short class definition of ``redeclare type T = Real(...)`` in a modification, or None."""
+    value = getattr(argument, "value", None)
+    if type(value).__name__ == "ShortClassDefinition" and getattr(value, "type", "") == "type":
+        return value
+    return None
+
+
+def _redeclared_types(modification) -> dict[str, Any]:
+    """``{T: definition}`` of the simple types a modification redeclares (MLS 7.3)."""
+    found = {}
+    for argument in getattr(modification, "arguments", None) or []:
+        definition = _redeclared_type(argument) if getattr(argument, "redeclare", False) else None
+        if definition is not None:
+            found[definition.name] = definition
+    return found
 
 
 def _is_modification(item) -> bool:
@@ -584,6 +606,7 @@ class _ClassPlan:
     declarations: dict[str, Any] = field(default_factory=dict)
     derived: dict[str, Any] = field(default_factory=dict)        # parameter -> binding expression
     components: list[tuple[str, Resolved, Any, list]] = field(default_factory=list)  # name, class, symbol, dims
+    types: dict[str, Any] = field(default_factory=dict)  # simple types an instance redeclares
 
 
 class Reader:
@@ -643,16 +666,19 @@ class Reader:
         return any(self.scope.full_name(n, user) == used for n in names)
 
     # -- classes -----------------------------------------------------------------------
-    def make(self, full: str, top: bool = False) -> type:
-        """The acausal class of the Modelica class ``full`` defined in the source."""
+    def make(self, full: str, top: bool = False, types: dict[str, Any] | None = None) -> type:
+        """The acausal class of the Modelica class ``full`` defined in the source (with the
+        simple types ``types`` redeclared: a class of its own per redeclaration)."""
         key = f"{full}#top" if top else full
+        if types:
+            key += "#" + ";".join(f"{name}={_short_text(types[name])}" for name in sorted(types))
         if key in self.made:
             return self.made[key]
         node = self.scope.file_classes[full]
         if node.type == "connector":
             made = self._connector(full, node)
         elif node.type in ("model", "block", "class", "record"):
-            made = self._component(full, node, top)
+            made = self._component(full, node, top, types or {})
         else:
             raise ModelicaError(f"{self.source.where(full.rpartition('.')[2])}: a {node.type} ({full}) cannot "
                                 f"be instantiated", hint="instantiate a model, block or connector")
@@ -687,14 +713,14 @@ class Reader:
             namespace[name] = kind(unit=str(attributes.get("unit") or ""), description=symbol.comment or "")
         return type(full.rpartition(".")[2], (Connector,), namespace)
 
-    def _component(self, full: str, node, top: bool) -> type:
+    def _component(self, full: str, node, top: bool, types: dict[str, Any] | None = None) -> type:
         bases, extends_modifiers = self._bases(full, node)
         root = Model if top else Component
         if not any(issubclass(b, Component) for b in bases):
             bases.append(root)
         elif top and not any(issubclass(b, Model) for b in bases):
             bases.append(Model)
-        plan = _ClassPlan(full, node)
+        plan = _ClassPlan(full, node, types=dict(types or {}))
         for name, symbol in node.symbols.items():
             self._symbol(plan, name, symbol)
         self._function_inputs_structural(plan, node)
@@ -819,7 +845,14 @@ class Reader:
     def _symbol(self, plan: _ClassPlan, name: str, symbol) -> None:
         type_name = _ref_text(symbol.type)
         condition = self._condition(symbol, name)
-        resolved = self.scope.resolve(type_name, plan.full, "type")
+        if type_name in plan.types:  # a simple type this instance redeclares
+            definition = plan.types[type_name]
+            base = self.scope.resolve(_ref_text(definition.component), plan.full, "type")
+            inherited = base.target if isinstance(base.target, dict) else {"base": base.target}
+            resolved = Resolved("type", type_name, {**inherited,
+                                                    **_literal_attributes(definition.class_modification)})
+        else:
+            resolved = self.scope.resolve(type_name, plan.full, "type")
         dims = _dimensions(symbol)
         if resolved.kind in ("library", "file"):
             klass = resolved.target if resolved.kind == "library" else self.make(resolved.full)
@@ -841,6 +874,10 @@ class Reader:
             raise ModelicaError(f"{self.source.where(name)}: {type_name} is not a type of a variable "
                                 f"or parameter", components=(name,))
         prefixes = _prefixes(symbol)
+        if getattr(plan.node, "type", "") == "record" and not prefixes & {"constant", "input", "output"}:
+            # a record's elements have the variability of the record's declaration (MLS 4.5):
+            # records of data, as the MSL declares them, are parameters
+            prefixes.add("parameter")
         given = dict(_modifications(symbol.class_modification))
         literal = {key: _literal(items[-1]) for key, items in given.items()
                    if items and not _is_modification(items[-1])}
@@ -961,7 +998,12 @@ class Reader:
             # a disabled conditional component: not made, and its connections are removed
             instance.__dict__.setdefault("_modelica_disabled", set()).add(name)
             return True
-        klass = resolved.target if resolved.kind == "library" else self.make(resolved.full)
+        redeclared = _redeclared_types(symbol.class_modification)
+        if redeclared and resolved.kind == "library":
+            raise ModelicaError(f"{self.source.where(name)}: {name}: redeclare type in a library class "
+                                f"({resolved.full}) is not supported", components=(name,),
+                                hint="acausal's library classes declare their types in Python")
+        klass = resolved.target if resolved.kind == "library" else self.make(resolved.full, types=redeclared)
         try:
             modifiers = self._modifier_dict(_modifications(symbol.class_modification), instance, plan.full)
         except ModelicaError as exc:
@@ -1261,6 +1303,11 @@ _ELEMENT_NAME = re.compile(r"^(\w+)\[(\d+(?:,\d+)*)\]$")
 
 _MISSING = object()
 _NOT_LITERAL = object()
+
+
+def _short_text(definition) -> str:
+    """A key for a redeclared type: its base and its literal attributes."""
+    return f"{_ref_text(definition.component)}{sorted(_literal_attributes(definition.class_modification).items())}"
 
 
 def _literal(node) -> Any:

@@ -317,3 +317,74 @@ end ShowIt;
 """)
     flat = flatten(model())
     assert {(e.variable, str(e.rhs)) for e in flat.discrete_equations} >= {("show.showNumber", "c.y")}
+
+
+def test_a_record_of_parameters_and_the_import_forms():
+    """A record's elements are parameters of a parameter record (MLS 4.5); qualified, single,
+    wildcard and renaming imports (MLS 13.2) name the same library classes."""
+    text = """
+    package P
+      record Data
+        Real k = 2;
+        Real T = 0.5;
+      end Data;
+      model M
+        import Modelica.Mechanics.Rotational.Components.Inertia;
+        import R = Modelica.Mechanics.Rotational;
+        import Modelica.Mechanics.Rotational.Sources.*;
+        import Modelica.Mechanics.Rotational;
+        parameter Data data(k=3);
+        Real x(start=0, fixed=true);
+        Inertia J(J=1, phi(start=0, fixed=true), w(start=0, fixed=true));
+        ConstantTorque source(tau_constant=2);
+        R.Components.Fixed fixed;
+        Rotational.Components.Damper damper(d=1);
+      equation
+        data.T*der(x) = data.k - x;
+        connect(source.flange, J.flange_a);
+        connect(J.flange_b, damper.flange_a);
+        connect(damper.flange_b, fixed.flange);
+      end M;
+    end P;
+    """
+    result = simulate(load(text, "P.M")(), stop_time=1.0, rtol=1e-10, atol=1e-12)
+    t = result.time
+    np.testing.assert_allclose(result["x"], 3 * (1 - np.exp(-t / 0.5)), rtol=1e-7, atol=1e-9)
+    # J dw/dt = 2 - w: w = 2 (1 - exp(-t))
+    np.testing.assert_allclose(result["J.w"], 2 * (1 - np.exp(-t)), rtol=1e-7, atol=1e-9)
+
+
+def test_a_redeclared_simple_type_changes_that_instance_only():
+    """redeclare type T = Real(...) (MLS 7.3) gives the declarations of that type in the one
+    instance the new attributes: here a start value and a unit."""
+    text = """
+    model M
+      model Decay
+        replaceable type T = Real(start=1);
+        T x(fixed=true);
+      equation
+        der(x) = -x;
+      end Decay;
+      Decay plain;
+      Decay redeclared(redeclare type T = Real(unit="m", start=2));
+    end M;
+    """
+    model = load(text)
+    result = simulate(model(), stop_time=1.0, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(result["plain.x"], np.exp(-result.time), rtol=1e-7)
+    np.testing.assert_allclose(result["redeclared.x"], 2 * np.exp(-result.time), rtol=1e-7)
+    units = {v.name: v.unit for v in flatten(model()).variables}
+    assert units["redeclared.x"] == "m" and units["plain.x"] == ""
+
+
+def test_redeclare_of_a_component_is_refused_clearly():
+    text = """
+    model M
+      model A Real x = 1; end A;
+      model B Real x = 2; end B;
+      model Holder replaceable A a; end Holder;
+      Holder h(redeclare B a);
+    end M;
+    """
+    with pytest.raises(ModelicaError, match="redeclare of a component or a class is not supported"):
+        flatten(load(text)())
