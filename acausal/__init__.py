@@ -37,8 +37,8 @@ from .language import (
     time,
 )
 from .functions import prescribed
-from .hybrid import (Assert, When, ceil, change, delay, div, edge, floor, integer, mod, noEvent, reinit, rem,
-                     sample, smooth, terminal, terminate)
+from .hybrid import (Assert, When, ceil, change, delay, div, edge, floor, homotopy, integer, mod, noEvent, reinit,
+                     rem, sample, smooth, terminal, terminate)
 from .runtime.result import Event, SimulationResult
 from .runtime.simulate import METHODS, simulate
 from .compiler.translate import Translation, translate
@@ -66,7 +66,7 @@ __all__ = [
     # arrays (acausal.arrays has Modelica's array functions)
     "Array", "ComponentArray", "each",
     # the hybrid language (Modelica chapter 8)
-    "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "Assert", "terminate",
+    "When", "reinit", "edge", "change", "sample", "terminal", "noEvent", "smooth", "homotopy", "Assert", "terminate",
     "floor", "ceil", "integer", "div", "mod", "rem", "delay",
     # functions with given derivatives (Modelica's derivative annotation)
     "prescribed",

@@ -51,6 +51,7 @@ __all__ = [
     "terminal",
     "noEvent",
     "smooth",
+    "homotopy",
     "floor",
     "ceil",
     "integer",
@@ -264,6 +265,21 @@ def smooth(order: int, expr: Any) -> sp.Basic:
     if int(order) < 0:
         return sp.sympify(expr)
     return NoEvent(sp.sympify(expr))
+
+
+def homotopy(actual: Any, simplified: Any) -> sp.Basic:
+    """Modelica's ``homotopy(actual, simplified)`` (MLS 3.7.4.4): ``actual``.
+
+    A Modelica tool may start a hard initialization from the ``simplified``
+    expression and move to ``actual`` along a homotopy path; the tool is free
+    to use ``actual`` from the start, and acausal does (its initialization
+    starts from the start values, and its event iteration decides the
+    discrete state).  The operator is here so that a model written from an
+    MSL source keeps the source's form; ``simplified`` is checked to be an
+    expression and then unused.
+    """
+    sp.sympify(simplified)
+    return sp.sympify(actual)
 
 
 # -- delay ----------------------------------------------------------------------------

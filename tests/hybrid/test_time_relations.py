@@ -46,3 +46,18 @@ def test_a_relation_of_time_has_its_value_on_both_sides_of_its_instant(op, risin
     before = OPERATORS[op](c - 1e-9, c) if rising else OPERATORS[op](c, c - 1e-9)
     after = OPERATORS[op](c + 1e-9, c) if rising else OPERATORS[op](c, c + 1e-9)
     assert result["y"][at[0]] == float(before) and result["y"][at[-1]] == float(after)
+
+
+def test_homotopy_is_its_actual_expression():
+    """MLS 3.7.4.4 lets a tool use ``actual`` throughout; acausal does, in the initialization too."""
+    from acausal import der, homotopy
+
+    class Lag(Model):
+        x = Variable(start=0.0, fixed=True)
+        y = Variable()
+
+        def equations(self):
+            return [Eq(der(self.x), 1 - self.x), Eq(self.y, homotopy(2 * self.x, self.x))]
+
+    result = simulate(Lag(), stop_time=1.0, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(result["y"], 2 * (1 - np.exp(-np.asarray(result.time))), rtol=1e-7, atol=1e-12)
