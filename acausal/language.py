@@ -71,6 +71,7 @@ __all__ = [
     "real_symbol",
     "structural_names",
     "with_structural",
+    "finish_hooks",
     "describe",
     "own_docstring",
 ]
@@ -1112,6 +1113,10 @@ def _new_sized(base: type, shapes: tuple, sized_by: tuple) -> "Component":
     return object.__new__(_sized_class(base, shapes, sized_by))
 
 
+#: The component classes that define :meth:`Component.finished` themselves (a subclass of one inherits it).
+_FINISHING_CLASSES: set[type] = set()
+
+
 class Component:
     """A component: declarations, equations and (optionally) sub-components.
 
@@ -1138,6 +1143,9 @@ class Component:
         if isinstance(own, _ComponentDoc):  # type(name, bases, dict(vars(other)))
             own = own._own
         cls.__doc__ = _ComponentDoc(cls, own)
+        if "finished" in vars(cls):
+            # simulate() looks for finish hooks only once some class defines one
+            _FINISHING_CLASSES.add(cls)
 
     def __new__(cls, *args: Any, **modifiers: Any):
         """An instance of ``cls``, or of its *sized* class when it declares arrays.
@@ -1471,6 +1479,25 @@ class Component:
         """Equations that hold only at initialization (override)."""
         return []
 
+    def finished(self, result: Any) -> None:
+        """Act once on the result of a successful run (override; the default does nothing).
+
+        :func:`~acausal.runtime.simulate.simulate` calls it, for every
+        component of the simulated model whose class overrides it (in the
+        order of :meth:`walk`), with the
+        :class:`~acausal.runtime.result.SimulationResult` of a run that
+        succeeded (``result.success``: it reached the stop time or a
+        ``terminate()``), after the run and before returning the result: what
+        Modelica writes in ``when terminal()`` and cannot compute in
+        equations (a file, a transform of sampled values).  It is not called
+        for a failed run, nor when ``simulate`` is given a translation (which
+        holds no component instances).  Read values from ``result`` (this
+        component's columns are ``f"{self.path}.name"``); the result cannot
+        be changed.  A :class:`~acausal.errors.SimulationError` raised here
+        makes the run a failure: ``simulate`` returns the result with
+        status -1 and that error, and calls no further hooks.
+        """
+
     def connect(self, a, b) -> None:
         """Modelica's ``connect(a, b)`` between two connectors or signals.
 
@@ -1622,6 +1649,14 @@ def _holds_components(value: Any) -> bool:
     if isinstance(value, (list, tuple, set, frozenset)):
         return any(_holds_components(v) for v in value)
     return False
+
+
+def finish_hooks(model: Component) -> list[Component]:
+    """The components of ``model`` whose class overrides :meth:`Component.finished`, in
+    :meth:`Component.walk` order; ``[]`` at once, without walking, while no class loaded defines one."""
+    if not _FINISHING_CLASSES:
+        return []
+    return [node for node in model.walk() if type(node).finished is not Component.finished]
 
 
 def own_method(klass: type, name: str) -> Callable | None:

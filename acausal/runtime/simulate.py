@@ -22,6 +22,7 @@ The loop is here; locating events is in :mod:`acausal.runtime.crossings`
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import sys
@@ -37,7 +38,7 @@ from ..compiler.translate import ModeSystem, Translation, translate, with_start_
 from ..errors import (AcausalError, AssertionViolation, ChatteringError, InitializationError, ModelDefinitionError,
                       RedundantConstraintWarning, SettingError, SimulationError, SimulationInterrupted, SolverError,
                       StructuralError, ZenoError)
-from ..language import Component
+from ..language import Component, finish_hooks, structural_names, with_structural
 from ..names import base_name, der_name
 from ..compiler.delays import activate
 from .delays import DelayHistory
@@ -208,7 +209,11 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         ``status`` 0 on success; -1 with ``message`` and ``error`` set, and
         everything computed so far, when the run stopped early.  A value that
         is not finite (a state, a derivative, a relation's side or an output)
-        stops the run with an error naming it and the time.
+        stops the run with an error naming it and the time.  After a
+        successful run, the components of ``model`` whose class defines
+        :meth:`~acausal.language.Component.finished` are given the result
+        (not when ``model`` is a translation); a
+        :class:`~acausal.errors.SimulationError` one raises makes it a failure.
 
     Raises
     ------
@@ -259,7 +264,33 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
-    return run.execute(t0, t1, float(interval), t_setup)
+    result = run.execute(t0, t1, float(interval), t_setup)
+    if result.success and isinstance(model, Component):
+        result = _finish(model, parameters, result)
+    return result
+
+
+def _finish(model: Component, parameters: Mapping[str, float] | None,
+            result: SimulationResult) -> SimulationResult:
+    """Call the finish hooks (:meth:`~acausal.language.Component.finished`) of a successful run.
+
+    A SimulationError a hook raises makes the run a failure (the result, status -1,
+    with that error); the hooks after it are not called.
+    """
+    hooks = finish_hooks(model)
+    if not hooks:
+        return result  # no class defines a hook (no walk), or none of this model's components
+    structural = structural_names(model, parameters or {})
+    if structural:
+        # the run simulated an instance built anew for these values (translate()): its
+        # components, not the given model's, are the ones that ran
+        hooks = finish_hooks(with_structural(model, {n: parameters[n] for n in structural}))
+    for component in hooks:
+        try:
+            component.finished(result)
+        except SimulationError as exc:
+            return dataclasses.replace(result, status=-1, message=str(exc), error=exc)
+    return result
 
 
 def _structural_notes(translation: Translation, parameters: Mapping[str, float] | None) -> list[str]:

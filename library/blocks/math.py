@@ -1023,3 +1023,263 @@ class InverseBlockConstraints(Component):
 
     def equations(self):
         return [Eq(self.u1, self.u2), Eq(self.y1, self.y2)]
+
+
+# --------------------------------------------------------------------------
+# RealFFT: sampling into a buffer, the FFT when the run has ended
+# --------------------------------------------------------------------------
+
+import os  # noqa: E402 - the RealFFT section keeps its imports with it
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from acausal.errors import AssertionViolation, ParameterError, SimulationError  # noqa: E402
+from acausal.fileio import atomic_write  # noqa: E402
+
+from .discrete import DiscreteBlock  # noqa: E402
+
+__all__ += ["RealFFT", "real_fft_sample_points", "real_fft"]
+
+
+def real_fft_sample_points(f_max: float, f_resolution: float, f_max_factor: int = 5) -> int:
+    """The number of sample points of a real FFT
+    (Modelica.Math.FastFourierTransform.realFFTsamplePoints).
+
+    The smallest even ``ns >= 2*ceil(f_max*f_max_factor/f_resolution)`` that is a
+    product of powers of 2, 3 and 5 (for which the FFT is fastest).
+
+    Parameters
+    ----------
+    f_max : float
+        Maximum frequency of interest, Hz; more than ``f_resolution``.
+    f_resolution : float
+        Frequency resolution, Hz; more than 0.
+    f_max_factor : int
+        The largest FFT frequency is at least ``f_max*f_max_factor``.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ParameterError
+        For ``f_resolution <= 0`` or ``f_max <= f_resolution`` (the MSL's asserts).
+    """
+    if not f_resolution > 0:
+        raise ParameterError(f"f_resolution = {f_resolution!r}: f_resolution > 0 required",
+                             hint="the frequency resolution of the FFT, e.g. 0.2 (Hz)")
+    if not f_max > f_resolution:
+        raise ParameterError(f"f_max = {f_max!r}, f_resolution = {f_resolution!r}: f_max > f_resolution required",
+                             hint="the largest frequency of interest must exceed the resolution")
+    if int(f_max_factor) < 1:
+        raise ParameterError(f"f_max_factor = {f_max_factor!r} must be >= 1")
+    # the same floating-point operations as the MSL, so that ns agrees with a Modelica tool's
+    wanted = 2 * int(math.ceil(f_max * int(f_max_factor) / f_resolution))
+    ns = wanted if wanted % 2 == 0 else wanted + 1
+    while True:
+        rest = ns
+        for factor in (2, 3, 5):
+            while rest % factor == 0:
+                rest //= factor
+        if rest <= 1:
+            return ns
+        ns += 2
+
+
+def real_fft(u: Any, nfi: int) -> tuple[int, np.ndarray, np.ndarray]:
+    """Amplitudes and phases of a real FFT (Modelica.Math.FastFourierTransform.realFFT).
+
+    As the MSL computes them (``ModelicaFFT_kiss_fftr``): the FFT of ``u`` less
+    its mean; amplitude ``i`` is ``|X[i]|/(nu/2 + 1)`` for ``nu = len(u)`` (so a
+    sine of amplitude A at a frequency of the FFT shows as ``A*nu/(nu + 2)``),
+    the phase is ``atan2(Im X[i], Re X[i])`` in degrees, with respect to a
+    cosine; the first amplitude is the mean of ``u`` (phase 0), and the phases
+    of amplitudes below ``1e-4`` times the largest are set to 0 (numerical noise).
+
+    Parameters
+    ----------
+    u : sequence of float
+        Equidistant samples; their number must be even.
+    nfi : int
+        Number of frequency points returned, ``1 <= nfi <= len(u)//2 + 1``.
+
+    Returns
+    -------
+    info : int
+        0: computed; 1: ``len(u)`` is odd (amplitudes and phases are then 0).
+    amplitudes, phases : ndarray
+        ``nfi`` values each; the phases in degrees.
+
+    Raises
+    ------
+    ParameterError
+        For ``nfi`` out of range (the MSL's assert).
+    """
+    u = np.asarray(u, dtype=float)
+    nu = u.size
+    if not 0 < nfi <= nu // 2 + 1:
+        raise ParameterError(f"real_fft: nfi = {nfi} is out of range 1 ... {nu // 2 + 1}",
+                             hint="nfi = max(1, min(ceil(f_max/f_resolution) + 1, len(u)//2 + 1))")
+    if nu % 2 != 0:
+        return 1, np.zeros(nfi), np.zeros(nfi)
+    mean = float(np.sum(u)) / nu
+    spectrum = np.fft.rfft(u - mean)[:nfi]
+    amplitudes = np.abs(spectrum) / (nu // 2 + 1)  # the MSL's C code divides by nf, not nu/2
+    phases = np.degrees(np.arctan2(spectrum.imag, spectrum.real))
+    # the threshold before the mean replaces amplitude 1 (of u less its mean, about 0)
+    noise = 0.0001 * float(np.max(amplitudes))
+    amplitudes[0] = mean
+    phases[0] = 0.0
+    phases[1:][amplitudes[1:] < noise] = 0.0
+    return 0, amplitudes, phases
+
+
+def _ns(value) -> int:
+    """The buffer size ``ns`` from the structural ``f_max`` and ``f_res`` (a shape read from the sizes)."""
+    return real_fft_sample_points(value("f_max"), value("f_res"))
+
+
+_ns.text = "ns"  # how show writes the buffer's size
+
+
+class RealFFT(DiscreteBlock):
+    """Sampling and FFT of input u (Modelica.Blocks.Math.RealFFT).
+
+    The input is sampled every ``samplePeriod = 1/(2*f_res*div(ns, 2))`` from
+    ``startTime`` on into the buffer ``buf[ns]``, ``ns =
+    real_fft_sample_points(f_max, f_res, 5)``; the first ``ns`` samples are
+    kept.  When the run has ended successfully, the FFT of the buffer
+    (:func:`real_fft`: ``nf = max(1, min(ceil(f_max/f_res) + 1, div(ns, 2)))``
+    amplitudes, and phases in degrees) is written to ``resultFileName`` as
+    ``realFFTwriteToFile`` does (a MATLAB v4 MAT file holding the matrix
+    ``FFT`` of ``3*nf`` rows ``[f, 0, 0; f, abs, arg; f, 0, 0]``, ``f =
+    f_max*(i - 1)/(nf - 1)``, so that it plots as frequency lines).
+    :meth:`spectrum` gives the same from a result in Python.
+
+    A run too short to take ``ns`` samples (``stopTime < startTime + (ns -
+    1)*samplePeriod``) fails at its end, as the MSL's assert at ``terminal()``
+    does: the result has status -1 and an
+    :class:`~acausal.errors.AssertionViolation` ("Sampling time not
+    sufficient! stopTime>= ..."), and no file is written.
+
+    Differences from the MSL: ``f_max``, ``f_res`` and ``resultFileName``
+    are structural (they size the buffer; Modelica evaluates them too) and
+    have defaults (those of Modelica.Math.FastFourierTransform.Examples.RealFFT1,
+    the MSL has none); the FFT is computed after the run (the engine's
+    :meth:`~acausal.language.Component.finished` hook) rather than in a
+    ``when terminal()`` algorithm, so the protected ``abs`` and ``arg`` and the
+    output ``info`` are not variables of the model: :meth:`spectrum` returns
+    them.  The file is written whole or not at all; a failure to write it
+    makes the run fail (a :class:`~acausal.errors.SimulationError`), as the
+    MSL's writeRealMatrix raises an error; the MSL's message naming the file
+    is not printed.  Only ``simulate(model)`` writes the file (a run of a
+    translation, or of a sweep, has no component to call).
+    """
+
+    modelica_name = "Modelica.Blocks.Math.RealFFT"
+
+    f_max = Parameter(4.0, unit="Hz", structural=True, description="Maximum frequency of interest")
+    f_res = Parameter(0.2, unit="Hz", structural=True, description="Frequency resolution")
+    resultFileName = Parameter("realFFT.mat", structural=True,  # noqa: N815 - Modelica's name
+                               description="Result file: f, abs, arg")
+    samplePeriod = Parameter(None, unit="s", structural=True,  # noqa: N815
+                             description="Sample period of component (final: 1/(2*f_res*div(ns, 2)))")
+    u = RealInput(description="Connector of Real input signal")
+    buf = Variable(shape=_ns, start=0.0, fixed=True, discrete=True, description="Input buffer (protected)")
+    iTick = Integer(start=0, fixed=True, description="Sample ticks (protected)")  # noqa: N815
+
+    def __init__(self, **modifiers: Any) -> None:
+        if "samplePeriod" in modifiers:
+            raise ModifierError(f"{type(self).__name__}: samplePeriod is final, 1/(2*f_res*div(ns, 2))",
+                                hint="give f_max and f_res; the sample period follows from them")
+        declarations = type(self).declarations()
+        f_max = modifiers.get("f_max", declarations["f_max"].default)
+        f_res = modifiers.get("f_res", declarations["f_res"].default)
+        ns = real_fft_sample_points(f_max, f_res)
+        super().__init__(**modifiers, samplePeriod=1 / (2 * f_res * (ns // 2)))
+
+    @property
+    def ns(self) -> int:
+        """Number of samples (the MSL's final parameter ``ns``)."""
+        return real_fft_sample_points(self.f_max, self.f_res)
+
+    @property
+    def nf(self) -> int:
+        """Number of frequency points (the MSL's final parameter ``nf``)."""
+        return max(1, min(int(math.ceil(self.f_max / self.f_res)) + 1, self.ns // 2))
+
+    def _column(self, name: str) -> str:
+        return f"{self.path}.{name}" if self.path else name
+
+    def _sampled_until(self, result) -> float:
+        """``startTime + (ns - 1)*samplePeriod``: when the last sample is taken (startTime as the run had it)."""
+        start = self._column("startTime")
+        t_start = float(result.final(start)) if start in result else float(self.parameter_binding("startTime"))
+        return t_start + (self.ns - 1) * self.samplePeriod
+
+    def equations(self):
+        ns = self.ns
+        taken = [Eq(self.buf[i], If(sp.Eq(self.iTick, i), self.u, pre(self.buf[i]))) for i in range(1, ns + 1)]
+        # the MSL's algorithm: iTick := pre(iTick) + 1; if iTick <= ns then buf[iTick] := u.  Its
+        # assert at terminal() (enough samples) is checked by finished(), with the FFT.
+        return [When(self.sampleTrigger, Eq(self.iTick, pre(self.iTick) + 1), *taken)]
+
+    def spectrum(self, result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The FFT of the samples a run of the model took: ``(f, abs, arg)``, ``nf`` values each.
+
+        ``f = (i - 1)*f_res`` are the frequencies of the FFT (Hz; the file's
+        ``f_max*(i - 1)/(nf - 1)`` are the same when ``f_max`` is a multiple
+        of ``f_res``), ``abs`` the amplitudes (``abs[1]`` the mean of the
+        samples), ``arg`` the phases in degrees (see :func:`real_fft`).
+
+        Raises
+        ------
+        ValueError
+            When the run took fewer than ``ns`` samples.
+        KeyError
+            When the result lacks the buffer (a run with ``outputs=`` that left it out).
+        """
+        ticks = int(result.final(self._column("iTick")))
+        if ticks < self.ns:
+            raise ValueError(f"{self.path or type(self).__name__}: {ticks} of {self.ns} samples taken; sampling "
+                             f"time not sufficient! stopTime >= {self._sampled_until(result):.12g}")
+        samples = np.asarray(result.final(self._column("buf")), dtype=float)
+        info, amplitudes, phases = real_fft(samples, self.nf)
+        if info != 0:  # pragma: no cover - ns is even by construction
+            raise ValueError(f"{self.path}: Error in FFT (info = {info})")
+        return np.arange(self.nf) * float(self.f_res), amplitudes, phases
+
+    def fft_matrix(self, result) -> np.ndarray:
+        """The matrix ``FFT`` realFFTwriteToFile writes: ``3*nf`` rows ``[f, 0, 0; f, abs, arg; f, 0, 0]``
+        with ``f = f_max*(i - 1)/(nf - 1)``."""
+        _, amplitudes, phases = self.spectrum(result)
+        n = amplitudes.size
+        f = float(self.f_max) * np.arange(n) / (n - 1) if n > 1 else np.full(n, np.nan)  # the MSL's 0/0
+        matrix = np.zeros((3 * n, 3))
+        matrix[:, 0] = np.repeat(f, 3)
+        matrix[1::3, 1] = amplitudes
+        matrix[1::3, 2] = phases
+        return matrix
+
+    def finished(self, result) -> None:
+        """Write the FFT to ``resultFileName`` (MAT v4, the matrix ``FFT``) after a successful run."""
+        import scipy.io  # only for a run that has a RealFFT
+
+        ticks = int(result.final(self._column("iTick")))
+        if ticks < self.ns:
+            # the MSL's assert in its when terminal() clause: the run fails, no file is written
+            raise AssertionViolation(f"{self.path or type(self).__name__}: Sampling time not sufficient! "
+                                     f"stopTime>= {self._sampled_until(result):.12g}",
+                                     hint=f"{ticks} of ns = {self.ns} samples were taken; simulate longer, or "
+                                          f"raise f_res or lower f_max",
+                                     components=(self.path,) if self.path else ())
+        matrix = self.fft_matrix(result)
+        path = Path(os.fspath(self.resultFileName))
+        try:
+            atomic_write(path, lambda handle: scipy.io.savemat(handle, {"FFT": matrix}, format="4"), mode="wb")
+        except OSError as exc:
+            raise SimulationError(f"{self.path or type(self).__name__}: the FFT could not be written to "
+                                  f"{path}: {exc}", hint="give resultFileName a path in a folder that exists "
+                                                         "and may be written", components=(self.path,)) from exc
