@@ -5,6 +5,11 @@
 time derivatives as separate signals (an input and the inputs carrying its
 first and second derivatives).  Where index reduction differentiates the
 value, it takes the given derivative instead of differentiating the signal.
+
+:class:`ImpureFunction` is Modelica's ``impure function`` with a hidden state
+(a random number generator): its state belongs to the simulation run, and at
+an event its value is computed once per call site however often event
+iteration evaluates the equation (see its docstring).
 """
 
 from __future__ import annotations
@@ -13,10 +18,10 @@ import re
 
 import sympy as sp
 
-from .errors import ModelDefinitionError, StructuralError
+from .errors import ModelDefinitionError, SolverError, StructuralError
 from .language import time as _time
 
-__all__ = ["prescribed", "settle"]
+__all__ = ["ImpureFunction", "impure_applications", "prescribed", "settle"]
 
 #: (name, number of derivatives given, differentiate_last, hint) -> class; the same call
 #: always gives the same class, so equations built twice compare equal.
@@ -227,3 +232,74 @@ def _function_class(owner: str, given: int, differentiate_last: bool, advice: st
             "_imp_": staticmethod(value_of),
         })
     return cls
+
+
+class ImpureFunction(sp.Function):
+    """A function of the equations with a side effect on a state the run owns
+    (Modelica's ``impure function`` with a hidden state, e.g. a random number generator).
+
+    A subclass names its state, :attr:`stream` (the functions that share one
+    generator name the same one), and computes its value in
+    :meth:`_impure_` from that state, which it may change: a ``dict``, empty
+    when the run starts, that the subclass fills on its first call.
+
+    The runtime gives these functions Modelica's semantics of a call in a
+    when-clause:
+
+    * **one value per event and call site.**  Each application in the
+      discrete equations is a call site (one per distinct application in an
+      equation; sympy merges identical ones within an expression).  The first
+      evaluation at an event iteration (the initialization's, or one event's)
+      computes the value and changes the state; every later evaluation of the
+      same site in that iteration (its passes, its searches) returns that value,
+      so the state advances once per firing, in the order in which the events
+      happen.  What the site's arguments are at later evaluations of the same
+      iteration does not matter.
+    * **the state belongs to the run.**  Each run starts from empty states
+      (``DiscreteEvaluator.start_run``, called when initialization begins), so
+      two runs of one model give the same values.
+    * **outside event iteration** (asking whether a relation could change the
+      discrete state) the value is computed from a copy of the state: the value
+      the next event would give, with no side effect.
+
+    An impure function is meant for when-clauses (its value is held between
+    events); in a continuous equation it is refused when evaluated.  Applied
+    to numbers it stays a call: it is never evaluated while the model is
+    translated.
+    """
+
+    #: the name of the state this function reads and changes (one per generator)
+    stream: str = ""
+
+    @classmethod
+    def _impure_(cls, state: dict, *args):
+        """The value for ``args``; may change ``state`` (override)."""
+        raise NotImplementedError(f"{cls.__name__} does not define its value")
+
+    @staticmethod
+    def _imp_(*args):
+        # reached only by code that is not event iteration (a continuous equation): refused
+        raise SolverError("an impure function is evaluated at events only",
+                          hint="call it in a when-clause, whose value is held between events")
+
+    def _eval_evalf(self, prec):
+        return None  # never a number while translating: a call has a side effect
+
+    def _eval_is_real(self):
+        return True
+
+    def fdiff(self, argindex: int = 1):
+        raise TypeError(f"{type(self).__name__} has no derivative: it is evaluated at events only")
+
+
+def impure_applications(expr: sp.Basic) -> list[sp.Expr]:
+    """The distinct applications of :class:`ImpureFunction` subclasses in ``expr``,
+    inner ones before the calls that take them as arguments (postorder: the order
+    the runtime numbers their call sites in)."""
+    if not isinstance(expr, sp.Basic):
+        return []
+    seen: dict[sp.Expr, None] = {}
+    for node in sp.postorder_traversal(expr):
+        if isinstance(node, ImpureFunction):
+            seen.setdefault(node, None)
+    return list(seen)

@@ -34,6 +34,7 @@ from ..names import INITIAL_NAME, TERMINAL_NAME, der_name, parse, pre_name
 from .. import hybrid
 from ..hybrid import EVENT_FUNCTIONS, Delay, NoEvent, Reinit, Terminate, When
 from ..errors import AcausalError, ConnectorError, EquationError, ModelDefinitionError, ParameterError
+from ..functions import impure_applications
 from ..language import (
     Boolean,
     BoundConnector,
@@ -441,6 +442,17 @@ class _Flattener:
 
     # -- declarations ---------------------------------------------------------
 
+    def _refuse_impure_calls(self) -> None:
+        """An impure function (a hidden state, :class:`~acausal.functions.ImpureFunction`) is
+        called at events only: in the discrete equations, never in a continuous one."""
+        for eq in (*self.equations, *self.initial_equations):
+            found = impure_applications(eq.residual)
+            if found:
+                raise EquationError(
+                    f"{eq.origin}: the impure function {type(found[0]).__name__} is called in a "
+                    f"continuous equation", hint="call it in a when-clause, whose value is held "
+                    "between events", components=(eq.origin.component,))
+
     def run(self) -> FlatModel:
         for component in self.components:
             self._declare(component)
@@ -457,6 +469,7 @@ class _Flattener:
             origin = Origin(name.rpartition(".")[0], "", "binding", 0, f"der({name}) = 0")
             self.equations.append(FlatEquation(real_symbol(der_name(name)), origin))
         self._hold_discrete_reals()
+        self._refuse_impure_calls()
         self._state_candidates()
         tunable = self._tunable_starts()
         _check_start_names(self._model_name(), self.variables, tunable, self.start_overrides, self.parameters)

@@ -11,6 +11,11 @@ Relations are evaluated with the continuous values at the event, with a
 small hysteresis against their value before it (see
 :meth:`acausal.compiler.partition.Relation.shifted`).
 
+Impure functions (:class:`acausal.functions.ImpureFunction`) in the
+discrete equations draw once per event iteration and call site, from a
+state the run owns (:class:`ImpureCalls`): the passes of one iteration see
+the value its first evaluation computed.
+
 References
 ----------
 .. [1] M. Otter, H. Elmqvist and S. E. Mattsson, "Hybrid modeling in Modelica
@@ -19,21 +24,24 @@ References
 
 from __future__ import annotations
 
+import copy
+import functools
 import heapq
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
 import numpy as np
 
 from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
+from ..functions import ImpureFunction, impure_applications
 from ..names import INITIAL_NAME, TERMINAL_NAME, is_relation, parse, pre_name, relation_name
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import vectorised_function
 from .relations import decide, decide_many, kind_arrays
 
-__all__ = ["DiscreteEvaluator", "EventOutcome", "evaluator_for", "mode_values"]
+__all__ = ["DiscreteEvaluator", "EventOutcome", "ImpureCalls", "evaluator_for", "mode_values"]
 
 
 #: From this many watched relations on, they are checked with numpy at once.
@@ -92,6 +100,57 @@ class EventOutcome:
     terminated: tuple[str, ...] = ()
 
 
+@dataclass
+class ImpureCalls:
+    """The state of a run's impure functions (:class:`~acausal.functions.ImpureFunction`).
+
+    Attributes
+    ----------
+    streams : dict
+        Each function's state, by its ``stream``: the dict its ``_impure_``
+        reads and changes (empty until its first call in the run).
+    values : dict
+        The value of each call site in the event iteration in progress (by
+        site number); cleared when the next one opens.
+    open : bool
+        Whether an event iteration (or the initialization) is in progress: only
+        then does a call change its state.
+    calls : int
+        How many values were computed with their side effect in this run.
+    """
+
+    streams: dict = field(default_factory=dict)
+    values: dict = field(default_factory=dict)
+    open: bool = False
+    calls: int = 0
+
+
+def _bind_impure_sites(expressions, call: Callable) -> tuple[list, int]:
+    """``expressions`` with every impure application replaced by a function of its
+    own call site, whose code calls ``call(site, function class, *args)``; and the
+    number of sites.  Sites are numbered equation by equation (inner calls first)."""
+    out, site = [], 0
+    for expr in expressions:
+        found = impure_applications(expr)
+        if not found:
+            out.append(expr)
+            continue
+        replaced: dict = {}
+        for application in found:  # inner calls first: their replacements go into the outer ones
+            cls = type(application)
+            bound = type(f"{cls.__name__}_site{site}", (ImpureSite,), {
+                "__module__": __name__, "_imp_": staticmethod(functools.partial(call, site, cls))})
+            replaced[application] = bound(*(a.xreplace(replaced) for a in application.args))
+            site += 1
+        out.append(expr.xreplace(replaced))
+    return out, site
+
+
+class ImpureSite(ImpureFunction):
+    """One call site of an impure function in the compiled discrete equations
+    (made by :func:`_bind_impure_sites`; its ``_imp_`` is bound to the evaluator)."""
+
+
 def _cast(kind: str, value):
     """A discrete equation's value as its variable's type."""
     if kind == "boolean":
@@ -116,7 +175,10 @@ class DiscreteEvaluator:
         self.kinds = {n: variables[n].kind for n in (*self.partitioned.discrete_variables, *self.held)}
         equations = self.partitioned.discrete_equations
         arguments = [sorted(s.name for s in eq.rhs.free_symbols) for eq in equations]
-        functions = compile_functions(arguments, [eq.rhs for eq in equations],
+        #: the run's impure functions (their state, the values of this event's call sites)
+        self.impure = ImpureCalls()
+        right_sides, self.impure_sites = _bind_impure_sites([eq.rhs for eq in equations], self._impure_call)
+        functions = compile_functions(arguments, right_sides,
                                       f"the discrete equations of {translation.flat.name}")
         self.equations = [(eq.variable, args, fn, eq.origin)
                           for eq, args, fn in zip(equations, arguments, functions)]
@@ -234,6 +296,36 @@ class DiscreteEvaluator:
         self._extra: dict = {}
         self._hybrid = bool(self._continuous_args or self.clocks or self.held or self.reinits
                             or self.terminations or self._constants or self.asserts)
+
+    # -- impure functions ---------------------------------------------------------
+
+    def start_run(self) -> None:
+        """A new run: the impure functions start from empty states again."""
+        self.impure = ImpureCalls()
+
+    def open_instant(self) -> None:
+        """An event iteration (or the initialization) begins: each impure call site
+        computes one value in it, at its first evaluation."""
+        self.impure.values = {}
+        self.impure.open = True
+
+    def close_instant(self) -> None:
+        """The event iteration is over: impure calls no longer change their state."""
+        self.impure.open = False
+
+    def _impure_call(self, site: int, function: type, *args):
+        """What the generated code of call site ``site`` evaluates (see :class:`ImpureCalls`)."""
+        calls = self.impure
+        if not calls.open:
+            # a question about a possible event (which relations to watch): the value the
+            # next call would give, computed on a copy so that the state does not move
+            return function._impure_(copy.deepcopy(calls.streams.get(function.stream, {})), *args)
+        if site in calls.values:
+            return calls.values[site]
+        value = function._impure_(calls.streams.setdefault(function.stream, {}), *args)
+        calls.values[site] = value
+        calls.calls += 1
+        return value
 
     def _continuous_env(self, system: ModeSystem, t: float, x, left: Mapping) -> dict:
         """The continuous values the discrete equations read at ``(t, x)``, and the left
@@ -776,6 +868,19 @@ class DiscreteEvaluator:
     def iterate(self, t: float, values: Mapping[str, float], pre: Mapping, relations_before,
                 initial: bool = False, fired: frozenset = frozenset(), ticks: frozenset = frozenset(),
                 terminal: bool = False) -> EventOutcome:
+        """Modelica event iteration at time ``t`` (see :meth:`_iterate`); each impure
+        call site computes at most one value in it."""
+        if not self.impure_sites:
+            return self._iterate(t, values, pre, relations_before, initial, fired, ticks, terminal)
+        self.open_instant()
+        try:
+            return self._iterate(t, values, pre, relations_before, initial, fired, ticks, terminal)
+        finally:
+            self.close_instant()
+
+    def _iterate(self, t: float, values: Mapping[str, float], pre: Mapping, relations_before,
+                 initial: bool = False, fired: frozenset = frozenset(), ticks: frozenset = frozenset(),
+                 terminal: bool = False) -> EventOutcome:
         """Modelica event iteration at time ``t``.
 
         Parameters

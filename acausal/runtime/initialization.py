@@ -88,6 +88,10 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     """Solve the initialization problem at ``start_time``."""
     flat = translation.flat
     variables = flat.variable_map
+    # a run starts here: its impure functions start from empty states, and each of their
+    # call sites computes one value in the iteration of the initialization problem
+    evaluator.start_run()
+    evaluator.open_instant()
     discrete, relations = start_guess(translation)
     fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
     at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
@@ -95,12 +99,15 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     values = None
     history = [dict(discrete)]
     guessed = False
+    held = set(translation.partitioned.held_variables)
+    assigned: dict[str, float] = {}  # discrete Reals a when-clause with initial() sets
     for _ in range(evaluator.max_iterations):
         pre = {**discrete, **fixed_pre}
         key = evaluator.key(discrete, pre, relations, True)
         problem = translation.initial_system(key)
+        outputs = _with_held_values(translation, problem, assigned)
         try:
-            values = dict(zip(problem.unknowns, problem.outputs(start_time, ())))
+            values = dict(zip(problem.unknowns, outputs(start_time, ())))
         except (ArithmeticError, ValueError):  # a domain error in the generated code
             if guessed:
                 raise
@@ -121,9 +128,14 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         new_relations = evaluator.relation_values(system, start_time, x, at_zero)
         evaluator.prepare(system, start_time, x)
         new_discrete = evaluator.evaluate_discrete(discrete, pre, new_relations, True)
-        if new_discrete == discrete and new_relations == relations:
+        # a discrete Real that nothing but its start determined in the problem, and that the
+        # discrete equations set otherwise (when initial() then r = ...), takes that value in
+        # the problem too: Modelica's initialization solves both together
+        new_assigned = {name: new_discrete[name] for name, start in _held_from_start(translation, problem, held)
+                        if new_discrete[name] != start}
+        if new_discrete == discrete and new_relations == relations and new_assigned == assigned:
             break
-        discrete, relations = new_discrete, new_relations
+        discrete, relations, assigned = new_discrete, new_relations, new_assigned
         history.append(dict(discrete))
     else:
         changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})
@@ -134,6 +146,7 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
             f"{evaluator.max_iterations} iterations; still changing: {', '.join(changing) or 'unknown'}",
             hint="; ".join(("check the start values of the Boolean and Integer variables named and "
                             "the conditions that set them", *own)), components=owners)
+    evaluator.close_instant()
     x = evaluator._states(system, values, discrete)
     values = mode_values(system, start_time, x)
     evaluator.prepare(None, start_time, x)
@@ -166,6 +179,40 @@ def with_aliases(values: Mapping[str, float], system) -> dict:
         elif source in out:
             out[name] = coeff * out[source]
     return out
+
+
+def _held_from_start(translation: Translation, problem, held: set[str]) -> list[tuple[str, float]]:
+    """The discrete Reals whose value the initialization problem takes from their start
+    values, with those values: a fixed start (for a discrete variable Modelica's
+    ``pre(r) = start``, which makes ``r`` the start unless a when-clause with ``initial()``
+    assigns it) not implied by the rest, or a start taken because nothing determines it."""
+    parameters = translation.cache.parameters
+    start_of = dict(zip(parameters.names, parameters.vector))
+    relaxed = {name for name, _ in problem.relaxed}
+    variables = translation.flat.variable_map
+    found = [(name, start_of.get(f"{name}.start", float(variables[name].start))) for name in sorted(held)
+             if variables[name].fixed and name not in relaxed]
+    taken = {name for name, _ in found}
+    found += [(name, value) for name, value in problem.from_start if name in held and name not in taken]
+    return found
+
+
+def _with_held_values(translation: Translation, problem, assigned: Mapping[str, float]):
+    """``problem.outputs``, or its code bound to start values in which the discrete Reals of
+    ``assigned`` start at their assigned values (their start is what the problem reads for
+    them: they are among its ``from_start``).  A problem composed of clusters keeps its own."""
+    code = getattr(problem, "code", None)
+    if not assigned or code is None:
+        return problem.outputs
+    parameters = translation.cache.parameters
+    index = {name: k for k, name in enumerate(parameters.names)}
+    vector = list(parameters.vector)
+    for name, value in assigned.items():
+        k = index.get(f"{name}.start")
+        if k is None:
+            return problem.outputs
+        vector[k] = float(value)
+    return code.make(tuple(vector))[2]
 
 
 def declared_aliases(system, variables: Mapping, names: Sequence[str]) -> dict[str, list[str]]:

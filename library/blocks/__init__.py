@@ -82,5 +82,6 @@ __all__ += ["Add3", "Division", "Abs", "Sign", "Sqrt", "Cos", "Tan", "Asin", "Ac
 from .nonlinear import FixedDelay, VariableDelay  # noqa: E402 - the exact delays (delay() operator)
 __all__ += ["FixedDelay", "VariableDelay"]
 from .math import RealFFT  # noqa: E402
+from .noise import ImpureRandom  # noqa: E402
 
-__all__ += ["RealFFT"]
+__all__ += ["RealFFT", "ImpureRandom"]

@@ -33,6 +33,16 @@ the equations.
 
 The numeric functions (generators, seeds, distributions, error functions)
 are plain Python functions of this module, usable on their own.
+
+**The impure generator.**  :func:`initialize_impure_random`,
+:func:`impure_random` and :func:`impure_random_integer` are the plain
+functions, with one hidden state in this module as ``ModelicaRandom.c`` keeps
+it.  In equations, :class:`ImpureRandomNumber` and :class:`ImpureRandomInteger`
+are the same functions with the state of the run
+(:class:`acausal.functions.ImpureFunction`): called in a when-clause they
+draw once per firing, in the order of the events, and every run starts from
+the seed again.  :class:`ImpureRandom` is the MSL's example block that uses
+them.
 """
 
 from __future__ import annotations
@@ -46,6 +56,7 @@ import sympy as sp
 
 from acausal.components.blocks import SO
 from acausal.components.declarations import DerivedDefaults
+from acausal.functions import ImpureFunction
 from acausal.hybrid import When, sample
 from acausal.language import Component, Eq, If, Integer, Parameter, Variable, initial, pre, time
 
@@ -69,6 +80,9 @@ __all__ = [
     "initialize_impure_random",
     "impure_random",
     "impure_random_integer",
+    "ImpureRandomNumber",
+    "ImpureRandomInteger",
+    "ImpureRandom",
     "erf",
     "erfc",
     "erf_inv",
@@ -863,3 +877,112 @@ class BandLimitedWhiteNoise(PartialNoise):
 
     def distribution(self, u):
         return _NormalQuantile(u, self.mu, self.sigma)
+
+
+# --------------------------------------------------------------------------
+# the impure generator in equations (state of the run)
+# --------------------------------------------------------------------------
+
+#: the id initializeImpureRandom returns whatever its seed: the local seed it uses (a prime)
+_IMPURE_ID = 715827883
+
+
+def _impure_draw(state: dict, id: Any, seed: Any) -> float:  # noqa: A002 - the MSL's name
+    """The next number in ``(0, 1]`` of the impure generator whose state is ``state``
+    (a run's; seeded as :func:`initialize_impure_random` seeds it on the first call)."""
+    if not state:
+        start = initial_state_with_xorshift64star(_IMPURE_ID, int(seed), 33)
+        state["words"] = [_word(start[2 * i], start[2 * i + 1]) for i in range(16)]
+        state["p"] = start[32]
+        state["id"] = _IMPURE_ID
+    if int(id) != state["id"]:
+        raise RuntimeError("impureRandom: not initialized with initializeImpureRandom "
+                           f"(id = {int(id)}, expected {state['id']})")
+    r, state["p"] = _xorshift1024star_step(state["words"], state["p"])
+    return r
+
+
+class ImpureRandomNumber(ImpureFunction):
+    """Impure random number generator (with hidden state vector) (Modelica.Math.Random.Utilities.impureRandom).
+
+    ``ImpureRandomNumber(id, seed)`` in an equation: the next number in
+    ``(0, 1]`` of xorshift1024*, as ``impureRandom(id)`` draws it.  Its state
+    belongs to the run (:class:`acausal.functions.ImpureFunction`): one
+    number per firing of the when-clause that calls it, and every run starts
+    from the state ``initializeImpureRandom(seed)`` sets.  ``id`` is that
+    function's result (``globalSeed.id_impure``); acausal evaluates that
+    parameter while translating, so the call also carries the ``seed`` the
+    run's state is set from at its first draw (``globalSeed.seed``).
+
+    Raises
+    ------
+    RuntimeError
+        When ``id`` is not the one ``initializeImpureRandom`` returns.
+    """
+
+    modelica_name = "Modelica.Math.Random.Utilities.impureRandom"
+
+    nargs = 2
+    #: the state impureRandom and impureRandomInteger share (ModelicaRandom_s, _p, _id)
+    stream = "Modelica.Math.Random.Utilities.impureRandom"
+
+    @classmethod
+    def _impure_(cls, state: dict, id: Any, seed: Any) -> float:  # noqa: A002
+        return _impure_draw(state, id, seed)
+
+
+class ImpureRandomInteger(ImpureFunction):
+    """Impure random number generator for integer values (with hidden state vector)
+    (Modelica.Math.Random.Utilities.impureRandomInteger).
+
+    ``ImpureRandomInteger(id, seed, imin, imax)``: an Integer uniform in
+    ``[imin, imax]``, ``min(imax, integer(r*(imax - imin + 1)) + imin)`` with
+    ``r`` the next number of the generator :class:`ImpureRandomNumber` draws from
+    (the same state: the two advance one generator).
+    """
+
+    modelica_name = "Modelica.Math.Random.Utilities.impureRandomInteger"
+
+    nargs = (2, 3, 4)
+    stream = ImpureRandomNumber.stream
+
+    @classmethod
+    def _impure_(cls, state: dict, id: Any, seed: Any, imin: Any = 1,  # noqa: A002
+                 imax: Any = 268435456) -> int:
+        r = _impure_draw(state, id, seed)
+        return min(int(imax), int(math.floor(r * (int(imax) - int(imin) + 1))) + int(imin))
+
+    def _eval_is_integer(self):
+        return True
+
+
+class ImpureRandom(DerivedDefaults, SO):
+    """Block generating random numbers with the impure random number generator
+    (Modelica.Blocks.Examples.Noise.Utilities.ImpureRandom).
+
+    ``y = impureRandom(globalSeed.id_impure)`` at initialization and at every
+    ``sample(samplePeriod, samplePeriod)``; the output holds in between.  The
+    numbers are those of xorshift1024* from the state
+    ``initializeImpureRandom(globalSeed.seed)`` gives, one per firing, shared
+    with every other impure call of the model in the order of the events.
+    ``globalSeed`` is found as the noise blocks find it (the nearest
+    :class:`GlobalSeed` named ``globalSeed`` on the way up); without one, a
+    default GlobalSeed's values.
+    """
+
+    modelica_name = "Modelica.Blocks.Examples.Noise.Utilities.ImpureRandom"
+
+    samplePeriod = Parameter(None, unit="s", description="Sample period for random number generation")  # noqa: N815
+    id_impure = Parameter(None, description="globalSeed.id_impure: the id of the impure generator (protected)")
+    actualGlobalSeed = Parameter(None, description="globalSeed.seed, from which the run's impure "  # noqa: N815
+                                                   "generator starts (protected)")
+
+    derived_defaults = {
+        "id_impure": lambda block: _IMPURE_ID if _global_seed(block) is None else _global_seed(block).id_impure,
+        "actualGlobalSeed": lambda block: (_DEFAULT_FIXED_SEED if _global_seed(block) is None
+                                           else _global_seed(block).seed),
+    }
+
+    def equations(self):
+        return [When([initial(), sample(self.samplePeriod, self.samplePeriod)],
+                     Eq(self.y, ImpureRandomNumber(self.id_impure, self.actualGlobalSeed)))]
