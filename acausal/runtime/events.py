@@ -291,7 +291,8 @@ class DiscreteEvaluator:
             self._assert_continuous |= continuous_reads(args)
         #: whether anything reads terminal() (then the run ends with one more event iteration)
         self.uses_terminal = any(TERMINAL_NAME in args for args in arguments) or any(
-            TERMINAL_NAME in item[1] for item in (*self.reinits, *self.terminations))
+            TERMINAL_NAME in item[1] for item in (*self.reinits, *self.terminations)) or any(
+            TERMINAL_NAME in args for _a, args, _f in self.asserts)
         #: values the environment of a pass adds (clocks, terminal(), continuous values)
         self._extra: dict = {}
         self._hybrid = bool(self._continuous_args or self.clocks or self.held or self.reinits
@@ -357,11 +358,13 @@ class DiscreteEvaluator:
         return [discrete[s] if s in self.kinds else values[s] for s in system.states]
 
     def check_asserts(self, t: float, system: ModeSystem, x, discrete: Mapping, pre: Mapping,
-                      initial: bool = False) -> list:
-        """The assertions violated at ``(t, x)``: ``[(FlatAssert, message)]``."""
+                      initial: bool = False, terminal: bool = False) -> list:
+        """The assertions violated at ``(t, x)``: ``[(FlatAssert, message)]`` (``terminal``:
+        at the end of the run, where ``terminal()`` is true)."""
         if not self.asserts:
             return []
         env = self._environment(self._relations_now or (), initial, pre)
+        env[TERMINAL_NAME] = terminal
         env.update(discrete)
         if self._assert_continuous:
             values = mode_values(system, t, x)

@@ -647,10 +647,13 @@ class _Run:
         changes = outcome.changes + tuple((f"reinit({n})", a, b) for n, a, b in outcome.reinits)
         self.events.append(Event(t, kind, fired, changes, outcome.iterations))
 
-    def _check_asserts(self, t: float, system: ModeSystem, x, discrete) -> None:
-        """Assertions at an accepted step or after an event: an error stops the run (what
-        was computed is kept), a warning is noted once per assertion."""
-        for item, message in self.evaluator.check_asserts(t, system, x, discrete, discrete):
+    def _check_asserts(self, t: float, system: ModeSystem, x, discrete, terminal: bool = False,
+                       pre=None) -> None:
+        """Assertions at an accepted step, after an event or at the end (``terminal``, with the
+        ``pre`` values before its event iteration): an error stops the run (what was computed is
+        kept), a warning is noted once per assertion."""
+        for item, message in self.evaluator.check_asserts(t, system, x, discrete, discrete if pre is None else pre,
+                                                          terminal=terminal):
             if item.level == "error":
                 raise AssertionViolation(message, hint="the model's own assertion; the result holds "
                                                        "the run up to the last accepted step",
@@ -683,6 +686,8 @@ class _Run:
         self._add_event(t, "terminal", ("terminal()",), outcome)
         x = np.array([outcome.values[s] for s in outcome.system.states], dtype=float)
         self.recorder.add(t, outcome.system, x, outcome.discrete)
+        # an assertion of a when-clause with terminal() (Modelica's check at the end of a run)
+        self._check_asserts(t, outcome.system, x, outcome.discrete, terminal=True, pre=discrete)
 
     #: Zeno detection: this many state events of one relation in a row whose intervals
     #: shrink by a steady ratio ...
