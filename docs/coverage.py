@@ -1,4 +1,4 @@
-"""Write docs/coverage.md: every class of MSL Rotational, Translational and Blocks and how far acausal has it.
+"""Write docs/coverage.md: every class of MSL Rotational, Translational, Blocks and Electrical.Analog and how far acausal has it.
 
 Run ``python docs/coverage.py`` from the repository root after adding a
 component, an example or a test; ``tests/test_coverage_table.py`` fails when
@@ -136,6 +136,48 @@ MSL = {
         "Limiters StrictLimiters LimitersHomotopy KinematicPTP UnitDeduction Logical IntegerTable "
         "BooleanTable RootMeanSquare FirstOrderHold OnDelay Mean ConversionBlocks PadeDelay1 "
         "PadeDelay2 Discrete Hysteresis MuxDemux LimPID Exponentiation ZeroThresholds"),
+    "Modelica.Electrical.Analog.Interfaces": (
+        "Pin PositivePin NegativePin TwoPin OnePort FourPin TwoPort ConditionalHeatPort "
+        "PartialConditionalHeatPort AbsoluteSensor RelativeSensor VoltageSource CurrentSource "
+        "IdealSemiconductor IdealSwitch IdealSwitchWithArc"),
+    "Modelica.Electrical.Analog.Basic": (
+        "Ground Resistor Conductor Capacitor Inductor SaturatingInductor Transformer "
+        "M_Transformer Gyrator RotationalEMF TranslationalEMF VCV VCC CCV CCC OpAmp OpAmpDetailed "
+        "VariableResistor VariableConductor VariableCapacitor VariableInductor Potentiometer "
+        "GeneralCurrentToVoltageAdaptor GeneralVoltageToCurrentAdaptor"),
+    "Modelica.Electrical.Analog.Ideal": (
+        "IdealDiode IdealThyristor IdealGTOThyristor IdealTwoWaySwitch IdealIntermediateSwitch "
+        "ControlledIdealTwoWaySwitch ControlledIdealIntermediateSwitch IdealOpAmp IdealOpAmp3Pin "
+        "IdealOpAmpLimited IdealizedOpAmpLimited IdealTransformer Idle Short IdealOpeningSwitch "
+        "IdealClosingSwitch ControlledIdealOpeningSwitch ControlledIdealClosingSwitch "
+        "OpenerWithArc CloserWithArc ControlledOpenerWithArc ControlledCloserWithArc IdealTriac "
+        "AD_Converter DA_Converter"),
+    "Modelica.Electrical.Analog.Semiconductors": (
+        "Diode Diode2 ZDiode NMOS PMOS NPN PNP Thyristor SimpleTriac"),
+    "Modelica.Electrical.Analog.Sources": (
+        "SignalVoltage ConstantVoltage StepVoltage RampVoltage SineVoltage CosineVoltage "
+        "SineVoltageVariableFrequencyAndAmplitude CosineVoltageVariableFrequencyAndAmplitude "
+        "ExpSineVoltage ExponentialsVoltage PulseVoltage SawToothVoltage TrapezoidVoltage "
+        "LightningImpulseVoltage TableVoltage SupplyVoltage SignalCurrent ConstantCurrent "
+        "StepCurrent RampCurrent SineCurrent CosineCurrent "
+        "SineCurrentVariableFrequencyAndAmplitude CosineCurrentVariableFrequencyAndAmplitude "
+        "ExpSineCurrent ExponentialsCurrent PulseCurrent SawToothCurrent TrapezoidCurrent "
+        "LightningImpulseCurrent TableCurrent LightningImpulse DCPowerSupply"),
+    "Modelica.Electrical.Analog.Sensors": (
+        "PotentialSensor VoltageSensor CurrentSensor PowerSensor MultiSensor"),
+    "Modelica.Electrical.Analog.Examples": (
+        "CauerLowPassAnalog CauerLowPassOPV CauerLowPassSC CharacteristicIdealDiodes "
+        "CharacteristicThyristors ChuaCircuit DifferenceAmplifier HeatingMOSInverter "
+        "HeatingNPN_NORGate HeatingPNP_NORGate Resistor HeatingRectifier NandGate "
+        "OvervoltageProtection Rectifier ShowSaturatingInductor ShowVariableResistor "
+        "SwitchWithArc ThyristorBehaviourTest AmplifierWithOpAmpDetailed CompareTransformers "
+        "ControlledSwitchWithArc SimpleTriacCircuit IdealTriacCircuit AD_DA_conversion "
+        "GenerationOfFMUs ResonanceCircuits InvertingAmp SeriesResonance ParallelResonance "
+        "DemonstrateLightning DemoPowerSupply DemoPowerSupplyWithBuffer"),
+    "Modelica.Electrical.Analog.Examples.OpAmps": (
+        "NonInvertingAmplifier InvertingAmplifier DifferentialAmplifier Adder Subtracter "
+        "Differentiator Integrator LowPass HighPass ControlCircuit VoltageFollower Comparator "
+        "InvertingSchmittTrigger SchmittTrigger Multivibrator SignalGenerator LCOscillator"),
 }
 
 #: Where acausal keeps the classes of each MSL package.
@@ -161,6 +203,12 @@ HOME = {
     "Modelica.Blocks.Tables": "acausal.library.blocks.tables",
     "Modelica.Blocks.Interaction.Show": "acausal.library.blocks.interaction",
     "Modelica.Blocks.Noise": "acausal.library.blocks.noise",
+    "Modelica.Electrical.Analog.Interfaces": "acausal.components.electrical",
+    "Modelica.Electrical.Analog.Basic": "acausal.library.electrical",
+    "Modelica.Electrical.Analog.Ideal": "acausal.library.electrical",
+    "Modelica.Electrical.Analog.Semiconductors": "acausal.library.electrical",
+    "Modelica.Electrical.Analog.Sources": "acausal.library.electrical",
+    "Modelica.Electrical.Analog.Sensors": "acausal.library.electrical",
 }
 
 
@@ -259,7 +307,7 @@ def _short(modelica_class: str) -> str:
     parts = modelica_class.split(".")
     if parts[-2] == "Examples":
         return f"{parts[-3]}.{parts[-1]}"
-    if parts[-3:-1] == ["Examples", "Noise"]:
+    if parts[-3:-1] in (["Examples", "Noise"], ["Examples", "OpAmps"]):
         return f"{parts[-4]}.{parts[-1]}"
     return parts[-1]
 
@@ -273,7 +321,7 @@ def table() -> str:
             in_reference.setdefault(klass, []).append(_short(modelica_class))
     analytic = analytic_uses()
 
-    lines = ["# Coverage of MSL Rotational, Translational and Blocks", "",
+    lines = ["# Coverage of MSL Rotational, Translational, Blocks and Electrical.Analog", "",
              "Generated by `python docs/coverage.py` from the library, the examples and the tests "
              "(`tests/test_coverage_table.py` checks that this file is up to date); the rules are in "
              "the script's docstring.", ""]
@@ -281,7 +329,7 @@ def table() -> str:
     for package, members in MSL.items():
         names = members.split()
         lines += [f"## {package}", ""]
-        if package.endswith((".Examples", ".Examples.Noise")) or package.startswith("ModelicaTest."):
+        if package.endswith((".Examples", ".Examples.Noise", ".Examples.OpAmps")) or package.startswith("ModelicaTest."):
             lines += ["| example | state | acausal example |", "|---|---|---|"]
             done = 0
             for name in names:

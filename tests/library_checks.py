@@ -162,12 +162,12 @@ def check_declarations(component) -> None:
 
 
 def exported_classes() -> dict[str, type]:
-    """Every component class the four library packages export, by ``package.Name``."""
+    """Every component class the library packages export, by ``package.Name``."""
     from acausal.language import Component
-    from acausal.library import blocks, rotational, thermal, translational
+    from acausal.library import blocks, electrical, rotational, thermal, translational
 
     found = {}
-    for package in (rotational, translational, thermal, blocks):
+    for package in (rotational, translational, thermal, blocks, electrical):
         for name in package.__all__:
             value = getattr(package, name)
             if isinstance(value, type) and issubclass(value, Component) and not issubclass(value, Connector):

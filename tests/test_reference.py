@@ -74,6 +74,8 @@ EXAMPLES = [
     ("blocks_networks", "BooleanNetwork1", None),
     ("blocks_mean", "MeanTest", None),
     ("blocks_conversion", "ConversionBlocks", None),
+    ("electrical_resistor", "ResistorExample", None),
+    ("electrical_parallel_resonance", "ParallelResonance", None),
     # ModelicaTest.Tables: the tests whose table is given in the model (those read from
     # files are in tests/blocks/test_tables_1d_files.py and test_tables_2d_files.py)
     ("tables_combi_table_1ds", "Test1", None),

@@ -168,7 +168,7 @@ def test_list_an_msl_package_lists_what_acausal_has_of_it():
     mechanics = _section(_list("Modelica.Mechanics"), "Packages")
     assert mechanics == ["rotational", "translational"]
     everything = _section(_list("Modelica"), "Packages")
-    assert sorted(everything) == ["blocks", "rotational", "thermal", "translational"]
+    assert sorted(everything) == ["blocks", "electrical", "rotational", "thermal", "translational"]
 
 
 # --------------------------------------------------------------------------
@@ -223,7 +223,8 @@ def test_no_suggestion_is_an_attribute_of_the_acausal_package(capsys):
     assert main_list(["thermall"]) == 2
     assert "terminal" not in capsys.readouterr().err
     assert main_show(["rotational.Potentia"]) == 2
-    assert "Potential" not in capsys.readouterr().err
+    # a real class may be suggested (electrical.PotentialSensor), acausal.Potential may not
+    assert re.search(r"(?<![\w.])(acausal\.)?Potential\b", capsys.readouterr().err) is None
     assert main_show(["acausal.terminl"]) == 2
     assert "terminal" not in capsys.readouterr().err
 

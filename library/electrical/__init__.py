@@ -1,0 +1,83 @@
+"""Modelica.Electrical.Analog: analog electrical circuits (basic components, sources, sensors).
+
+The pins and partial models are in :mod:`acausal.components.electrical`
+(Modelica.Electrical.Analog.Interfaces); a resistive element's losses reach a
+thermal network (:mod:`acausal.library.thermal`) through its conditional
+heat port, an electromotive force couples a circuit to a rotational or
+translational flange.
+"""
+
+from acausal.components.electrical import NegativePin, Pin, PositivePin
+
+from .basic import (
+    CCC,
+    CCV,
+    VCC,
+    VCV,
+    Capacitor,
+    Conductor,
+    Ground,
+    Gyrator,
+    Inductor,
+    OpAmp,
+    Potentiometer,
+    Resistor,
+    RotationalEMF,
+    SaturatingInductor,
+    Transformer,
+    TranslationalEMF,
+    VariableCapacitor,
+    VariableConductor,
+    VariableInductor,
+    VariableResistor,
+)
+from .sensors import CurrentSensor, MultiSensor, PotentialSensor, PowerSensor, VoltageSensor
+from .sources import (
+    ConstantCurrent,
+    ConstantVoltage,
+    CosineCurrent,
+    CosineCurrentVariableFrequencyAndAmplitude,
+    CosineVoltage,
+    CosineVoltageVariableFrequencyAndAmplitude,
+    ExponentialsCurrent,
+    ExponentialsVoltage,
+    ExpSineCurrent,
+    ExpSineVoltage,
+    PulseCurrent,
+    PulseVoltage,
+    RampCurrent,
+    RampVoltage,
+    SawToothCurrent,
+    SawToothVoltage,
+    SignalCurrent,
+    SignalVoltage,
+    SineCurrent,
+    SineCurrentVariableFrequencyAndAmplitude,
+    SineVoltage,
+    SineVoltageVariableFrequencyAndAmplitude,
+    StepCurrent,
+    StepVoltage,
+    SupplyVoltage,
+    TableCurrent,
+    TableVoltage,
+    TrapezoidCurrent,
+    TrapezoidVoltage,
+)
+
+__all__ = [
+    "Pin", "PositivePin", "NegativePin",
+    # Basic
+    "Ground", "Resistor", "Conductor", "Capacitor", "Inductor", "SaturatingInductor", "Transformer", "Gyrator",
+    "RotationalEMF", "TranslationalEMF", "VCV", "VCC", "CCV", "CCC", "OpAmp",
+    "VariableResistor", "VariableConductor", "VariableCapacitor", "VariableInductor", "Potentiometer",
+    # Sources
+    "SignalVoltage", "ConstantVoltage", "StepVoltage", "RampVoltage", "SineVoltage", "CosineVoltage",
+    "ExpSineVoltage", "ExponentialsVoltage", "PulseVoltage", "SawToothVoltage", "TrapezoidVoltage",
+    "TableVoltage", "SineVoltageVariableFrequencyAndAmplitude", "CosineVoltageVariableFrequencyAndAmplitude",
+    "SupplyVoltage",
+    "SignalCurrent", "ConstantCurrent", "StepCurrent", "RampCurrent", "SineCurrent", "CosineCurrent",
+    "ExpSineCurrent", "ExponentialsCurrent", "PulseCurrent", "SawToothCurrent", "TrapezoidCurrent",
+    "TableCurrent", "SineCurrentVariableFrequencyAndAmplitude", "CosineCurrentVariableFrequencyAndAmplitude",
+    # Sensors
+    "PotentialSensor", "VoltageSensor", "CurrentSensor", "PowerSensor", "MultiSensor",
+]
