@@ -15,7 +15,7 @@ from acausal.hybrid import Assert, When, noEvent, reinit
 from acausal.language import Component, Eq, If, Parameter, RealInput, RealOutput, Variable, der
 from acausal.components.logic import is_initial
 
-from .types import Init, SimpleController, _init_type, simple_controller
+from .types import Init, SimpleController, _init_type, initial_equations_for, simple_controller
 from .math import Add, Add3, Gain
 from .nonlinear import Limiter, LimiterHomotopy
 from .sources import Constant
@@ -209,15 +209,9 @@ class Derivative(SISO):
                 Eq(self.y, If(zero_gain, 0, (self.k / self.T) * (self.u - self.x)))]
 
     def initial_equations(self) -> list:
-        init = _init_type(self.initType)
-        if init is Init.SteadyState:
-            return [Eq(der(self.x), 0)]
-        if init is Init.InitialState:
-            return [Eq(self.x, self.x_start)]
-        if init is Init.InitialOutput:
-            # with a zero gain y = 0 whatever x is: start the lag on its input instead
-            return [Eq(If(self._zero_gain(), self.x - self.u, self.y - self.y_start), 0)]
-        return []
+        # InitialOutput: with a zero gain y = 0 whatever x is: start the lag on its input instead
+        return initial_equations_for(self.initType, [Eq(der(self.x), 0)], [Eq(self.x, self.x_start)],
+                                     [Eq(If(self._zero_gain(), self.x - self.u, self.y - self.y_start), 0)])
 
 
 class SecondOrder(SISO):
@@ -252,12 +246,8 @@ class SecondOrder(SISO):
                 Eq(der(self.yd), self.w * (self.w * (self.k * self.u - self.y) - 2 * self.D * self.yd))]
 
     def initial_equations(self) -> list:
-        init = _init_type(self.initType)
-        if init is Init.SteadyState:
-            return [Eq(der(self.y), 0), Eq(der(self.yd), 0)]
-        if init in (Init.InitialState, Init.InitialOutput):
-            return [Eq(self.y, self.y_start), Eq(self.yd, self.yd_start)]
-        return []
+        at_start = [Eq(self.y, self.y_start), Eq(self.yd, self.yd_start)]
+        return initial_equations_for(self.initType, [Eq(der(self.y), 0), Eq(der(self.yd), 0)], at_start, at_start)
 
 
 class PI(SISO):
@@ -285,14 +275,8 @@ class PI(SISO):
         return [Eq(der(self.x), self.u / self.T), Eq(self.y, self.k * (self.x + self.u))]
 
     def initial_equations(self) -> list:
-        init = _init_type(self.initType)
-        if init is Init.SteadyState:
-            return [Eq(der(self.x), 0)]
-        if init is Init.InitialState:
-            return [Eq(self.x, self.x_start)]
-        if init is Init.InitialOutput:
-            return [Eq(self.y, self.y_start)]
-        return []
+        return initial_equations_for(self.initType, [Eq(der(self.x), 0)], [Eq(self.x, self.x_start)],
+                                     [Eq(self.y, self.y_start)])
 
 
 def _integrator_init(init: Any) -> Init:

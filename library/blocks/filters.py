@@ -48,6 +48,7 @@ from acausal.errors import ParameterError
 from acausal.language import Component, Eq, Parameter, RealOutput, der
 
 from .continuous import Init, _init_type, _SizedByValues
+from .types import initial_equations_for
 
 __all__ = ["AnalogFilter", "FilterType", "CriticalDamping", "LowpassButterworth", "Filter",
            "base_critical_damping", "base_bessel", "base_butterworth", "base_chebyshev",
@@ -512,14 +513,8 @@ class CriticalDamping(_SizedByValues, DerivedDefaults, SISO):
         return equations
 
     def initial_equations(self) -> list:
-        init = _init_type(self.initType)
-        if init is Init.SteadyState:
-            return [Eq(der(self.x), 0)]
-        if init is Init.InitialState:
-            return [Eq(self.x, self.x_start)]
-        if init is Init.InitialOutput:
-            return [Eq(self.y, self.y_start)] + [Eq(der(self.x[i]), 0) for i in range(1, self.n)]
-        return []
+        return initial_equations_for(self.initType, [Eq(der(self.x), 0)], [Eq(self.x, self.x_start)],
+                                     [Eq(self.y, self.y_start)] + [Eq(der(self.x[i]), 0) for i in range(1, self.n)])
 
 
 class LowpassButterworth(_SizedByValues, SISO):
@@ -795,11 +790,5 @@ class Filter(_SizedByValues, SISO):
         return equations
 
     def initial_equations(self) -> list:
-        init = _init_type(self.init)
-        if init is Init.InitialState:
-            return [Eq(self.x, self.x_start)]
-        if init is Init.SteadyState:
-            return [Eq(der(self.x), 0)]
-        if init is Init.InitialOutput:
-            return [Eq(self.y, self.y_start)] + [Eq(der(self.x[i]), 0) for i in range(1, self.nx)]
-        return []
+        return initial_equations_for(self.init, [Eq(der(self.x), 0)], [Eq(self.x, self.x_start)],
+                                     [Eq(self.y, self.y_start)] + [Eq(der(self.x[i]), 0) for i in range(1, self.nx)])

@@ -35,6 +35,21 @@ def _init_type(value: Any) -> Init:
     return Init(value)
 
 
+def initial_equations_for(init_type: Any, steady_state: list, initial_state: list,
+                          initial_output: list) -> list:
+    """The initial equations a block's ``initType`` selects (``NoInit``: none).
+
+    Parameters
+    ----------
+    init_type : Init or its name
+    steady_state, initial_state, initial_output : list
+        The block's equations for ``SteadyState`` (its states' derivatives zero),
+        ``InitialState`` (its states at their start values) and ``InitialOutput``.
+    """
+    return {Init.SteadyState: steady_state, Init.InitialState: initial_state,
+            Init.InitialOutput: initial_output}.get(_init_type(init_type), [])
+
+
 class SimpleController(enum.IntEnum):
     """Type of a simple controller (Modelica.Blocks.Types.SimpleController): which of P, I, D it has.
 
