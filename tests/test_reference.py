@@ -76,6 +76,15 @@ EXAMPLES = [
     ("blocks_conversion", "ConversionBlocks", None),
     ("electrical_resistor", "ResistorExample", None),
     ("electrical_parallel_resonance", "ParallelResonance", None),
+    ("electrical_opamps", "Adder", None),
+    ("electrical_opamps", "Differentiator", None),
+    ("electrical_opamps", "IntegratorExample", None),
+    ("electrical_opamps", "LowPass", None),
+    ("electrical_opamps", "VoltageFollower", None),
+    ("electrical_opamps", "InvertingAmp", None),
+    ("electrical_opamps", "CauerLowPassAnalog", None),
+    ("electrical_opamps", "CauerLowPassOPV", None),
+    ("electrical_opamps", "ShowSaturatingInductor", None),
     # ModelicaTest.Tables: the tests whose table is given in the model (those read from
     # files are in tests/blocks/test_tables_1d_files.py and test_tables_2d_files.py)
     ("tables_combi_table_1ds", "Test1", None),

@@ -81,3 +81,8 @@ __all__ = [
     # Sensors
     "PotentialSensor", "VoltageSensor", "CurrentSensor", "PowerSensor", "MultiSensor",
 ]
+
+# Ideal (op-amps)
+from .ideal_opamps import IdealizedOpAmpLimited, IdealOpAmp, IdealOpAmp3Pin, IdealOpAmpLimited  # noqa: E402
+
+__all__ += ["IdealOpAmp", "IdealOpAmp3Pin", "IdealOpAmpLimited", "IdealizedOpAmpLimited"]
