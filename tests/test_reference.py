@@ -85,6 +85,9 @@ EXAMPLES = [
     ("electrical_opamps", "CauerLowPassAnalog", None),
     ("electrical_opamps", "CauerLowPassOPV", None),
     ("electrical_opamps", "ShowSaturatingInductor", None),
+    ("electrical_dc_machines", "DCPM_Start", None),
+    ("electrical_dc_machines", "DCEE_Start", None),
+    ("electrical_dc_machines", "DCSE_Start", None),
     # ModelicaTest.Tables: the tests whose table is given in the model (those read from
     # files are in tests/blocks/test_tables_1d_files.py and test_tables_2d_files.py)
     ("tables_combi_table_1ds", "Test1", None),

@@ -82,6 +82,22 @@ __all__ = [
     "PotentialSensor", "VoltageSensor", "CurrentSensor", "PowerSensor", "MultiSensor",
 ]
 
+from .machines import (  # noqa: E402 - Modelica.Electrical.Machines (DC machines)
+    AirGapDC,
+    Brush,
+    CompoundDCExcitation,
+    Core,
+    DC_ElectricalExcited,
+    DC_PermanentMagnet,
+    DC_SeriesExcited,
+    Friction,
+    InductorDC,
+    StrayLoad,
+)
+
+__all__ += ["DC_PermanentMagnet", "DC_ElectricalExcited", "DC_SeriesExcited", "AirGapDC", "InductorDC",
+            "CompoundDCExcitation", "Friction", "Brush", "Core", "StrayLoad"]
+
 # Ideal (op-amps)
 from .ideal_opamps import IdealizedOpAmpLimited, IdealOpAmp, IdealOpAmp3Pin, IdealOpAmpLimited  # noqa: E402
 
