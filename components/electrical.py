@@ -248,3 +248,121 @@ class TemperatureDependence(DerivedDefaults, ConditionalHeatPort):
 
     def equations(self):
         return [Assert(self.temperature_factor() >= EPS, "Temperature outside scope of model!")]
+
+
+# --------------------------------------------------------------------------
+# ideal switching elements (Analog.Interfaces.IdealSemiconductor, IdealSwitch, IdealSwitchWithArc)
+
+from acausal.hybrid import When, edge  # noqa: E402 - the switching partials' own imports
+from acausal.language import Boolean, If, time  # noqa: E402
+from acausal.components.logic import pre_boolean  # noqa: E402
+
+__all__ += ["IdealSemiconductor", "IdealSwitch", "IdealSwitchWithArc"]
+
+#: Modelica.Constants.inf, the start of IdealSwitchWithArc.tSwitch ("switched off long ago").
+INF = 1e60
+
+
+class _UnitConstants(Component):
+    """The MSL's ``constant unitVoltage = 1 V`` and ``unitCurrent = 1 A`` of the parametric characteristics.
+
+    The path parameter ``s`` is dimensionless; multiplied by these, each
+    branch has the unit of its side.  The language has no ``final``: a value
+    other than 1 would rescale the characteristic.
+    """
+
+    modelica_name = None
+
+    unitVoltage = Parameter(1.0, unit="V", description="Unit constant 1 V (do not change)")  # noqa: N815
+    unitCurrent = Parameter(1.0, unit="A", description="Unit constant 1 A (do not change)")  # noqa: N815
+
+
+class IdealSemiconductor(OnePort, ConditionalHeatPort, _UnitConstants):
+    """Ideal semiconductor (Modelica.Electrical.Analog.Interfaces.IdealSemiconductor).
+
+    The characteristic is two straight lines joined at the knee ``(v, i) =
+    (Vknee, Goff*Vknee)``, followed along the path parameter ``s`` (``s = 0``
+    at the knee, ``s < 0`` blocking, ``s > 0`` conducting)::
+
+        v = s*unitCurrent*(if off then 1 else Ron) + Vknee
+        i = s*unitVoltage*(if off then Goff else 1) + Goff*Vknee
+
+    so that neither ``Ron = 0`` nor ``Goff = 0`` makes a branch singular.
+    The subclass decides the Boolean ``off`` (by an event-generating relation
+    on ``s``); ``LossPower = v*i``.  The electrical behaviour does not depend
+    on the temperature of the conditional heat port.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Interfaces.IdealSemiconductor"
+
+    Ron = Parameter(1e-5, unit="Ohm", min=0, description="Forward state-on differential resistance (closed resistance)")
+    Goff = Parameter(1e-5, unit="S", min=0, description="Backward state-off conductance (opened conductance)")
+    Vknee = Parameter(0.0, unit="V", min=0, description="Forward threshold voltage")
+    off = Boolean(start=True, description="Switching state")
+    s = Variable(start=0.0, unit="1",
+                 description="Auxiliary variable for actual position on the ideal diode characteristic (protected)")
+
+    def equations(self):
+        return [Eq(self.v, self.s * self.unitCurrent * If(self.off, 1, self.Ron) + self.Vknee),
+                Eq(self.i, self.s * self.unitVoltage * If(self.off, self.Goff, 1) + self.Goff * self.Vknee),
+                Eq(self.LossPower, self.v * self.i)]
+
+
+class IdealSwitch(OnePort, ConditionalHeatPort, _UnitConstants):
+    """Ideal electrical switch (Modelica.Electrical.Analog.Interfaces.IdealSwitch).
+
+    ``v = s*unitCurrent*(if off then 1 else Ron)``, ``i = s*unitVoltage*(if
+    off then Goff else 1)``: open, a conductance ``Goff``; closed, a
+    resistance ``Ron`` (either may be exactly 0).  The subclass decides
+    ``off``; ``LossPower = v*i``; the heat port's fixed temperature is
+    293.15 K (``final`` in the MSL).
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Interfaces.IdealSwitch"
+
+    Ron = Parameter(1e-5, unit="Ohm", min=0, description="Closed switch resistance")
+    Goff = Parameter(1e-5, unit="S", min=0, description="Opened switch conductance")
+    off = Boolean(description="Indicates off-state (protected)")
+    s = Variable(unit="1", description="Auxiliary variable (protected)")
+
+    def equations(self):
+        return [Eq(self.v, self.s * self.unitCurrent * If(self.off, 1, self.Ron)),
+                Eq(self.i, self.s * self.unitVoltage * If(self.off, self.Goff, 1)),
+                Eq(self.LossPower, self.v * self.i)]
+
+
+class IdealSwitchWithArc(OnePort, ConditionalHeatPort, _UnitConstants):
+    """Ideal switch with simple arc model (Modelica.Electrical.Analog.Interfaces.IdealSwitchWithArc).
+
+    Closed (``not off``): ``v = Ron*i``.  When ``off`` becomes true the
+    switch does not interrupt the current at once: an arc burns with the
+    voltage ``min(Vmax, V0 + dVdt*(time - tSwitch))*sign(i)`` (``tSwitch``
+    the instant ``off`` rose), opposing the current, until the current has
+    fallen to the open conductance's ``|i| <= |v|*Goff`` (``quenched``, an
+    event); from then on ``i = Goff*v``.  Closing is immediate.
+    ``LossPower = v*i``; the heat port's fixed temperature is 293.15 K.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Interfaces.IdealSwitchWithArc"
+
+    Ron = Parameter(1e-5, unit="Ohm", description="Closed switch resistance")
+    Goff = Parameter(1e-5, unit="S", description="Opened switch conductance")
+    V0 = Parameter(30.0, unit="V", description="Initial arc voltage")
+    dVdt = Parameter(10e3, unit="V/s", description="Arc voltage slope")
+    Vmax = Parameter(60.0, unit="V", description="Max. arc voltage")
+    off = Boolean(start=True, description="Indicates off-state (but maybe not quenched)")
+    quenched = Boolean(start=True, fixed=True, description="Indicating quenched arc (if switch is off) (protected)")
+    tSwitch = Variable(discrete=True, start=-INF, fixed=True, unit="s",  # noqa: N815 - Modelica name
+                       description="Last switch off time instant (protected)")
+
+    def equations(self):
+        arc = sp.Min(self.Vmax, self.V0 + self.dVdt * (time - self.tSwitch)) * sp.sign(self.i)
+        return [When(edge(self.off), Eq(self.tSwitch, time)),
+                Eq(self.quenched, sp.And(self.off, sp.Or(sp.Abs(self.i) <= sp.Abs(self.v) * self.Goff,
+                                                         pre_boolean(self.quenched)))),
+                # the MSL's nested if-equation as one residual, each branch in volts (the
+                # quenched one's current residual times 1 V/A: the branches of an if share a unit)
+                Eq(0, If(self.off, If(self.quenched, (self.i - self.Goff * self.v) * self.unitVoltage / self.unitCurrent,
+                                      self.v - arc),
+                         self.v - self.Ron * self.i)),
+                Eq(self.LossPower, self.v * self.i)]

@@ -88,6 +88,9 @@ EXAMPLES = [
     ("electrical_dc_machines", "DCPM_Start", None),
     ("electrical_dc_machines", "DCEE_Start", None),
     ("electrical_dc_machines", "DCSE_Start", None),
+    ("electrical_ideal", "CharacteristicIdealDiodes", None),
+    ("electrical_ideal", "IdealTriacCircuit", None),
+    ("electrical_ideal", "SwitchWithArc", None),
     # ModelicaTest.Tables: the tests whose table is given in the model (those read from
     # files are in tests/blocks/test_tables_1d_files.py and test_tables_2d_files.py)
     ("tables_combi_table_1ds", "Test1", None),

@@ -102,3 +102,9 @@ __all__ += ["DC_PermanentMagnet", "DC_ElectricalExcited", "DC_SeriesExcited", "A
 from .ideal_opamps import IdealizedOpAmpLimited, IdealOpAmp, IdealOpAmp3Pin, IdealOpAmpLimited  # noqa: E402
 
 __all__ += ["IdealOpAmp", "IdealOpAmp3Pin", "IdealOpAmpLimited", "IdealizedOpAmpLimited"]
+
+# Ideal (switching elements, transformer, idle and short)
+from .ideal import *  # noqa: E402,F401,F403
+from .ideal import __all__ as _ideal_all  # noqa: E402
+
+__all__ += _ideal_all

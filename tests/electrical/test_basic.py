@@ -25,9 +25,9 @@ from acausal import Model, simulate
 from acausal.compiler.flatten import flatten
 from acausal.compiler.units import check_units
 from acausal.errors import UnitWarning
-from acausal.language import Component, Connector, Parameter, Variable
+from acausal.language import Boolean, Component, Connector, Integer, Parameter, Variable
 from acausal.library import electrical
-from acausal.library.blocks import Constant
+from acausal.library.blocks import BooleanConstant, Constant
 from acausal.library.electrical import (
     CCC,
     CCV,
@@ -101,7 +101,8 @@ def test_every_electrical_class_passes_the_unit_check(name):
             for key, declaration in self.x.declarations().items():
                 if (isinstance(declaration, Variable) and declaration.causality == "input"
                         and declaration.enabled(self.x)):
-                    setattr(self, f"source_{key}", Constant())
+                    source = BooleanConstant() if isinstance(declaration, Boolean) else Constant()
+                    setattr(self, f"source_{key}", source)
                     self.connect(getattr(self, f"source_{key}").y, getattr(self.x, key))
 
     with warnings.catch_warnings():
@@ -117,6 +118,8 @@ def test_every_variable_and_parameter_has_a_unit():
         for key, declaration in klass.declarations().items():
             if name.startswith("Pulse") and key == "width":
                 continue  # percent of the period
+            if isinstance(declaration, (Boolean, Integer)):
+                continue  # a state or a switch, not a physical quantity
             if isinstance(declaration, (Parameter, Variable)) and key not in dimensionless:
                 if isinstance(declaration, Parameter) and declaration.structural:
                     continue
