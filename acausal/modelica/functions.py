@@ -12,7 +12,9 @@ What a function may hold:
 
 * ``input`` declarations with defaults (a default may use the inputs before
   it), ``output`` and ``protected`` variables, scalars or arrays whose sizes
-  the inputs give (``output Real table[nTable, 2]``);
+  the inputs give (``output Real table[nTable, 2]``); a record input
+  (``brushParameters.V``) is given as a dict of its fields' values, each
+  checked when the algorithm reads it;
 * an ``algorithm`` of assignments ``:=`` to a variable, an element or a slice
   (``table[i, 1] := ...``) or to several outputs (``(a, b) := g(x)``),
   ``for``, ``while``, ``if``/``elseif``/``else``, ``break``, ``return`` and
@@ -291,8 +293,14 @@ class _Call:
             value = self.values[head]
             if value is None:
                 raise ModelicaError(f"{self.full}(): {head} is used before it is assigned")
+            if isinstance(value, dict):  # a record: its field, typed when it is read
+                for part in name.split(".")[1:]:
+                    if not isinstance(value, dict) or part not in value:
+                        raise ModelicaError(f"{self.full}(): {name}: no such field of the record {head}")
+                    value = value[part]
+                return self._scalar(name, value) if not isinstance(value, dict) else value
             if "." in name:
-                raise ModelicaError(f"{self.full}(): {name}: records are not supported in functions")
+                raise ModelicaError(f"{self.full}(): {name}: a field of {head}, which is not a record")
             picks = subscripts[0] if subscripts else []
             if picks:
                 return value[tuple(picks)] if len(picks) > 1 else value[picks[0]]
@@ -378,6 +386,8 @@ class _Call:
         raise ModelicaError(f"{self.full}(): {what} is not an Integer known when the model is read ({value})")
 
     def _typed(self, name: str, value: Any) -> Any:
+        if isinstance(value, dict):  # a record input: its fields are typed when they are read
+            return value
         if isinstance(value, Array):
             data = np.vectorize(lambda v: self._scalar(name, v), otypes=[object])(value.data) \
                 if value.data.size else value.data.copy()

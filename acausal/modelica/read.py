@@ -10,6 +10,19 @@ parser, finds the class asked for, and makes a Python class of it:
   fixed=True))``);
 * a class the text defines itself (a model, block or connector) is made
   from its declarations and equations, so a user's own component works;
+  so is a class of a package on ``MODELICAPATH`` that acausal's library
+  lacks (an example's utilities, ``Examples.OpAmps.OpAmpCircuits.Add``, or
+  a parameter record such as ``Machines.Utilities.ParameterRecords.
+  DcPermanentMagnetData``), read from its source when a name needs it;
+* a record given whole as a modifier (``frictionParameters=
+  dcpmData.frictionParameters``) binds each of its parameters (MLS 7.2.3),
+  and a record given to a Modelica function passes its fields' values;
+* a modifier may read the component it modifies (``vIn(rising=0.2/f,
+  startTime=-(vIn.rising + vIn.width/2))``): the modification is read in
+  the enclosing class, ``vIn.rising`` being the value it gives ``rising``
+  (MLS 7.2);
+* a connector takes no modifier in acausal; one that only restates its
+  variables' own attributes (``out(i(start=0, fixed=false))``) is left out;
 * parameters and variables of the built-in types (``Real``, ``Integer``,
   ``Boolean``, ``SI.Torque`` and the other types of ``Modelica.Units``)
   become declarations with their attributes, ``connect`` statements become
@@ -383,6 +396,9 @@ class Scope:
         for name, node in source.tree.classes.items():
             if name not in _BUILTIN_CLASSES:
                 self._index(node, name)
+        # classes of the packages on MODELICAPATH the library lacks, read from their sources when a
+        # name needs them (an example's utilities: Examples.OpAmps.OpAmpCircuits.Add)
+        self.path_classes: dict[str, Any] = {}
         self.library, self.enumerations = _library_index()
         self.units = _units_types(tuple(str(p) for p in modelica_path()))
         self._prefixes = self._known_prefixes()
@@ -403,7 +419,23 @@ class Scope:
 
     def exists(self, full: str) -> bool:
         return full in self._prefixes or full.startswith(("Modelica.Icons.", "Modelica.Constants.",
-                                                          "Modelica.Math."))
+                                                          "Modelica.Math.")) or self.on_path(full) is not None
+
+    def node(self, full: str) -> Any:
+        """The class ``full`` as the source or a package on MODELICAPATH defines it (pymoca's tree), or None."""
+        return self.file_classes.get(full) or self.path_classes.get(full)
+
+    def on_path(self, full: str) -> Any:
+        """The class ``full`` a package on MODELICAPATH defines (pymoca's tree), or None; its
+        classes are then known to :meth:`node`."""
+        if full in self.path_classes:
+            return self.path_classes[full]
+        if not modelica_path():
+            return None
+        node = _class_on_path(full, _path_key())
+        if node is not None:
+            self.path_classes[full] = node
+        return node
 
     def full_name(self, name: str, enclosing: str) -> str | None:
         """The full name of ``name`` used inside the class ``enclosing`` (§5.3), or None."""
@@ -415,7 +447,7 @@ class Scope:
         # enclosing package the file does not define is read from MODELICAPATH)
         for k in range(len(parts), 0, -1):
             prefix = ".".join(parts[:k])
-            node = self.file_classes.get(prefix)
+            node = self.node(prefix)
             imports = getattr(node, "imports", None) or {}
             if node is None or (not imports and not node.symbols and not node.equations):
                 imports = _package_imports(prefix, tuple(str(p) for p in modelica_path())) or imports
@@ -467,6 +499,11 @@ class Scope:
             return Resolved("icon", full, None)
         if full.startswith("Modelica.Units."):  # no Units.mo on MODELICAPATH: a Real without unit
             return Resolved("type", full, {"base": "Real"})
+        node = self.on_path(full)
+        if node is not None and node.type == "type" and node.extends:
+            return self._type(full, node)
+        if node is not None and node.type in ("model", "block", "class", "record", "connector"):
+            return Resolved("file", full, node)  # made from its source, as a class of the file
         if full.startswith(("Modelica.", "ModelicaTest.")):
             raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: {full} is not in acausal's library yet",
                                 hint="write the component in Python (see docs/tutorial.md, section 1), or "
@@ -621,6 +658,7 @@ class Reader:
         self.source = source
         self.scope = Scope(source)
         self.made: dict[str, type] = {}
+        self._reading_path = False  # making a class of MODELICAPATH: its errors are said once, at the outermost
         self.functions = FunctionScope(find=self._function, where=self.source.where,
                                        constant=lambda name, subscripts, enclosing:
                                        self._global(name, subscripts, f"function {enclosing}"))
@@ -661,20 +699,42 @@ class Reader:
                             hint="name one: load(path, name=...) or FILE.mo:Model")
 
     def _uses(self, user: str, used: str) -> bool:
-        node = self.scope.file_classes[user]
+        node = self.scope.node(user)
         names = [_ref_text(s.type) for s in node.symbols.values()] + [_ref_text(e.component) for e in node.extends]
         return any(self.scope.full_name(n, user) == used for n in names)
 
     # -- classes -----------------------------------------------------------------------
     def make(self, full: str, top: bool = False, types: dict[str, Any] | None = None) -> type:
-        """The acausal class of the Modelica class ``full`` defined in the source (with the
-        simple types ``types`` redeclared: a class of its own per redeclaration)."""
+        """The acausal class of the Modelica class ``full`` defined in the source or read from a
+        package on MODELICAPATH (with the simple types ``types`` redeclared: a class of its own
+        per redeclaration).
+
+        Raises
+        ------
+        ModelicaError
+            For a class of MODELICAPATH that cannot be read: it names that class (the one
+            acausal's library lacks), then what in its source could not be read.
+        """
+        if full in self.scope.file_classes or self._reading_path:
+            return self._make(full, top, types)
+        self._reading_path = True
+        try:
+            return self._make(full, top, types)
+        except ModelicaError as exc:
+            inner = re.sub(rf"^{re.escape(self.source.origin)}(:\d+)*: ", "", exc.message)
+            raise ModelicaError(f"{self.source.where(full.rpartition('.')[2])}: {full} is not in acausal's "
+                                f"library yet, and its source could not be read: {inner}",
+                                hint=exc.hint) from None
+        finally:
+            self._reading_path = False
+
+    def _make(self, full: str, top: bool, types: dict[str, Any] | None) -> type:
         key = f"{full}#top" if top else full
         if types:
             key += "#" + ";".join(f"{name}={_short_text(types[name])}" for name in sorted(types))
         if key in self.made:
             return self.made[key]
-        node = self.scope.file_classes[full]
+        node = self.scope.node(full)
         if node.type == "connector":
             made = self._connector(full, node)
         elif node.type in ("model", "block", "class", "record"):
@@ -759,10 +819,10 @@ class Reader:
             def parameter_binding(self, name: str) -> Any:
                 if name not in self._modifiers:
                     if name in plan.derived:
-                        return reader._value(plan.derived[name], self, f"{full}.{name}")
+                        return reader._value(plan.derived[name], self, f"{full}.{name}", scope=full)
                     element = _ELEMENT_NAME.match(name)
                     if element and element.group(1) in plan.derived:  # A[1,2] of A = expression
-                        whole = reader._value(plan.derived[element.group(1)], self, f"{full}.{name}")
+                        whole = reader._value(plan.derived[element.group(1)], self, f"{full}.{name}", scope=full)
                         index = tuple(int(i) for i in element.group(2).split(","))
                         return _python(whole[index] if len(index) > 1 else whole[index[0]])
                 return super(made, self).parameter_binding(name)
@@ -773,7 +833,7 @@ class Reader:
                 # a structural parameter bound to an expression (parameter Integer m = n): its
                 # value, read where the language asks for a structural parameter's value
                 if name not in self._modifiers and name in plan.derived:
-                    return _python(reader._value(plan.derived[name], self, f"{full}.{name}"))
+                    return _python(reader._value(plan.derived[name], self, f"{full}.{name}", scope=full))
                 return super(made, self)._modifier_value(name, default)
 
             namespace["_modifier_value"] = _modifier_value
@@ -804,6 +864,14 @@ class Reader:
         own and take any expression.
         """
         names: set[str] = set()
+        only_functions = [False]  # in a binding: the built-in operators (atan(inclination)) take any expression
+
+        def is_function(callee: str) -> bool:
+            try:
+                self._function(callee, plan.full)
+            except ModelicaError:
+                return False
+            return True
 
         def visit(item) -> None:
             kind = type(item).__name__
@@ -811,7 +879,8 @@ class Reader:
                 operator = item.operator
                 if not isinstance(operator, str):
                     callee = _ref_text(operator)
-                    if callee.rpartition(".")[0] not in ("Modelica.Math", "Math"):
+                    if callee.rpartition(".")[0] not in ("Modelica.Math", "Math") \
+                            and (not only_functions[0] or is_function(callee)):
                         for operand in item.operands:
                             collect(operand)
                 for operand in item.operands:
@@ -831,6 +900,12 @@ class Reader:
                 for value in item.values:
                     collect(value)
 
+        # a binding is evaluated like an equation (ViNominal = VaNominal - convertResistance(Ra, ...))
+        only_functions[0] = True
+        for name, binding in plan.derived.items():
+            if not name.startswith("="):
+                visit(binding)
+        only_functions[0] = False
         for equation in [*(node.equations or []), *(getattr(node, "initial_equations", None) or [])]:
             if type(equation).__name__ == "Equation":
                 visit(equation.right)
@@ -907,7 +982,7 @@ class Reader:
                 if default is _NOT_LITERAL:
                     default = None
                     try:  # a constant expression ([1, 0; 0, 1], 2*pi): its value now
-                        default = _python(self._value(value, None, name))
+                        default = _python(self._value(value, None, name, scope=plan.full))
                     except Exception:  # noqa: BLE001 - it reads other parameters: per instance
                         plan.derived[name] = value
             if attributes.get("fixed") is False and default is None:
@@ -1010,7 +1085,10 @@ class Reader:
             if any(f"undefined name '{other}." in exc.message or f"undefined name '{other}'" in exc.message
                    for other in later):
                 return False
-            raise
+            if f"undefined name '{name}." not in exc.message:
+                raise
+            modifiers = self._self_modifiers(name, klass, _modifications(symbol.class_modification), instance,
+                                             plan.full)
         # the modifiers from outside (an extends modification, a modifier of this model) win, and
         # they act before the component is made, as in Modelica (its sizes may follow them)
         outer = instance._nested_modifiers.get(name)
@@ -1165,15 +1243,17 @@ class Reader:
             yield {**loop, **dict(zip(names, (int(v) for v in values)))}
 
     # -- values ------------------------------------------------------------------------
-    def _value(self, node, instance, where: str, loop: dict | None = None) -> Any:
-        """A Modelica expression of ``instance``'s names as a Python or sympy value."""
-        resolve = functools.partial(self._resolve, instance, loop or {}, where)
+    def _value(self, node, instance, where: str, loop: dict | None = None, scope: str | None = None) -> Any:
+        """A Modelica expression of ``instance``'s names as a Python or sympy value (``scope``: the
+        class it is written in, when not ``instance``'s own: a base class's binding reads the
+        base's imports)."""
+        resolve = functools.partial(self._resolve, instance, loop or {}, where, scope=scope)
         literal = _literal(node)
         if literal is not _NOT_LITERAL and not isinstance(literal, list):
             return literal  # a number, string or Boolean as it is written
         if type(node).__name__ == "ComponentRef":  # a name alone: no expression to convert
             return resolve(_ref_text(node), _subscripts(node, self, instance, loop or {}, where))
-        enclosing = self._enclosing(instance)
+        enclosing = scope or self._enclosing(instance)
         try:
             value = _expressions().to_sympy(node, resolve, functools.partial(self._call, enclosing))
         except ModelicaError as exc:
@@ -1182,7 +1262,7 @@ class Reader:
             raise ModelicaError(f"{self.source.where(where)}: {exc.message}", hint=exc.hint) from None
         return value
 
-    def _resolve(self, instance, loop: dict, where: str, name: str, indices: list) -> Any:
+    def _resolve(self, instance, loop: dict, where: str, name: str, indices: list, scope: str | None = None) -> Any:
         if name in loop and not indices:
             return loop[name]
         head, _, rest = name.partition(".")
@@ -1195,14 +1275,18 @@ class Reader:
         if target is not _MISSING:
             parts = rest.split(".") if rest else []
             return _walk(target, [head, *parts], indices)
-        return self._global(name, indices, where)
+        return self._global(name, indices, where,
+                            scope or (self._enclosing(instance) if instance is not None else None))
 
-    def _global(self, name: str, indices: list, where: str) -> Any:
-        for enclosing in self._enclosings():
+    def _global(self, name: str, indices: list, where: str, scope: str | None = None) -> Any:
+        # looked up from the class the expression is written in (its imports: pi of
+        # ``import Modelica.Constants.pi``), then from the classes of the file
+        enclosings = ([scope] if scope else []) + self._enclosings()
+        for enclosing in enclosings:
             full = self.scope.full_name(name.rpartition(".")[0], enclosing) if "." in name else None
             if full and full in self.scope.enumerations:
                 return self.scope.enumerations[full][name.rpartition(".")[2]]
-        resolved_full = self.scope.full_name(name, next(iter(self._enclosings()), ""))
+        resolved_full = self.scope.full_name(name, next(iter(enclosings), ""))
         if resolved_full and resolved_full.startswith("Modelica.Constants."):
             return _CONSTANTS[resolved_full.rpartition(".")[2]]
         if name.startswith("StateSelect."):
@@ -1220,6 +1304,9 @@ class Reader:
     def _call(self, enclosing: str, name: str, positional: list, named: dict) -> Any:
         """A call, inside the class ``enclosing``, of a Modelica function: its first output."""
         node, full = self._function(name, enclosing)
+        # a record given to a function (brushVoltageDrop(brushParameters, i)): its fields' values
+        positional = [_record_values(v) if isinstance(v, Component) else v for v in positional]
+        named = {k: _record_values(v) if isinstance(v, Component) else v for k, v in named.items()}
         outputs = call_function(node, full, positional, named, self.functions)
         if not outputs:
             raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: {full}() has no output, and is "
@@ -1237,7 +1324,7 @@ class Reader:
         parts = enclosing.split(".") if enclosing else []
         candidates += [".".join([*parts[:k], name]) for k in range(len(parts), -1, -1)]
         for full in candidates:
-            node = self.scope.file_classes.get(full) or _class_on_path(full, _path_key())
+            node = self.scope.node(full) or _class_on_path(full, _path_key())
             if node is not None:
                 if getattr(node, "type", None) != "function":
                     raise ModelicaError(f"{self.source.where(name.split('.')[-1])}: {full} is a {node.type}, "
@@ -1273,7 +1360,32 @@ class Reader:
     def _enclosings(self) -> list[str]:
         return sorted(self.scope.file_classes, key=len, reverse=True)
 
-    def _modifier_dict(self, modifications: list, instance, full: str) -> dict:
+    def _self_modifiers(self, name: str, klass: type, modifications: list, instance, full: str) -> dict:
+        """The modifiers of the component ``name`` when some read its own parameters
+        (``vIn(rising=0.2/f, startTime=-(vIn.rising + vIn.width/2))``).
+
+        The modification is read in the enclosing class (MLS 7.2), where ``vIn.rising`` is the
+        value the modification gives ``rising`` (or the class's default): the modifiers are read
+        in the order their dependencies allow.
+        """
+        known: dict[str, Any] = {}
+        own = _OwnValues(name, klass, known)
+        pending = list(modifications)
+        while pending:
+            waiting = []
+            for entry in pending:
+                try:
+                    known.update(self._modifier_dict([entry], instance, full, {name: own}))
+                except ModelicaError as exc:
+                    if f"undefined name '{name}." not in exc.message:
+                        raise
+                    waiting.append(entry)
+            if len(waiting) == len(pending):
+                self._modifier_dict(waiting[:1], instance, full, {name: own})  # raises what is missing
+            pending = waiting
+        return known
+
+    def _modifier_dict(self, modifications: list, instance, full: str, loop: dict | None = None) -> dict:
         """A Modelica modification as acausal modifiers: values, and dicts for variable
         attributes and sub-components (``phi(start=0, fixed=true)`` is ``phi=dict(start=0, fixed=True)``)."""
         out: dict[str, Any] = {}
@@ -1284,12 +1396,14 @@ class Reader:
                 target = target.setdefault(part, {})
             for item in items:
                 if _is_modification(item):
-                    nested = self._modifier_dict(_modifications(item), instance, full)
+                    nested = self._modifier_dict(_modifications(item), instance, full, loop)
                     nested = {_ATTRIBUTES.get(k, k): v for k, v in nested.items()}
                     existing = target.get(last)
                     target[last] = _merge(existing if isinstance(existing, dict) else {}, nested)
                 else:
-                    value = _python(self._value(item, instance, element))
+                    value = _python(self._value(item, instance, element, loop))
+                    if isinstance(value, Component):  # a record given whole: its parameters, bound
+                        value = _record_modifiers(value)
                     # p(displayUnit="rpm") = 2: the value; the attributes of a parameter given
                     # here only say how to show it
                     target[last] = value
@@ -1303,6 +1417,51 @@ _ELEMENT_NAME = re.compile(r"^(\w+)\[(\d+(?:,\d+)*)\]$")
 
 _MISSING = object()
 _NOT_LITERAL = object()
+
+
+def _record_modifiers(record: Component) -> dict:
+    """A record instance given as a modifier (``frictionParameters=data.frictionParameters``) as
+    the modifiers of each of its parameters, bound to the record's (MLS 7.2.3: a record
+    modification binds every component), its own records included."""
+    record.ensure_built()
+    out: dict[str, Any] = {name: getattr(record, name) for name, declaration in type(record).declarations().items()
+                           if isinstance(declaration, Parameter)}
+    for name, child in record._children.items():
+        out[name] = _record_modifiers(child)
+    return out
+
+
+def _record_values(record: Component) -> dict:
+    """A record instance as a function takes it: its parameters' values (a parameter acausal
+    keeps symbolic stays a symbol, refused by the function only if it reads it), its records
+    as dicts."""
+    record.ensure_built()
+    out: dict[str, Any] = {}
+    for name, declaration in type(record).declarations().items():
+        if isinstance(declaration, Parameter):
+            out[name] = _evaluated(getattr(record, name), record)
+    for name, child in record._children.items():
+        out[name] = _record_values(child)
+    return out
+
+
+class _OwnValues:
+    """A component's parameters as its own modification reads them: the values given so far,
+    else the class's defaults (numbers); another name is undefined, to be read later."""
+
+    def __init__(self, name: str, klass: type, known: dict) -> None:
+        self._name, self._klass, self._known = name, klass, known
+
+    def __getattr__(self, attribute: str) -> Any:
+        if attribute.startswith("_"):
+            raise AttributeError(attribute)
+        if attribute in self._known and not isinstance(self._known[attribute], dict):
+            return self._known[attribute]
+        declaration = self._klass.declarations().get(attribute)
+        if attribute not in self._known and isinstance(declaration, Parameter) \
+                and isinstance(declaration.default, (int, float)) and not isinstance(declaration.default, bool):
+            return declaration.default
+        raise ModelicaError(f"undefined name '{self._name}.{attribute}' (not given yet)")
 
 
 def _short_text(definition) -> str:
@@ -1409,6 +1568,8 @@ def _walk(target: Any, parts: list[str], indices: list) -> Any:
     value = target
     for k, part in enumerate(parts):
         if k:
+            if isinstance(value, Component):  # a record's member is made when it is built
+                value.ensure_built()
             value = getattr(value, part)
         subscripts = indices[k] if k < len(indices) else None
         if subscripts:
@@ -1448,6 +1609,11 @@ def _fitted(klass: type, modifiers: dict, instance) -> dict:
                 and any(isinstance(v, list) for v in value.values()):
             out[key] = _per_element_attributes(value, key)
             continue
+        if isinstance(declaration, Connector) and isinstance(value, dict) and _restates(declaration, value):
+            # out(i(start=0, fixed=false)): a connector takes no modifier in acausal, but one that
+            # restates its variables' own attributes changes nothing and is left out
+            del out[key]
+            continue
         if not isinstance(declaration, Parameter):
             continue
         if declaration.structural and instance is not None:
@@ -1458,6 +1624,21 @@ def _fitted(klass: type, modifiers: dict, instance) -> dict:
             value = [value]
         out[key] = value
     return out
+
+
+def _restates(connector: Connector, modifier: dict) -> bool:
+    """Whether ``modifier`` (``{"i": {"start": 0, "fixed": False}}``) gives the variables of
+    ``connector`` only the attributes they already have."""
+    variables = type(connector).variables()
+    for name, attributes in modifier.items():
+        variable = variables.get(name)
+        if variable is None or not isinstance(attributes, dict):
+            return False
+        for attribute, value in attributes.items():
+            own = getattr(variable, attribute, _MISSING)
+            if own is _MISSING or isinstance(value, (dict, list)) or not bool(value == own):
+                return False
+    return True
 
 
 def _per_element_attributes(attributes: dict, name: str) -> list[dict]:

@@ -303,7 +303,9 @@ class _Writer:
             return []
         for base in reversed(type(component).__mro__):
             own = own_method(base, method)
-            if own is None or base is Component or not self._is_own(base):
+            # an own class is written out whole, its declarations inherited from a library base
+            # included: so are that base's equations (FourPin's v1 = p1.v - n1.v)
+            if own is None or base is Component:
                 continue
             items = own(component) or []
             for item in _flat(items):

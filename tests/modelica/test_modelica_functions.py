@@ -219,3 +219,30 @@ def test_calling_a_model_is_refused():
     text = "model M model N end N; parameter Real p = N(); end M;"
     with pytest.raises(ModelicaError, match="not a function"):
         flatten(load(text, "M")())
+
+
+RECORD_INPUT = """
+package P
+  record Brush
+    parameter Real V = 0.5;
+    parameter Real ILinear = 0.01;
+  end Brush;
+  function drop
+    input Brush brush;
+    input Real i;
+    output Real v;
+  algorithm
+    v := if i > brush.ILinear then brush.V else brush.V*i/brush.ILinear;
+  end drop;
+  model M
+    parameter Brush brush(V=2);
+    parameter Real i = 10;
+    parameter Real p = drop(brush, i);
+  end M;
+end P;
+"""
+
+
+def test_a_record_input_gives_its_fields():
+    """A record given to a function: brush.V is the value the record holds (2, from its modifier)."""
+    assert float(_parameter(RECORD_INPUT, model="P.M")) == pytest.approx(2.0)

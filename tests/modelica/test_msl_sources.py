@@ -17,6 +17,7 @@ tests skip, saying so, when ``MODELICAPATH`` holds no ``Modelica/package.mo``
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -51,6 +52,40 @@ SAME_UP_TO_FORM = {
         "PadeDelayOld's coefficients are the protected variables a[n+1], b[m+1] in the source "
         "((b, a) = padeCoefficients(...), evaluated when read); the Python example writes their values "
         "into u = a*[x1dot; x] and y = b*[x1dot; x]",
+    "Modelica.Electrical.Analog.Examples.HeatingMOSInverter":
+        "the source starts HeatCapacitor1 with the initial equation HeatCapacitor1.T = 293.15, the Python "
+        "example with T(start=293.15, fixed=true)",
+    "Modelica.Electrical.Analog.Examples.HeatingRectifier":
+        "the source starts HeatCapacitor1 with the initial equation HeatCapacitor1.T = 293.15, the Python "
+        "example with T(start=293.15, fixed=true)",
+    "Modelica.Electrical.Machines.Examples.DCMachines.DCPM_Start":
+        "connect statements written in another order: a connection set's equal potentials pair other members",
+    "Modelica.Electrical.Machines.Examples.DCMachines.DCEE_Start":
+        "connect statements written in another order: a connection set's equal potentials pair other members",
+    "Modelica.Electrical.Machines.Examples.DCMachines.DCSE_Start":
+        "connect statements written in another order (a connection set's equal potentials pair other "
+        "members); and the source gives the machine the data record's coreParameters, whose VRef is "
+        "DcSeriesExcitedData.ViNominal = 95 V (armature resistance and brushes only), where the Python "
+        "example keeps the machine's own binding VRef = ViNominal = 94 V (the field resistance too): "
+        "no effect, the core losses are off (PRef = 0)",
+    "Modelica.Electrical.Analog.Examples.CauerLowPassOPV":
+        "the top-level connectors' currents enter the connection sets with the opposite sign (the source's "
+        "connector nK is the model's own, the Python example's nK.pin a component's), and connect "
+        "statements written in another order",
+}
+
+#: Sources whose variables the Python example names otherwise: how its names read as the source's.
+NAMED_OTHERWISE = {
+    # the Python example makes each top-level connector of the source (Pin n1) a component _Node
+    # with the connector pin: its n1.pin.v is the source's n1.v
+    "Modelica.Electrical.Analog.Examples.CauerLowPassOPV": (r"^(\w+)\.pin\.", r"\1."),
+}
+
+#: Sources whose experiment annotation is not the one their reference result was made with: the
+#: Python example's experiment (the reference's) is simulated instead, and why.
+EXPERIMENT_OF_THE_REFERENCE = {
+    "Modelica.Electrical.Analog.Examples.DifferenceAmplifier":
+        "the reference result was made with MSL 4.0.0's StopTime = 1 s; MSL 4.1.0's annotation says 1e-8 s",
 }
 
 
@@ -86,8 +121,9 @@ def test_the_source_gives_the_python_example_s_flat_model(name, spec):
         pytest.skip(NOT_YET[name])
     written = flatten(load_model_class(spec)())
     read = flatten(load(_source(name), name)())
-    assert {v.name for v in written.variables} - {v.name for v in read.variables} <= \
-        {v.name for v in written.variables if "$" in v.name}
+    pattern, replacement = NAMED_OTHERWISE.get(name, ("(?!)", ""))
+    written_names = {re.sub(pattern, replacement, v.name) for v in written.variables}
+    assert written_names - {v.name for v in read.variables} <= {n for n in written_names if "$" in n}
     if name in SAME_UP_TO_FORM:
         return
     assert sorted(str(e.residual) for e in written.equations) == sorted(str(e.residual) for e in read.equations)
@@ -122,6 +158,11 @@ def test_the_source_lies_in_the_reference_tube(name, spec):
     python_example = load_model_class(spec)
     # a stiff example names its method in Python (BDF); the source leaves it to the tool
     method = python_example.experiment.method
-    result = simulate(model(), method=method) if method else simulate(model())
+    options = {"method": method} if method else {}
+    if name in EXPERIMENT_OF_THE_REFERENCE:
+        experiment = python_example.experiment
+        options.update(start_time=experiment.start_time, stop_time=experiment.stop_time,
+                       interval=experiment.interval)
+    result = simulate(model(), **options)
     assert result.success, result.message
     assert_in_the_tube(model, result)

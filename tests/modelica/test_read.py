@@ -388,3 +388,52 @@ def test_redeclare_of_a_component_is_refused_clearly():
     """
     with pytest.raises(ModelicaError, match="redeclare of a component or a class is not supported"):
         flatten(load(text)())
+
+
+SELF_READING = """
+model SelfReading "a modifier that reads the component it modifies, and a connector restated"
+  parameter Real f = 10;
+  Modelica.Electrical.Analog.Sources.TrapezoidVoltage vIn(V=1, rising=0.2/f, width=0.3/f, falling=0.2/f,
+    period=1/f, startTime=-(vIn.rising + vIn.width/2));
+  Modelica.Electrical.Analog.Basic.Resistor r(R=1, p(i(start=0, fixed=false)));
+  Modelica.Electrical.Analog.Basic.Ground ground;
+equation
+  connect(vIn.p, r.p);
+  connect(vIn.n, r.n);
+  connect(r.n, ground.p);
+end SelfReading;
+"""
+
+
+def test_a_modifier_reads_the_component_it_modifies_in_the_enclosing_class():
+    """MLS 7.2: vIn.rising in vIn's own modification is the value that modification gives rising;
+    a connector modifier that restates its variables' attributes changes nothing."""
+    flat = flatten(load(SELF_READING)())
+    values = {p.name: p.value for p in flat.parameters}
+    assert values["vIn.startTime"] == pytest.approx(-(0.02 + 0.03 / 2), rel=1e-15)
+
+
+def test_a_connector_modifier_that_changes_an_attribute_is_refused():
+    with pytest.raises(ModelicaError, match="connector"):
+        flatten(load(SELF_READING.replace("r(R=1, p(i(start=0, fixed=false)))", "r(R=1, p(i(start=1)))"))())
+
+
+RECORDS = """
+model Records "a record given whole as a modifier binds each of its parameters"
+  record Data
+    parameter Real R = 2;
+  end Data;
+  model Load
+    parameter Real R = 1;
+    Modelica.Electrical.Analog.Basic.Resistor r(R=R);
+  end Load;
+  parameter Data data(R=3);
+  Load load(R=data.R);
+end Records;
+"""
+
+
+def test_a_record_component_s_parameters_are_read_by_modifiers():
+    flat = flatten(load(RECORDS)())
+    values = {p.name: p.value for p in flat.parameters}
+    assert values["load.R"] == pytest.approx(3.0) and values["data.R"] == pytest.approx(3.0)
