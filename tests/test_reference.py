@@ -91,6 +91,10 @@ EXAMPLES = [
     ("electrical_ideal", "CharacteristicIdealDiodes", None),
     ("electrical_ideal", "IdealTriacCircuit", None),
     ("electrical_ideal", "SwitchWithArc", None),
+    ("electrical_semiconductors", "NandGate", None),
+    ("electrical_semiconductors", "HeatingMOSInverter", None),
+    ("electrical_semiconductors", "HeatingRectifier", None),
+    ("electrical_semiconductors", "DifferenceAmplifier", None),
     # ModelicaTest.Tables: the tests whose table is given in the model (those read from
     # files are in tests/blocks/test_tables_1d_files.py and test_tables_2d_files.py)
     ("tables_combi_table_1ds", "Test1", None),
@@ -188,6 +192,14 @@ def test_example_matches_reference(runs, module, name, state_events):
         assert len(changing) == state_events, [str(e) for e in changing]
 
 
+#: Examples where Dymola makes events that acausal, as the specification allows, does not:
+#: relations under smooth(0, ...) (MLS 3.7.4.3: a tool may skip their events; acausal does).
+EVENTS_OF_SMOOTH = {
+    ("electrical_semiconductors", "NandGate"): "the MOS drain currents are smooth(0, if ...)",
+    ("electrical_semiconductors", "HeatingMOSInverter"): "the MOS drain currents are smooth(0, if ...)",
+}
+
+
 @pytest.mark.parametrize("module, name, state_events", list(_cases()))
 def test_every_reference_event_happens(runs, module, name, state_events):
     """Each event of the reference (a time written twice) is an event of acausal's run at that time.
@@ -196,6 +208,8 @@ def test_every_reference_event_happens(runs, module, name, state_events):
     (Dymola writes them twice too).  acausal may have more events (Dymola
     keeps no rows for some, e.g. a Ramp's corners), never fewer.
     """
+    if (module, name) in EVENTS_OF_SMOOTH:
+        pytest.skip(f"Dymola's events of smooth(0, ...) are not made: {EVENTS_OF_SMOOTH[module, name]}")
     reference, result = _run(runs, module, name)
     assert result.success, result.message
     t = np.asarray(reference.time)

@@ -213,12 +213,16 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
 
 
 def tear(incidence: Sequence[set[int]], n_unknowns: int,
-         solvable: Callable[[int, int], bool]) -> tuple[list[tuple[int, int]], list[int], list[int]] | None:
+         solvable: Callable[[int, int], bool],
+         safe: Callable[[int, int], bool] | None = None) -> tuple[list[tuple[int, int]], list[int], list[int]] | None:
     """Greedy tearing of one block, on index lists.
 
     Equations with a single unknown left that they can be solved for are
     solved, in turn; when none is left, the unknown occurring in most of the
     remaining equations is *torn* (guessed; ties: the first in block order).
+    With ``safe``, solutions it accepts come first: another one is taken
+    only when no safe one is left, one at a time (so that a chain of safe
+    solutions is not cut by a division the chain would have made needless).
 
     Parameters
     ----------
@@ -228,6 +232,9 @@ def tear(incidence: Sequence[set[int]], n_unknowns: int,
     solvable : callable
         ``solvable(i, j)``: whether equation ``i`` can be solved for unknown
         ``j`` (the symbolic work is the caller's).
+    safe : callable, optional
+        ``safe(i, j)``: whether that solution is preferred (:func:`_tear`:
+        it divides by no expression of other unknowns, which may vanish).
 
     Returns
     -------
@@ -247,17 +254,22 @@ def tear(incidence: Sequence[set[int]], n_unknowns: int,
     tears: list[int] = []
     while remaining and unknown:
         progress = False
-        for i in list(remaining):
-            free = incidence[i] & unknown
-            if len(free) != 1:
-                continue
-            (j,) = free
-            if not solvable(i, j):
-                continue
-            solved.append((i, j))
-            unknown.discard(j)
-            remaining.remove(i)
-            progress = True
+        for only_safe in ((True, False) if safe is not None else (None,)):
+            for i in list(remaining):
+                free = incidence[i] & unknown
+                if len(free) != 1:
+                    continue
+                (j,) = free
+                if not solvable(i, j) or (only_safe and not safe(i, j)):
+                    continue
+                solved.append((i, j))
+                unknown.discard(j)
+                remaining.remove(i)
+                progress = True
+                if only_safe is False:
+                    break  # one unsafe solution, then the safe ones it enables
+            if progress:
+                break
         if progress:
             continue
         counts = {j: sum(j in incidence[i] for i in remaining) for j in unknown}
@@ -285,7 +297,16 @@ def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
             solutions[(i, j)] = (expr, guard)
         return expr is not None
 
-    plan = tear(incidence, len(names), solvable)
+    def safe(i: int, j: int) -> bool:
+        # the coefficient divided by is a number or an expression of parameters: an
+        # expression of other unknowns may vanish while the model runs (0*y = 0)
+        residual, var = eqs[i].residual, symbols[names[j]]
+        coeff = _linear_coefficient(residual, var)
+        if coeff is None:
+            coeff = sp.diff(residual, var)
+        return coeff.free_symbols <= values.keys()
+
+    plan = tear(incidence, len(names), solvable, safe)
     if plan is None:
         # tearing failed to balance: solve the whole block simultaneously
         tears, inner, residual_eqs, guards = list(names), [], list(range(len(eqs))), ()

@@ -108,3 +108,8 @@ from .ideal import *  # noqa: E402,F401,F403
 from .ideal import __all__ as _ideal_all  # noqa: E402
 
 __all__ += _ideal_all
+
+# Semiconductors
+from .semiconductors import NMOS, NPN, PMOS, PNP, Diode, Diode2, SimpleTriac, Thyristor, ZDiode  # noqa: E402
+
+__all__ += ["Diode", "Diode2", "ZDiode", "NMOS", "PMOS", "NPN", "PNP", "Thyristor", "SimpleTriac"]
