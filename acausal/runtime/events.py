@@ -64,8 +64,12 @@ _MANY_FROM = 40
 
 def mode_values(system: ModeSystem, t: float, x) -> dict[str, float]:
     """All continuous variables at ``(t, x)``: unknowns, states and aliases."""
-    values = system.values(t, x)
-    for name, coeff, source in system.alias_plan:
+    return with_aliases(system.values(t, x), system)
+
+
+def with_aliases(values: dict[str, float], system) -> dict[str, float]:
+    """``values`` (changed in place and returned) with the aliases of ``system`` added."""
+    for name, coeff, source in getattr(system, "alias_plan", ()) or ():
         if source is None:
             values[name] = coeff
         elif source in values:  # with an output demand, some are not computed

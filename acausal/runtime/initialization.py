@@ -38,7 +38,7 @@ from typing import Mapping, Sequence
 from ..errors import InitializationError, StartValueWarning
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
-from .events import DiscreteEvaluator, EventOutcome, mode_values
+from .events import DiscreteEvaluator, EventOutcome, mode_values, with_aliases
 from ..compiler.delays import active_history
 
 __all__ = ["InitialState", "initialize", "start_guess", "start_system", "start_value_message"]
@@ -121,7 +121,7 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         delays = active_history() if flat.delays else None
         if delays is not None and not delays.started:
             # the delayed values at the start time: their expressions' values now
-            delays.set_start(start_time, with_aliases(values, system))
+            delays.set_start(start_time, with_aliases(dict(values), system))
         x = evaluator._states(system, values, discrete)
         # |g| within the relation margin counts as g = 0, as at events: a load one
         # ulp above a static limit does not start a slip at t = 0 either
@@ -170,22 +170,13 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     return InitialState(start_time, values, discrete, relations, outcome, tuple(notes), ticks)
 
 
-def with_aliases(values: Mapping[str, float], system) -> dict:
-    """``values`` with the aliases of ``system`` (its alias plan) added."""
-    out = dict(values)
-    for name, coeff, source in getattr(system, "alias_plan", ()) or ():
-        if source is None:
-            out[name] = coeff
-        elif source in out:
-            out[name] = coeff * out[source]
-    return out
-
-
 def _held_from_start(translation: Translation, problem, held: set[str]) -> list[tuple[str, float]]:
     """The discrete Reals whose value the initialization problem takes from their start
     values, with those values: a fixed start (for a discrete variable Modelica's
     ``pre(r) = start``, which makes ``r`` the start unless a when-clause with ``initial()``
     assigns it) not implied by the rest, or a start taken because nothing determines it."""
+    if not held:
+        return []
     parameters = translation.cache.parameters
     start_of = dict(zip(parameters.names, parameters.vector))
     relaxed = {name for name, _ in problem.relaxed}
