@@ -91,6 +91,7 @@ EXAMPLES = [
     ("electrical_ideal", "CharacteristicIdealDiodes", None),
     ("electrical_ideal", "IdealTriacCircuit", None),
     ("electrical_ideal", "SwitchWithArc", None),
+    ("electrical_ideal", "Rectifier", None),
     ("electrical_semiconductors", "NandGate", None),
     ("electrical_semiconductors", "HeatingMOSInverter", None),
     ("electrical_semiconductors", "HeatingRectifier", None),

@@ -1055,12 +1055,35 @@ class DiscreteEvaluator:
         clear = self._clear if self._clear_for is not None and relations == self._clear_for else None
         raw = system.crossings(t, x) if self.relations else None
         new_relations = self.relation_values(system, t, x, relations, fired=fired, clear=clear, raw=raw)
+        if fired and self.relations:
+            new_relations = self._keep_crossed(raw, fired, relations, relations_before, new_relations)
         if self.relations:
             self._clear, self._clear_for = self.clearly_decided(raw, clear), new_relations
         if self._continuous_args:
             self._extra.update(self._continuous_env(system, t, x, values if left is None else left))
         self._relations_now = new_relations
         return self.evaluate_discrete(discrete, pre, new_relations, initial), new_relations
+
+    def _keep_crossed(self, raw, fired, guess, before, decided) -> tuple[bool, ...]:
+        """``decided`` with each crossed relation that the guess already holds at its
+        new value kept there while this pass puts ``lhs - rhs`` within its margin.
+
+        A relation whose crossing caused the event is decided exactly (see
+        :meth:`relation_values`), but in the discrete state the crossing selects,
+        its arguments may land on zero up to round-off (an ideal diode turning on
+        in series with an inductor has ``s`` = current = 0 +- 1e-10 A against
+        hundreds of amperes). Deciding that round-off exactly would undo the
+        crossing and make event iteration alternate between the two states; the
+        crossing itself already said which side the relation goes to, and a
+        relation that does leave at once is caught by the crossing watch.
+        """
+        out = list(decided)
+        for k in fired:
+            if guess[k] != before[k] and decided[k] != guess[k]:
+                lhs, rhs = raw[2 * k], raw[2 * k + 1]
+                if abs(lhs - rhs) <= self._margins[k] * max(self._floors[k], abs(lhs), abs(rhs)):
+                    out[k] = guess[k]
+        return tuple(out)
 
     def _search(self, t, values, pre, relations, relations_before, initial, fired, cycle, current):
         """The first consistent assignment with fewest flips from the pre values.
