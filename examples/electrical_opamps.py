@@ -280,9 +280,9 @@ class SchmittTrigger(Model):
     input, the inverting input grounded.
     """
 
-    # Not yet reproduced, so it declares no modelica_class:
-    # with positive feedback the saturated branch disappears at the threshold and Newton (noEvent,
-    # strict) cannot reach the other branch; the event form chatters between a limit and the linear mode
+    # With positive feedback the saturated branch Newton starts from ends at the threshold (the
+    # clipping is noEvent): the one-unknown loop is then solved by bracketing (codegen.newton_solve).
+    modelica_class = "Modelica.Electrical.Analog.Examples.OpAmps.SchmittTrigger"
     experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.001, tolerance=1e-6)
 
     def build(self):

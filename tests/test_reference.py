@@ -85,6 +85,7 @@ EXAMPLES = [
     ("electrical_opamps", "CauerLowPassAnalog", None),
     ("electrical_opamps", "CauerLowPassOPV", None),
     ("electrical_opamps", "ShowSaturatingInductor", None),
+    ("electrical_opamps", "SchmittTrigger", None),
     ("electrical_dc_machines", "DCPM_Start", None),
     ("electrical_dc_machines", "DCEE_Start", None),
     ("electrical_dc_machines", "DCSE_Start", None),

@@ -194,9 +194,16 @@ class GeneratedCode:
 
 def newton_solve(residual: Callable, guess: np.ndarray, what: str, tol: float = 1e-10,
                  max_iter: int = 50) -> np.ndarray:
-    """Newton's method with a finite-difference Jacobian and step halving."""
+    """Newton's method with a finite-difference Jacobian and step halving.
+
+    A single unknown that Newton cannot bring to a root (a piecewise-linear
+    residual whose branch through the guess has ended, as in an amplifier
+    with positive feedback at its switching threshold) is found by bracketing
+    instead: :func:`_bracketed_root`, the root nearest to the guess.
+    """
     z = np.array(guess, dtype=float)
     r = np.asarray(residual(z), dtype=float)
+    start = (z.copy(), r.copy())
     for _ in range(max_iter):
         norm = np.max(np.abs(r)) if r.size else 0.0
         if norm <= tol * (1.0 + np.max(np.abs(z), initial=0.0)):
@@ -221,9 +228,65 @@ def newton_solve(residual: Callable, guess: np.ndarray, what: str, tol: float = 
                 break
             lam *= 0.5
         z, r = trial, r_trial
+    if z.size == 1:
+        root = _bracketed_root(residual, start[0], start[1], tol)
+        if root is not None:
+            return root
     raise SolverError(f"Newton iteration for {what} did not converge in {max_iter} iterations "
                       f"(residual {np.max(np.abs(r)):.3g})",
                       hint="check start values (they are the initial guesses) of the unknowns named")
+
+
+def _bracketed_root(residual: Callable, z0: np.ndarray, r0: np.ndarray, tol: float) -> np.ndarray | None:
+    """The root of a one-unknown ``residual`` nearest to ``z0``, or None.
+
+    Steps of doubling length go out from ``z0`` in both directions, the same
+    distance each way, until the residual changes sign between two points on
+    one side; bisection then narrows that bracket to a point that meets
+    Newton's tolerance (a sign change across a jump that is not a root is
+    passed over). Slower than Newton, but certain for a continuous residual
+    once a sign change is found.
+    """
+    x0 = float(z0[0])
+    f0 = float(r0[0])
+    if not math.isfinite(f0):
+        return None
+    scale = max(1.0, abs(x0))
+    near = {+1: (x0, f0), -1: (x0, f0)}
+    distance = 1e-6 * scale
+    while distance <= 1e12 * scale:
+        for direction in (+1, -1):
+            a, fa = near[direction]
+            b = x0 + direction * distance
+            fb = float(residual(np.array([b]))[0])
+            if not math.isfinite(fb):
+                continue
+            near[direction] = (b, fb)
+            if fa == 0.0:
+                return np.array([a])
+            if (fa < 0.0) != (fb < 0.0):
+                root = _bisect(residual, a, fa, b, fb, tol)
+                if root is not None:
+                    return np.array([root])
+        distance *= 2.0
+    return None
+
+
+def _bisect(residual: Callable, a: float, fa: float, b: float, fb: float, tol: float) -> float | None:
+    """A root in the bracket ``[a, b]`` (``fa``, ``fb`` of opposite signs) to Newton's
+    tolerance, or None where the sign change is a jump."""
+    for _ in range(200):
+        m = 0.5 * (a + b)
+        fm = float(residual(np.array([m]))[0])
+        if abs(fm) <= tol * (1.0 + abs(m)):
+            return m
+        if m in (a, b) or not math.isfinite(fm):
+            return None
+        if (fm < 0.0) == (fa < 0.0):
+            a, fa = m, fm
+        else:
+            b, fb = m, fm
+    return None
 
 
 def needed_steps(steps: Sequence, targets: set[str]) -> list[int]:

@@ -193,3 +193,32 @@ def test_a_float_zero_parameter_coefficient_is_never_divided_by():
                       Origin("c", "C", "C", 0, "p*y = x"))
     steps = solve_blocks([eq], ["y"], sort_blt([[0]], [0]), {"p": 0.0}).steps
     assert not any(isinstance(s, Assign) for s in steps)
+
+
+@pytest.mark.parametrize("v_in_source, expected", [(-1.001, -15.0), (1.001, 15.0), (-0.5, None)])
+def test_newton_past_the_end_of_a_branch_finds_the_root_by_bracketing(v_in_source, expected):
+    """A Schmitt trigger's loop v = clip(V0*(a*u + b*v), -15, 15), a = 15/16, b = 1/16, V0 = 15000.
+
+    From the guess v = 15 (the upper branch, which ends at u = -1), Newton alone
+    cycles across the kink; the roots are found in closed form: for u = -1.001
+    only v = -15 is left, for u = +1.001 only v = +15. Inside the hysteresis band
+    (u = -0.5) the root nearest to the guess, +15, is kept.
+    """
+    V0, a, b = 15000.0, 15 / 16, 1 / 16
+
+    def residual(z):
+        gained = V0 * (a * v_in_source + b * z[0])
+        return [z[0] - min(15.0, max(-15.0, gained))]
+
+    guess = -15.0 if v_in_source > 0 else 15.0
+    z = newton_solve(residual, [guess], "test")
+    assert z[0] == pytest.approx(expected if expected is not None else guess, abs=1e-8)
+    assert abs(residual(z)[0]) <= 1e-10 * (1 + abs(z[0]))
+
+
+def test_newton_without_a_root_still_fails_with_the_reason():
+    """v**2 + 1 = 0 has no real root: neither Newton nor the bracket search invents one."""
+    from acausal.errors import SolverError
+
+    with pytest.raises(SolverError, match="did not converge"):
+        newton_solve(lambda z: [z[0] ** 2 + 1.0], [0.3], "test")
