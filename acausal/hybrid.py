@@ -51,6 +51,7 @@ __all__ = [
     "terminal",
     "noEvent",
     "smooth",
+    "Homotopy",
     "homotopy",
     "floor",
     "ceil",
@@ -267,19 +268,38 @@ def smooth(order: int, expr: Any) -> sp.Basic:
     return NoEvent(sp.sympify(expr))
 
 
-def homotopy(actual: Any, simplified: Any) -> sp.Basic:
-    """Modelica's ``homotopy(actual, simplified)`` (MLS 3.7.4.4): ``actual``.
+class Homotopy(sp.Function):
+    """``homotopy(actual, simplified)`` as written in an equation (made by :func:`homotopy`).
 
-    A Modelica tool may start a hard initialization from the ``simplified``
-    expression and move to ``actual`` along a homotopy path; the tool is free
-    to use ``actual`` from the start, and acausal does (its initialization
-    starts from the start values, and its event iteration decides the
-    discrete state).  The operator is here so that a model written from an
-    MSL source keeps the source's form; ``simplified`` is checked to be an
-    expression and then unused.
+    Flattening turns it into ``if $homotopy then simplified else actual``
+    with a hidden Boolean ``$homotopy`` that only initialization sets (see
+    :func:`homotopy`); it never reaches the structural analysis.
     """
-    sp.sympify(simplified)
-    return sp.sympify(actual)
+
+    nargs = 2
+
+    def _eval_is_real(self):
+        return self.args[0].is_real
+
+
+def homotopy(actual: Any, simplified: Any) -> sp.Basic:
+    """Modelica's ``homotopy(actual, simplified)`` (MLS 3.7.4.4).
+
+    Simulation uses ``actual``. Initialization first solves the problem with
+    ``simplified`` in its place, which decides the discrete state (which
+    branch of a limiter, which side of a switch), then solves it again with
+    ``actual`` from that state: a homotopy path taken in one step, from its
+    start (lambda = 0) to its end (lambda = 1). That is how an amplifier with
+    positive feedback, whose ``simplified`` expression is its lower limit,
+    starts saturated instead of on its unstable equilibrium, as Dymola and
+    OpenModelica start it. Where the simplified problem cannot be solved,
+    initialization uses ``actual`` alone, which the specification also
+    allows.
+    """
+    actual, simplified = sp.sympify(actual), sp.sympify(simplified)
+    if actual == simplified:
+        return actual
+    return Homotopy(actual, simplified)
 
 
 # -- delay ----------------------------------------------------------------------------

@@ -311,9 +311,9 @@ class SignalGenerator(Model):
     frequency ``f = 10 Hz`` (``C = Vps/VAmp/(4*f*R)``).
     """
 
-    # Not yet reproduced, so it declares no modelica_class:
-    # initialization needs the MSL's homotopy (opAmp1 starts at its LowerLimit); acausal reads
-    # homotopy() as its actual expression and lands on the unstable equilibrium 0
+    # opAmp1 starts at its lower limit: initialization solves homotopy()'s simplified expression
+    # first (hybrid.homotopy); at each threshold event iteration searches the opposite limit
+    modelica_class = "Modelica.Electrical.Analog.Examples.OpAmps.SignalGenerator"
     experiment = Experiment(start_time=0.0, stop_time=1.0, interval=0.001, tolerance=1e-6)
 
     def build(self):

@@ -259,11 +259,15 @@ class DifferenceAmplifier(Model):
 class ThyristorBehaviourTest(Model):
     """Thyristor demonstration example (Modelica.Electrical.Analog.Examples.ThyristorBehaviourTest).
 
-    Not compared with its reference yet (no ``modelica_class``): the
-    blocking thyristor (1 MOhm) in series with 2 uH makes a time constant
-    of 2 ps, and the Newton iteration of its anode-cathode voltage accepts
-    a residual of 1e-10 A, i.e. 0.1 mV; the integrator then crawls.
+    Stiff: the blocking thyristor (1 MOhm) in series with 2 uH makes a time
+    constant of 2 ps. Its anode-cathode voltage is solved by Newton from the
+    inductor current, and a residual of 1e-10 A is still 0.1 mV there: the
+    Newton iteration also asks its step to be small
+    (:func:`acausal.compiler.codegen.newton_solve`), or the integrator's
+    Jacobian would not see the voltage follow the current.
     """
+
+    modelica_class = "Modelica.Electrical.Analog.Examples.ThyristorBehaviourTest"
     experiment = Experiment(start_time=0.0, stop_time=0.0002, interval=4e-8, method="BDF")
 
     def build(self):

@@ -86,6 +86,7 @@ EXAMPLES = [
     ("electrical_opamps", "CauerLowPassOPV", None),
     ("electrical_opamps", "ShowSaturatingInductor", None),
     ("electrical_opamps", "SchmittTrigger", None),
+    ("electrical_opamps", "SignalGenerator", None),
     ("electrical_dc_machines", "DCPM_Start", None),
     ("electrical_dc_machines", "DCEE_Start", None),
     ("electrical_dc_machines", "DCSE_Start", None),
@@ -199,6 +200,7 @@ def test_example_matches_reference(runs, module, name, state_events):
 EVENTS_OF_SMOOTH = {
     ("electrical_semiconductors", "NandGate"): "the MOS drain currents are smooth(0, if ...)",
     ("electrical_semiconductors", "HeatingMOSInverter"): "the MOS drain currents are smooth(0, if ...)",
+    ("electrical_semiconductors", "ThyristorBehaviourTest", None),
 }
 
 

@@ -32,7 +32,7 @@ from sympy.core.function import AppliedUndef, UndefinedFunction
 
 from ..names import INITIAL_NAME, TERMINAL_NAME, der_name, parse, pre_name
 from .. import hybrid
-from ..hybrid import EVENT_FUNCTIONS, Delay, NoEvent, Reinit, Terminate, When
+from ..hybrid import EVENT_FUNCTIONS, Delay, Homotopy, NoEvent, Reinit, Terminate, When
 from ..errors import AcausalError, ConnectorError, EquationError, ModelDefinitionError, ParameterError
 from ..functions import impure_applications
 from ..language import (
@@ -109,8 +109,8 @@ def any_node(expr: sp.Basic, test) -> bool:
 
 
 #: What :meth:`_Flattener._expand` rewrites: der/pre/initial/sample/terminal applications,
-#: noEvent, event-generating functions and relations (discrete values mirrored).
-_REWRITTEN = (AppliedUndef, NoEvent, *EVENT_FUNCTIONS, *_ORDER_RELATIONS)
+#: noEvent, homotopy, event-generating functions and relations (discrete values mirrored).
+_REWRITTEN = (AppliedUndef, NoEvent, Homotopy, *EVENT_FUNCTIONS, *_ORDER_RELATIONS)
 
 
 def _needs_rewrite(expr: sp.Basic) -> bool:
@@ -298,6 +298,8 @@ class FlatModel:
     tunable_starts: tuple[str, ...] = ()
     #: the ``delay()`` operators of the continuous equations (:mod:`acausal.compiler.delays`)
     delays: tuple = ()
+    #: the hidden Boolean that selects homotopy()'s simplified expressions (None: no homotopy)
+    homotopy: str | None = None
 
     def hints_for(self, situation: str, components) -> tuple[str, ...]:
         """The distinct hints the ``components`` (dotted paths) declare for ``situation``.
@@ -439,6 +441,8 @@ class _Flattener:
         self.start_overrides: dict[str, Any] = {}
         #: the variables some equation differentiates (found by :meth:`_state_candidates`)
         self.differentiated: set[str] = set()
+        #: the name of the hidden Boolean of homotopy() (:meth:`_homotopy_switch`), once made
+        self.homotopy_switch: str | None = None
 
     # -- declarations ---------------------------------------------------------
 
@@ -491,6 +495,7 @@ class _Flattener:
             hybrid=HybridPart(tuple(self.reinits), tuple(self.asserts), tuple(self.terminations)),
             tunable_starts=tunable,
             delays=tuple(self.delays),
+            homotopy=self.homotopy_switch,
         )
 
     def _model_name(self) -> str:
@@ -1016,6 +1021,9 @@ class _Flattener:
                 return inner if literal[0] else NoEvent(inner)  # noEvent(noEvent(u)) = noEvent(u)
             if isinstance(node, EVENT_FUNCTIONS):
                 return self._held_event_function(node.func, [rewrite(a) for a in node.args])
+            if isinstance(node, Homotopy):
+                actual, simplified = (rewrite(a) for a in node.args)
+                return sp.Piecewise((simplified, self._homotopy_switch()), (actual, True))
             if isinstance(node, sp.Function) and node.func.__name__ == "terminal" and not node.args:
                 return TERMINAL
             if isinstance(node, sp.Function) and node.func == pre:
@@ -1105,6 +1113,19 @@ class _Flattener:
         equations, self.delays = extract_delays(self.equations, self.variables, parameters, hidden,
                                                 elsewhere, FlatEquation)
         self.equations[:] = equations
+
+    def _homotopy_switch(self) -> sp.Symbol:
+        """The hidden Boolean ``$homotopy`` that selects the ``simplified`` expressions of
+        ``homotopy()`` (made once per model). It keeps its value (``$homotopy = pre($homotopy)``,
+        start false): only initialization sets it, for its first solve
+        (:func:`acausal.runtime.initialization.initialize`)."""
+        if self.homotopy_switch is None:
+            symbol = self._hidden_variable("homotopy", "boolean", "")
+            self.homotopy_switch = symbol.name
+            origin = Origin("", "", "homotopy", 0, f"{symbol.name} = pre({symbol.name})")
+            self.discrete_equations.append(DiscreteEquation(symbol.name, sp.Symbol(pre_name(symbol.name)),
+                                                            origin))
+        return sp.Symbol(self.homotopy_switch)
 
     def _hidden_variable(self, stem: str, kind: str, component: str) -> sp.Symbol:
         """A variable the engine introduces (a when-condition, a held value), named

@@ -38,8 +38,7 @@ What is covered, by section of the Modelica Language Specification 3.6:
   (3.7.1); ``div``, ``mod``, ``rem``, ``ceil``, ``floor``, ``integer``
   (3.7.2); ``sin`` ... ``log10`` (3.7.3) and their ``Modelica.Math``
   versions (with ``asinh``, ``acosh``); ``der`` and ``homotopy`` (3.7.4,
-  ``homotopy(actual, simplified)`` is read as ``actual``, which 3.7.4.4
-  allows); ``initial``, ``terminal``, ``noEvent``, ``smooth``, ``sample``,
+  :func:`acausal.homotopy`); ``initial``, ``terminal``, ``noEvent``, ``smooth``, ``sample``,
   ``pre``, ``edge``, ``change`` (3.7.5).
 * 10.3 Array functions: ``ndims``, ``size`` (10.3.1), ``scalar``,
   ``vector`` (10.3.2), ``identity``, ``zeros``, ``ones``, ``fill``
@@ -700,7 +699,7 @@ class _Reader:
             "atan2": _Builtin(sp.atan2, 2, elementwise=True),
             # 3.7.4 derivative and special purpose operators
             "der": _Builtin(der, 1, elementwise=True),
-            "homotopy": _Builtin(lambda actual, simplified: actual, 2, names=("actual", "simplified")),
+            "homotopy": _Builtin(hybrid.homotopy, 2, names=("actual", "simplified")),
             # 3.7.5 event-related operators
             "initial": _Builtin(initial, 0),
             "terminal": _Builtin(hybrid.terminal, 0),
@@ -999,7 +998,7 @@ _FUNCTION_NAMES: dict[type, str] = {
     sp.log: "log", sp.Abs: "abs", sp.sign: "sign", sp.floor: "floor", sp.ceiling: "ceil",
     sp.Mod: "mod", sp.asinh: "Modelica.Math.asinh", sp.acosh: "Modelica.Math.acosh",
     hybrid.NoEvent: "noEvent", hybrid.floor: "floor", hybrid.ceil: "ceil", hybrid.integer: "integer",
-    hybrid.div: "div", hybrid.mod: "mod", hybrid.rem: "rem"}
+    hybrid.div: "div", hybrid.mod: "mod", hybrid.rem: "rem", hybrid.Homotopy: "homotopy"}
 
 #: Applications of undefined functions written as Modelica operators, by name.
 _OPERATOR_NAMES = ("der", "pre", "initial", "sample", "terminal")

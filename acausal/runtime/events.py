@@ -57,6 +57,10 @@ INCREMENTAL = True
 #: functions of the parts that own them only.
 _FEW_RELATIONS = 8
 
+#: Event iteration that cycles searches the combinations of at most this many relations
+#: (2**n solves) for a consistent one (:meth:`DiscreteEvaluator._search_relations`).
+_SEARCHED_RELATIONS = 8
+
 #: Samples times (watched relations + 2) from which the relations at the samples of a
 #: step are decided in one numpy call rather than sample by sample.
 _MANY_FROM = 40
@@ -1098,8 +1102,8 @@ class DiscreteEvaluator:
         selectors = [s.name for s in self.translation.selectors
                      if s.name in self.kinds and s.name.rpartition(".")[0] in owners]
         booleans = [n for n in selectors if self.kinds[n] == "boolean"]
-        if not booleans:  # nothing continuous to choose: a purely discrete loop
-            return None
+        if not booleans:  # no Boolean chooses the equations: the relations themselves may
+            return self._search_relations(t, values, pre, relations_before, initial, fired, cycle, current)
         base = {**current, **{n: pre[n] for n in booleans}}
         # every candidate is judged against the same pass: the last of the cycle
         judged_against = (self._clear, self._clear_for)
@@ -1115,6 +1119,44 @@ class DiscreteEvaluator:
                 except SimulationError:
                     continue  # e.g. a singular system in an impossible configuration
                 if all(result[n] == candidate[n] for n in selectors):
+                    return result, rels
+        return None
+
+    def _search_relations(self, t, values, pre, relations_before, initial, fired, cycle, current):
+        """The first consistent assignment of the relations that change along ``cycle``
+        and the others of their components, fewest flips from the last pass's values first.
+
+        A relation that selects equations directly (``if V0*v_in > vps then vps
+        else ...``, a limiter in a loop of positive feedback) can make each pass
+        undo the last: at its threshold the branch it leaves and the branch it
+        enters each decide for the other, and only a third branch (the opposite
+        limit) is consistent. As a mixed-system solver does, every combination
+        of the relations involved is tried, each solved and re-evaluated; the
+        first that reproduces itself is taken.
+        """
+        # time events are decided by the clock, not by a solution: never searched
+        changing = {k for (_, a), (_, b) in zip(cycle, cycle[1:] + cycle[:1])
+                    for k, (va, vb) in enumerate(zip(a, b)) if va != vb and not self.relations[k].is_time_event}
+        # with them, the other relations of their components (the opposite limit)
+        owners = {c for k in changing for c in self.relations[k].components}
+        cycling = sorted(changing | {k for k, r in enumerate(self.relations)
+                                     if not r.is_time_event and owners & set(r.components)})
+        if not changing or len(cycling) > _SEARCHED_RELATIONS:
+            return None
+        base = list(cycle[-1][1])
+        judged_against = (self._clear, self._clear_for)
+        for flips in range(len(cycling) + 1):
+            for chosen in itertools.combinations(cycling, flips):
+                candidate = list(base)
+                for k in chosen:
+                    candidate[k] = not candidate[k]
+                candidate = tuple(candidate)
+                self._clear, self._clear_for = judged_against
+                try:
+                    result, rels = self._pass(t, values, current, pre, candidate, relations_before, initial, fired)
+                except SimulationError:
+                    continue
+                if all(rels[k] == candidate[k] for k in cycling):
                     return result, rels
         return None
 

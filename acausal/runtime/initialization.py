@@ -35,7 +35,7 @@ import warnings
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
-from ..errors import InitializationError, StartValueWarning
+from ..errors import InitializationError, SimulationError, StartValueWarning, StructuralError
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values, with_aliases
@@ -94,6 +94,11 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     evaluator.open_instant()
     discrete, relations = start_guess(translation)
     fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
+    # homotopy(): first solved with the simplified expressions, whose solution decides the
+    # discrete state the actual ones are solved from (hybrid.homotopy)
+    simplified = flat.homotopy
+    if simplified is not None:
+        discrete[simplified] = True
     at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
     notes: list[str] = []
     values = None
@@ -104,12 +109,24 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
     for _ in range(evaluator.max_iterations):
         pre = {**discrete, **fixed_pre}
         key = evaluator.key(discrete, pre, relations, True)
-        problem = translation.initial_system(key)
-        outputs = _with_held_values(translation, problem, assigned)
+        try:
+            problem = translation.initial_system(key)
+            outputs = _with_held_values(translation, problem, assigned)
+        except StructuralError:
+            if simplified is None or not discrete[simplified]:
+                raise
+            # the simplified problem cannot be solved: the actual one alone (MLS 3.7.4.4)
+            discrete, relations = start_guess(translation)
+            history.append(dict(discrete))
+            continue
         try:
             values = dict(zip(problem.unknowns, outputs(start_time, ())))
-        except (ArithmeticError, ValueError):  # a domain error in the generated code
-            if guessed:
+        except (ArithmeticError, ValueError, SimulationError) as failure:  # e.g. a domain error
+            if simplified is not None and discrete[simplified]:
+                discrete, relations = start_guess(translation)  # as above
+                history.append(dict(discrete))
+                continue
+            if isinstance(failure, SimulationError) or guessed:
                 raise
             # the first guess (every relation false) selects a branch that cannot be
             # evaluated here (1/|w| at w = 0): guess again from the start values, as a
@@ -134,7 +151,11 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         new_assigned = {name: new_discrete[name] for name, start in _held_from_start(translation, problem, held)
                         if new_discrete[name] != start}
         if new_discrete == discrete and new_relations == relations and new_assigned == assigned:
-            break
+            if simplified is None or not discrete[simplified]:
+                break
+            new_discrete = {**new_discrete, simplified: False}  # the end of the homotopy path
+            notes.append(f"initialization: homotopy() solved with its simplified expressions first, "
+                         f"then with the actual ones from the discrete state that solution decided")
         discrete, relations, assigned = new_discrete, new_relations, new_assigned
         history.append(dict(discrete))
     else:

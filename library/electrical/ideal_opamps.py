@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from acausal.hybrid import noEvent, smooth
+from acausal.hybrid import homotopy, noEvent, smooth
 from acausal.language import Component, Eq, Parameter, Variable
 from acausal.components.electrical import NegativePin, PositivePin, TwoPort
 
@@ -105,8 +105,8 @@ class IdealizedOpAmpLimited(Component):
     deliver the supply current ``i_s = p_s/(vps - vns)`` (the power the
     inputs and the output draw).  With ``strict`` (the default) the clipping
     is evaluated literally (``noEvent``); without it the limits are state
-    events.  ``homotopyType`` only selects the simplified expression of the
-    MSL's ``homotopy()``, which acausal's initialization does not use.
+    events.  ``homotopyType`` selects the simplified expression of
+    ``homotopy()`` that initialization starts from (:func:`acausal.homotopy`).
     """
 
     modelica_name = "Modelica.Electrical.Analog.Ideal.IdealizedOpAmpLimited"
@@ -118,7 +118,7 @@ class IdealizedOpAmpLimited(Component):
     Vns = Parameter(-15.0, unit="V", description="Negative supply voltage")
     strict = Parameter(True, structural=True, description="= true, if strict limits with noEvent(..)")
     homotopyType = Parameter(LimiterHomotopy.NoHomotopy, structural=True,  # noqa: N815 - Modelica name
-                             description="Simplified model for homotopy-based initialization (no effect here)")
+                             description="Simplified model for homotopy-based initialization")
     vps = Variable(unit="V", description="Positive supply voltage")
     vns = Variable(unit="V", description="Negative supply voltage")
     v_in = Variable(unit="V", description="Input voltage difference")
@@ -147,6 +147,8 @@ class IdealizedOpAmpLimited(Component):
         # strict: relations literal (noEvent) inside smooth(0, .); otherwise the limits are state events
         # (smooth of order 0 would drop them, so the non-strict form is written without it)
         limited = smooth(0, noEvent(clipped)) if self.strict else clipped
+        if LimiterHomotopy(int(self.homotopyType)) != LimiterHomotopy.NoHomotopy:
+            limited = homotopy(limited, self.simplifiedExpr)
         supply = ([Eq(self.s_p.i, self.i_s), Eq(self.s_p.v, self.vps),
                    Eq(self.s_n.i, -self.i_s), Eq(self.s_n.v, self.vns)] if self.useSupply
                   else [Eq(self.vps, self.Vps), Eq(self.vns, self.Vns)])

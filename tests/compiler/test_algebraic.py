@@ -222,3 +222,19 @@ def test_newton_without_a_root_still_fails_with_the_reason():
 
     with pytest.raises(SolverError, match="did not converge"):
         newton_solve(lambda z: [z[0] ** 2 + 1.0], [0.3], "test")
+
+
+def test_newton_judges_a_small_residual_by_its_step_too():
+    """i = v/Roff with Roff = 1 MOhm: a guess 1 mV off leaves a residual of 1e-9 A, within
+    Newton's residual tolerance, yet the voltage the current i = 30 uA gives is v = 30 V exactly.
+    With the block's Jacobian kept between calls (``memo``), the next call iterates to it."""
+    r_off, current = 1e6, 30e-6
+
+    def residual(z):
+        return [current - z[0] / r_off]
+
+    memo: dict = {}
+    first = newton_solve(residual, [0.0], "test", memo=memo)  # from afar: iterates, keeps J
+    assert first[0] == pytest.approx(30.0, abs=1e-6)
+    again = newton_solve(residual, [30.001], "test", memo=memo)  # residual 1e-9 A: small
+    assert abs(again[0] - 30.0) <= 1e-8

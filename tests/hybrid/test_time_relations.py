@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import sympy as sp
 
-from acausal import Eq, If, Model, Variable, simulate, time
+from acausal import Eq, If, Model, Parameter, Variable, simulate, time
 
 OPERATORS = {
     "<": lambda a, b: a < b, "<=": lambda a, b: a <= b,
@@ -48,8 +49,9 @@ def test_a_relation_of_time_has_its_value_on_both_sides_of_its_instant(op, risin
     assert result["y"][at[0]] == float(before) and result["y"][at[-1]] == float(after)
 
 
-def test_homotopy_is_its_actual_expression():
-    """MLS 3.7.4.4 lets a tool use ``actual`` throughout; acausal does, in the initialization too."""
+def test_homotopy_simulates_its_actual_expression():
+    """MLS 3.7.4.4: after initialization ``homotopy(actual, simplified)`` is ``actual``:
+    y = 2*x with x = 1 - exp(-t)."""
     from acausal import der, homotopy
 
     class Lag(Model):
@@ -61,3 +63,53 @@ def test_homotopy_is_its_actual_expression():
 
     result = simulate(Lag(), stop_time=1.0, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(result["y"], 2 * (1 - np.exp(-np.asarray(result.time))), rtol=1e-7, atol=1e-12)
+
+
+class _Bistable(Model):
+    """y = limit(10*y + u) in [-1, 1] (events): three solutions for |u| < 1 (y = -1, y = 1 and
+    the unstable y = -u/9); :meth:`simplified` gives homotopy's simplified expression (None:
+    no homotopy)."""
+
+    u = Parameter(0.5)
+    y = Variable()
+
+    def simplified(self):
+        return None
+
+    def equations(self):
+        from acausal import homotopy
+
+        gained = 10 * self.y + self.u
+        actual = sp.Piecewise((1, gained > 1), (-1, gained < -1), (gained, True))
+        simplified = self.simplified()
+        return [Eq(self.y, actual if simplified is None else homotopy(actual, simplified))]
+
+
+class _FromLowerLimit(_Bistable):
+    def simplified(self):
+        return -1
+
+
+class _Unsolvable(_Bistable):
+    def simplified(self):
+        return self.y + 1  # y = y + 1: no solution
+
+
+def test_without_homotopy_initialization_keeps_the_first_consistent_branch():
+    """Every relation false first: the linear branch, whose solution y = -u/9 is consistent."""
+    result = simulate(_Bistable(), stop_time=0.1)
+    assert result["y"][0] == pytest.approx(-0.5 / 9, rel=1e-12)
+
+
+def test_homotopy_starts_initialization_from_the_simplified_expression():
+    """simplified = -1 decides the lower limit; the actual expression holds there
+    (10*(-1) + 0.5 < -1), so y = -1 (the stable solution a circuit tool finds)."""
+    result = simulate(_FromLowerLimit(), stop_time=0.1)
+    assert result["y"][0] == -1.0 and result["y"][-1] == -1.0
+    assert any("homotopy" in note for note in result.notes)
+
+
+def test_homotopy_whose_simplified_problem_has_no_solution_uses_the_actual_expression():
+    """simplified = y + 1 (y = y + 1 has no solution): the actual problem alone, as MLS allows."""
+    result = simulate(_Unsolvable(), stop_time=0.1)
+    assert result["y"][0] == pytest.approx(-0.5 / 9, rel=1e-12)

@@ -496,9 +496,10 @@ def test_event_and_derivative_operators():
     assert read("noEvent(x)") == hybrid.noEvent(X)
     assert read("smooth(1, x)") == hybrid.noEvent(X)
     assert read("smooth(-1, x)") == X
-    assert read("homotopy(x, y)") == X
-    assert read("homotopy(actual=x, simplified=y)") == X
-    assert read("homotopy(simplified=y, actual=x)") == X
+    assert read("homotopy(x, y)") == hybrid.Homotopy(X, Y)
+    assert read("homotopy(actual=x, simplified=y)") == hybrid.Homotopy(X, Y)
+    assert read("homotopy(simplified=y, actual=x)") == hybrid.Homotopy(X, Y)
+    assert read("homotopy(x, x)") == X
 
 
 def test_boolean_operators_take_pre_and_initial():
