@@ -29,6 +29,7 @@ import numpy as np
 import sympy as sp
 
 from ..compiler.codegen import vectorised
+from . import explicit_rk
 from ..language import time as time_symbol
 
 __all__ = ["time_event_roots", "held_time_events", "held_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip", "states_at",
@@ -475,8 +476,9 @@ def _lsoda_states(d, t):
     return _gemv_rows(d.yh, p)
 
 
-def _dop853_states(d, t):
-    # element-wise operations only: an array call is what one call per instant gives
+def _columns_as_rows(d, t):
+    """A dense output that works element by element (DOP853's), or instant by instant
+    (acausal's RK45): an array call is what one call per instant gives."""
     return np.asarray(d(t), dtype=float).T.reshape(len(t), -1)
 
 
@@ -489,7 +491,7 @@ def _batched_kinds() -> dict:
 
     return {RkDenseOutput: [_rk_states, None], RadauDenseOutput: [_radau_states, None],
             BdfDenseOutput: [_bdf_states, None], LsodaDenseOutput: [_lsoda_states, None],
-            Dop853DenseOutput: [_dop853_states, None]}
+            Dop853DenseOutput: [_columns_as_rows, None]}
 
 
 def _point_kinds() -> dict:
@@ -503,6 +505,10 @@ try:
     _BATCHED, _POINT = _batched_kinds(), _point_kinds()
 except ImportError:  # another scipy layout: one call per instant
     _BATCHED, _POINT = {}, {}
+# acausal's own Runge-Kutta pairs: an array of instants gives, column by column, what
+# one instant gives (checked once per process all the same)
+_BATCHED.update({explicit_rk.QuarticDenseOutput: [_columns_as_rows, None],
+                 explicit_rk.Dop853DenseOutput: [_columns_as_rows, None]})
 
 
 #: generated function -> its numpy version (or False): made once per compiled function

@@ -1134,13 +1134,15 @@ class DiscreteEvaluator:
         of the relations involved is tried, each solved and re-evaluated; the
         first that reproduces itself is taken.
         """
-        # time events are decided by the clock, not by a solution: never searched
+        # only relations that select equations (a when-condition's loop is a discrete one,
+        # decided by event iteration itself); time events are decided by the clock
+        selecting = {name.index for name in self._selector_names if name.kind == "relation"
+                     and not self.relations[name.index].is_time_event}
         changing = {k for (_, a), (_, b) in zip(cycle, cycle[1:] + cycle[:1])
-                    for k, (va, vb) in enumerate(zip(a, b)) if va != vb and not self.relations[k].is_time_event}
+                    for k, (va, vb) in enumerate(zip(a, b)) if va != vb and k in selecting}
         # with them, the other relations of their components (the opposite limit)
         owners = {c for k in changing for c in self.relations[k].components}
-        cycling = sorted(changing | {k for k, r in enumerate(self.relations)
-                                     if not r.is_time_event and owners & set(r.components)})
+        cycling = sorted(changing | {k for k in selecting if owners & set(self.relations[k].components)})
         if not changing or len(cycling) > _SEARCHED_RELATIONS:
             return None
         base = list(cycle[-1][1])

@@ -47,6 +47,7 @@ from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, st
                         held_roots, held_time_events, time_event_roots)
 from .events import evaluator_for, mode_values
 from .initialization import initialize
+from . import explicit_rk
 from .integrators import RK4, Euler
 from .recorder import Recorder, generated_line
 from .result import Event, SimulationResult, describe_columns
@@ -57,9 +58,11 @@ __all__ = ["simulate", "METHODS", "MAX_OUTPUT_POINTS"]
 #: interval is refused before anything is allocated).
 MAX_OUTPUT_POINTS = 10_000_000
 
+#: The integration methods by name. The explicit Runge-Kutta pairs are acausal's own, in
+#: numpy (:mod:`.explicit_rk`: the same steps as scipy's, bit for bit); the implicit ones are scipy's.
 METHODS = {
-    "RK45": integrate.RK45,
-    "DOP853": integrate.DOP853,
+    "RK45": explicit_rk.RK45,
+    "DOP853": explicit_rk.DOP853,
     "Radau": integrate.Radau,
     "BDF": integrate.BDF,
     "LSODA": integrate.LSODA,
