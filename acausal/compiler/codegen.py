@@ -246,6 +246,11 @@ def newton_solve(residual: Callable, guess: np.ndarray, what: str, tol: float = 
         except np.linalg.LinAlgError as exc:
             raise SolverError(f"Newton iteration for {what}: singular Jacobian",
                               hint="the equations may not determine these unknowns here") from exc
+        if np.max(np.abs(step)) <= max(1e-3 * tol * scale, 4.0 * np.spacing(np.max(np.abs(z)))):
+            # a step a thousand times below the tolerance (or below the unknowns' round-off):
+            # z is a root to working precision, and what is left of the residual is the
+            # round-off of its terms (a conducting thyristor's 1e9 S times the ulp of its voltage)
+            return z
         lam = 1.0
         for _ in range(30):
             trial = z + lam * step

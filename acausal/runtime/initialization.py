@@ -35,7 +35,7 @@ import warnings
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
-from ..errors import InitializationError, SimulationError, StartValueWarning, StructuralError
+from ..errors import InitializationError, SimulationError, SolverError, StartValueWarning, StructuralError
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values, with_aliases
@@ -126,11 +126,11 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
                 discrete, relations = start_guess(translation)  # as above
                 history.append(dict(discrete))
                 continue
-            if isinstance(failure, SimulationError) or guessed:
+            if guessed or (isinstance(failure, SimulationError) and not isinstance(failure, SolverError)):
                 raise
             # the first guess (every relation false) selects a branch that cannot be
-            # evaluated here (1/|w| at w = 0): guess again from the start values, as a
-            # Modelica tool starts its mixed system from them
+            # evaluated (1/|w| at w = 0) or solved here: guess again from the start
+            # values, as a Modelica tool starts its mixed system from them
             guessed = True
             relations = start_value_relations(translation, start_time)
             continue

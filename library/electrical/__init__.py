@@ -19,7 +19,9 @@ from .basic import (
     Ground,
     Gyrator,
     Inductor,
+    M_Transformer,
     OpAmp,
+    OpAmpDetailed,
     Potentiometer,
     Resistor,
     RotationalEMF,
@@ -68,7 +70,7 @@ __all__ = [
     "Pin", "PositivePin", "NegativePin",
     # Basic
     "Ground", "Resistor", "Conductor", "Capacitor", "Inductor", "SaturatingInductor", "Transformer", "Gyrator",
-    "RotationalEMF", "TranslationalEMF", "VCV", "VCC", "CCV", "CCC", "OpAmp",
+    "RotationalEMF", "TranslationalEMF", "VCV", "VCC", "CCV", "CCC", "OpAmp", "OpAmpDetailed", "M_Transformer",
     "VariableResistor", "VariableConductor", "VariableCapacitor", "VariableInductor", "Potentiometer",
     # Sources
     "SignalVoltage", "ConstantVoltage", "StepVoltage", "RampVoltage", "SineVoltage", "CosineVoltage",
@@ -113,3 +115,15 @@ __all__ += _ideal_all
 from .semiconductors import NMOS, NPN, PMOS, PNP, Diode, Diode2, SimpleTriac, Thyristor, ZDiode  # noqa: E402
 
 __all__ += ["Diode", "Diode2", "ZDiode", "NMOS", "PMOS", "NPN", "PNP", "Thyristor", "SimpleTriac"]
+
+# Sources: lightning impulses, DC power supply.  The LightningImpulse block (a Blocks signal
+# source: amplitude and offset without unit) and its enumeration are importable, not in __all__.
+from .sources import (  # noqa: E402,F401
+    DCPowerSupply,
+    ImpulseApproximation,
+    LightningImpulse,
+    LightningImpulseCurrent,
+    LightningImpulseVoltage,
+)
+
+__all__ += ["LightningImpulseVoltage", "LightningImpulseCurrent", "DCPowerSupply"]

@@ -46,6 +46,8 @@ __all__ = [
     "VariableCapacitor",
     "VariableInductor",
     "Potentiometer",
+    "OpAmpDetailed",
+    "M_Transformer",
 ]
 
 #: Modelica.Constants.small: below it |i|/Ipar counts as zero in SaturatingInductor.
@@ -488,3 +490,241 @@ class Potentiometer(TemperatureDependence):
                 Eq(self.pin_n.v - self.contact.v, self.Rn * self.pin_n.i),
                 Eq(self.LossPower, (self.pin_p.v - self.contact.v) * self.pin_p.i
                    + (self.pin_n.v - self.contact.v) * self.pin_n.i)]
+
+
+# --------------------------------------------------------------------------
+# detailed operational amplifier
+
+
+def _limited_sum(q_sum, q_sum_ltf, v_pos, v_neg, vcp, vcm) -> sp.Expr:
+    """The MSL's ``FCNq_sum_limit``: ``q_sum`` held at a supply rail once the lagged ``q_sum_ltf`` reached it.
+
+    Relations in a function body do not generate events (noEvent).
+    """
+    upper, lower = v_pos - vcp, v_neg + vcm
+    return noEvent(sp.Piecewise((upper, sp.And(q_sum > upper, q_sum_ltf >= upper)),
+                                (lower, sp.And(q_sum < lower, q_sum_ltf <= lower)),
+                                (q_sum, True)))
+
+
+def _limited_output_current(v_source, v_out, Rout, Imaxsi_val, Imaxso_val) -> sp.Expr:  # noqa: N803 - MSL names
+    """The MSL's ``FCNiout_limit``: ``(v_out - v_source)/Rout`` clipped to ``[-Imaxso_val, Imaxsi_val]``."""
+    return noEvent(sp.Piecewise((Imaxsi_val, v_out > v_source + Rout * Imaxsi_val),
+                                (-Imaxso_val, v_out < v_source - Rout * Imaxso_val),
+                                ((v_out - v_source) / Rout, True)))
+
+
+class OpAmpDetailed(DerivedDefaults, Component):
+    """Detailed model of an operational amplifier (Modelica.Electrical.Analog.Basic.OpAmpDetailed).
+
+    A macromodel after Conelly and Choi (Macromodelling with SPICE, 1992) in
+    five stages, each holding its own data sheet parameters:
+
+    * **input**: the offset voltage ``Vos`` in series with ``p``, the bias
+      currents ``I1 = Ib + Ios/2`` (from ``p``) and ``I2 = Ib - Ios/2``
+      (from ``m``) with the common-mode resistances ``Rcm`` to ground, and
+      the differential resistance ``Rdm`` parallel to ``Cin`` carrying
+      ``v_in = p.v - Vos - m.v``;
+    * **frequency response**: first-order lags at ``fp2`` and ``fp4`` and a
+      lead-lag (zero ``fz``, pole ``fp3``) from ``v_in`` to ``q_fr3``;
+    * **gain**: ``q_sum = Avd0_val*q_fr3 + Avcm_val*(v_3 + v_4)`` with the
+      differential gain ``Avd0_val = 10^(Avd0/20)`` and the common-mode gain
+      ``Avcm_val = Avd0_val/10^(CMRR/20)/2``, held at the supply rails
+      (less ``vcp``, ``vcm``), then the dominant pole ``fp1`` to ``q_fp1``;
+    * **slew rate**: ``v_source`` follows ``q_fp1`` with the time constant
+      ``Ts``, its slope clipped to ``[-sr_m, sr_p]``;
+    * **output**: ``Rout`` from ``v_source`` to ``outp``, the current
+      clipped to ``Imaxso`` (sourced) and ``Imaxsi`` (sunk).
+
+    At DC and in the linear range the open-loop output is ``Avd0_val*v_in +
+    Avcm_val*(v_3 + v_4)``.  No current flows into the supply pins; their
+    potentials only set the limits.  The MSL's ``v_source = q_fp1`` and
+    ``x = 0`` are the initial equations; the other states start from their
+    start values (0).  Relations in the MSL's two limiting functions do not
+    generate events, as in any Modelica function.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Basic.OpAmpDetailed"
+
+    # the MSL's final parameters (bindings of the parameters above them)
+    derived_defaults = {
+        "vcp_abs": lambda c: sp.Abs(c.vcp),
+        "vcm_abs": lambda c: sp.Abs(c.vcm),
+        "I1": lambda c: c.Ib + c.Ios / 2,
+        "I2": lambda c: c.Ib - c.Ios / 2,
+        "Avd0_val": lambda c: 10 ** (c.Avd0 / 20),
+        "Avcm_val": lambda c: c.Avd0_val / 10 ** (c.CMRR / 20) / 2,
+        "sr_p_val": lambda c: sp.Abs(c.sr_p),
+        "sr_m_val": lambda c: -sp.Abs(c.sr_m),
+        "Imaxso_val": lambda c: sp.Abs(c.Imaxso),
+        "Imaxsi_val": lambda c: sp.Abs(c.Imaxsi),
+    }
+
+    Rdm = Parameter(2.0e6, unit="Ohm", description="Input resistance (differential input mode)")
+    Rcm = Parameter(2.0e9, unit="Ohm", description="Input resistance (common mode)")
+    Cin = Parameter(1.4e-12, unit="F", description="Input capacitance")
+    Vos = Parameter(1.0e-3, unit="V", description="Input offset voltage")
+    Ib = Parameter(80.0e-9, unit="A", description="Input bias current")
+    Ios = Parameter(20.0e-9, unit="A", description="Input offset current")
+    vcp = Parameter(0.0, unit="V", description="Correction value for limiting by p_supply")
+    vcm = Parameter(0.0, unit="V", description="Correction value for limiting by msupply")
+    Avd0 = Parameter(106.0, unit="1", description="Differential amplifier [dB]")
+    CMRR = Parameter(90.0, unit="1", description="Common-mode rejection [dB]")
+    fp1 = Parameter(5.0, unit="Hz", description="Dominant pole")
+    fp2 = Parameter(2.0e6, unit="Hz", description="Pole frequency")
+    fp3 = Parameter(20.0e6, unit="Hz", description="Pole frequency")
+    fp4 = Parameter(100.0e6, unit="Hz", description="Pole frequency")
+    fz = Parameter(5.0e6, unit="Hz", description="Zero frequency")
+    sr_p = Parameter(0.5e6, unit="V/s", description="Slew rate for increase")
+    sr_m = Parameter(0.5e6, unit="V/s", description="Slew rate for decrease")
+    Rout = Parameter(75.0, unit="Ohm", description="Output resistance")
+    Imaxso = Parameter(25.0e-3, unit="A", description="Maximal output current (source current)")
+    Imaxsi = Parameter(25.0e-3, unit="A", description="Maximal output current (sink current)")
+    Ts = Parameter(0.0000012, unit="s", description="Sampling time")
+    vcp_abs = Parameter(None, unit="V", description="Positive correction value for limiting by p_supply (final)")
+    vcm_abs = Parameter(None, unit="V", description="Positive correction value for limiting by msupply (final)")
+    I1 = Parameter(None, unit="A", description="Current of internal source I1 (final)")
+    I2 = Parameter(None, unit="A", description="Current of internal source I2 (final)")
+    Avd0_val = Parameter(None, unit="1", description="Differential mode gain (final)")
+    Avcm_val = Parameter(None, unit="1", description="Common mode gain (final)")
+    sr_p_val = Parameter(None, unit="V/s", description="Value of slew rate for increase (final)")
+    sr_m_val = Parameter(None, unit="V/s", description="Negative value of slew rate for increase (final)")
+    Imaxso_val = Parameter(None, unit="A", description="Orientation out outp (final)")
+    Imaxsi_val = Parameter(None, unit="A", description="Orientation into outp (final)")
+
+    p = PositivePin(description="Positive pin of the input port")
+    m = NegativePin(description="Negative pin of the input port")
+    outp = PositivePin(description="Output pin")
+    p_supply = PositivePin(description="Positive output voltage limitation")
+    m_supply = NegativePin(description="Negative output voltage limitation")
+
+    v_pos = Variable(unit="V", description="Potential of the positive supply")
+    v_neg = Variable(unit="V", description="Potential of the negative supply")
+    v_vos = Variable(unit="V", description="Input offset voltage source")
+    v_3 = Variable(unit="V", description="Potential of the internal node behind the offset source")
+    v_in = Variable(unit="V", start=0.0, description="Differential input voltage at Rdm and Cin")
+    v_4 = Variable(unit="V", description="Potential of the negative input")
+    i_vos = Variable(unit="A", description="Current through the offset source")
+    i_3 = Variable(unit="A", description="Current of the positive input to ground (I1 and Rcm)")
+    i_r2 = Variable(unit="A", description="Current through Rdm")
+    i_c3 = Variable(unit="A", description="Current through Cin")
+    i_4 = Variable(unit="A", description="Current of the negative input to ground (I2 and Rcm)")
+    # Real in the MSL; each is a lagged copy of v_in, so a voltage
+    q_fr1 = Variable(unit="V", start=0.0, description="Output of the first pole (fp2)")
+    q_fr2 = Variable(unit="V", start=0.0, description="Output of the zero (fz) and pole (fp3)")
+    q_fr3 = Variable(unit="V", start=0.0, description="Output of the pole fp4")
+    q_sum = Variable(unit="V", description="Sum of differential and common mode gain")
+    q_sum_help = Variable(unit="V", description="q_sum limited to the supply")
+    q_fp1 = Variable(unit="V", start=0.0, description="Output of the dominant pole (fp1)")
+    v_source = Variable(unit="V", start=0.0, description="Slew rate limited internal source voltage")
+    x = Variable(unit="V", start=0.0, description="Auxiliary variable for slew rate")
+    v_out = Variable(unit="V", description="Output voltage")
+    i_out = Variable(unit="A", description="Current into the output pin")
+
+    def initial_equations(self):
+        return [Eq(self.v_source, self.q_fp1), Eq(self.x, 0)]
+
+    def equations(self):
+        two_pi = 2 * sp.pi
+        dx = der(self.x)
+        return [
+            Assert(self.Rout > 0, "Rout must be > 0.0."),
+            # power supply
+            Eq(self.v_pos, self.p_supply.v),
+            Eq(self.v_neg, self.m_supply.v),
+            # input stage
+            Eq(self.p.i, self.i_vos),
+            Eq(self.m.i, self.i_4 - self.i_r2 - self.i_c3),
+            Eq(0, self.i_3 + self.i_r2 + self.i_c3 - self.i_vos),
+            Eq(self.p.v - self.m.v, self.v_vos + self.v_in),
+            Eq(self.v_4, self.m.v),
+            Eq(self.v_3, self.p.v - self.v_vos),
+            Eq(self.v_vos, self.Vos),
+            Eq(self.i_3, self.I1 + self.v_3 / self.Rcm),
+            Eq(self.v_in, self.Rdm * self.i_r2),
+            Eq(self.i_c3, self.Cin * der(self.v_in)),
+            Eq(self.i_4, self.I2 + self.v_4 / self.Rcm),
+            # frequency response: the poles fp2, fp4 and the lead-lag fz/fp3
+            Eq(der(self.q_fr1), two_pi * self.fp2 * (self.v_in - self.q_fr1)),
+            Eq(self.q_fr2 + der(self.q_fr2) / (two_pi * self.fp3), self.q_fr1 + der(self.q_fr1) / (two_pi * self.fz)),
+            Eq(der(self.q_fr3), two_pi * self.fp4 * (self.q_fr2 - self.q_fr3)),
+            # gain stage
+            Eq(self.q_sum, self.Avd0_val * self.q_fr3 + self.Avcm_val * (self.v_3 + self.v_4)),
+            Eq(self.q_sum_help, _limited_sum(self.q_sum, self.q_fp1, self.v_pos, self.v_neg,
+                                             self.vcp_abs, self.vcm_abs)),
+            Eq(der(self.q_fp1), two_pi * self.fp1 * (self.q_sum_help - self.q_fp1)),
+            # slew rate stage: x only carries its derivative, the unlimited slope
+            Eq(dx, (self.q_fp1 - self.v_source) / self.Ts),
+            Eq(der(self.v_source), smooth(0, noEvent(sp.Piecewise((self.sr_p_val, dx > self.sr_p_val),
+                                                                  (self.sr_m_val, dx < self.sr_m_val),
+                                                                  (dx, True))))),
+            # output stage
+            Eq(self.v_out, self.outp.v),
+            Eq(self.i_out, self.outp.i),
+            Eq(self.i_out, _limited_output_current(self.v_source, self.v_out, self.Rout,
+                                                   self.Imaxsi_val, self.Imaxso_val)),
+            Eq(self.p_supply.i, 0),
+            Eq(self.m_supply.i, 0),
+        ]
+
+
+# --------------------------------------------------------------------------
+# transformer with N coupled inductors
+
+
+def _triangle_index(N: int, row: int, column: int) -> int:  # noqa: N803 - Modelica name
+    """1-based position in ``L`` of the inductance ``Lm[row, column]`` (``row <= column``).
+
+    ``L`` lists the upper triangle of the symmetric inductance matrix row by
+    row: ``L11, L12, ..., L1N, L22, ..., LNN``.
+    """
+    return (row - 1) * N - (row - 1) * row // 2 + column
+
+
+class M_Transformer(Component):  # noqa: N801 - Modelica name
+    """Generic transformer with free number of inductors (Modelica.Electrical.Analog.Basic.M_Transformer).
+
+    ``N`` inductors, inductor ``j`` between ``p[j]`` and ``n[j]``, coupled
+    by the symmetric inductance matrix ``Lm``: ``v = Lm*der(i)``.  ``L``
+    gives the ``N*(N + 1)/2`` entries of its upper triangle row by row
+    (``L11, L12, ..., L1N, L22, ..., LNN``); ``Lm`` is filled from it at
+    initialization (a parameter with ``fixed = false``, as in the MSL).  The
+    currents start at 0 (``fixed = true``).  The default ``L`` is for the
+    default ``N = 3``; another ``N`` needs its own ``L``.  The MSL's
+    protected ``dimL`` is the size of ``L``, computed from ``N``.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Basic.M_Transformer"
+
+    N = Parameter(3, structural=True, min=1, description="Number of inductors")
+    L = Parameter((1.0, 0.1, 0.2, 2.0, 0.3, 3.0), unit="H", shape=lambda value: _dim_l(value("N")),
+                  description="Inductances and coupling inductances")
+    Lm = Parameter(0.0, unit="H", fixed=False, shape=("N", "N"),
+                   description="Complete symmetric inductance matrix, calculated internally")
+    p = PositivePin(shape="N", description="Positive pin")
+    n = NegativePin(shape="N", description="Negative pin")
+    v = Variable(unit="V", shape="N", description="Voltage drop over inductors")
+    i = Variable(unit="A", shape="N", start=0.0, fixed=True, description="Current through inductors")
+
+    def initial_equations(self):
+        N = self.N  # noqa: N806 - Modelica name
+        found = []
+        for row in range(1, N + 1):
+            found.append(Eq(self.Lm[row, row], self.L[_triangle_index(N, row, row)]))
+            for column in range(row + 1, N + 1):
+                coupling = self.L[_triangle_index(N, row, column)]
+                found += [Eq(self.Lm[row, column], coupling), Eq(self.Lm[column, row], coupling)]
+        return found
+
+    def equations(self):
+        found = []
+        for j in range(1, self.N + 1):
+            found += [Eq(self.v[j], self.p[j].v - self.n[j].v),
+                      Eq(0, self.p[j].i + self.n[j].i),
+                      Eq(self.i[j], self.p[j].i)]
+        return found + [Eq(self.v, self.Lm @ self.i.applyfunc(der))]
+
+
+def _dim_l(N: int) -> int:  # noqa: N803 - Modelica name
+    """``div(N*(N + 1), 2)``: the number of entries of a symmetric N x N matrix's upper triangle."""
+    return int(N) * (int(N) + 1) // 2

@@ -9,21 +9,28 @@ built with the source's own parameters plus ``offset`` and ``startTime``:
 
 from __future__ import annotations
 
+import enum
+import math
+
+import numpy as np
 import sympy as sp
 
-from acausal.language import Component, Eq, Parameter, RealInput, Variable, der
+from acausal.hybrid import Assert
+from acausal.language import Boolean, Component, Eq, If, Parameter, RealInput, Variable, der, time
+from acausal.components.blocks import SignalSource
 from acausal.components.declarations import DerivedDefaults
-from acausal.components.electrical import CurrentSource, NegativePin, OnePort, PositivePin, VoltageSource
+from acausal.components.electrical import EPS, CurrentSource, NegativePin, OnePort, PositivePin, VoltageSource
 from acausal.library.blocks import sources as blocks
 
 __all__ = [
     "SignalVoltage", "ConstantVoltage", "StepVoltage", "RampVoltage", "SineVoltage", "CosineVoltage",
     "ExpSineVoltage", "ExponentialsVoltage", "PulseVoltage", "SawToothVoltage", "TrapezoidVoltage",
     "TableVoltage", "SineVoltageVariableFrequencyAndAmplitude", "CosineVoltageVariableFrequencyAndAmplitude",
-    "SupplyVoltage",
+    "SupplyVoltage", "LightningImpulseVoltage",
     "SignalCurrent", "ConstantCurrent", "StepCurrent", "RampCurrent", "SineCurrent", "CosineCurrent",
     "ExpSineCurrent", "ExponentialsCurrent", "PulseCurrent", "SawToothCurrent", "TrapezoidCurrent",
     "TableCurrent", "SineCurrentVariableFrequencyAndAmplitude", "CosineCurrentVariableFrequencyAndAmplitude",
+    "LightningImpulseCurrent", "LightningImpulse", "ImpulseApproximation", "DCPowerSupply",
 ]
 
 #: Modelica.Constants.small, the lower bound of periods and time constants.
@@ -602,3 +609,270 @@ class SupplyVoltage(Component):
         self.connect(self.negativeSupply.n, self.pin_n)
         self.connect(self.positiveSupply.n, self.ground)
         self.connect(self.ground, self.negativeSupply.p)
+
+
+# --------------------------------------------------------------------------
+# lightning impulse
+# --------------------------------------------------------------------------
+
+
+class ImpulseApproximation(enum.IntEnum):
+    """Approximation of the impulse trajectory (Modelica.Electrical.Analog.Types.ImpulseApproximation)."""
+
+    DoubleExp = 1
+    Heidler = 2
+
+
+# set after the body: in an IntEnum's body a str would become a member
+ImpulseApproximation.modelica_name = "Modelica.Electrical.Analog.Types.ImpulseApproximation"
+
+
+def _impulse_start_guesses(source: Component) -> dict[str, float]:
+    """Start values of the impulse's parameters found at initialization: Newton's first guesses.
+
+    The MSL's start values (``T0`` and the time constants ``T1``, ``T2``)
+    lie too far from the solution for a plain Newton iteration on times of
+    microseconds; from them scipy solves the same five equations, the times
+    scaled by ``T1``, and the initialization starts from there.  Where that
+    fails (the assert on ``T1`` rejects the parameters) the MSL's start
+    values stay.
+    """
+    hints = getattr(source, "_start_hints", {})
+
+    def number(name: str, default: float) -> float:
+        value = source._modifiers.get(name, default)
+        if not isinstance(value, (int, float)):
+            value = hints.get(name, default)  # bound to an enclosing source's parameter
+        return float(value)
+
+    t1, t2, m = number("T1", 10e-6), number("T2", 350e-6), int(source.m)
+    double_exp = source.approximation == ImpulseApproximation.DoubleExp
+    if double_exp:
+        t0 = t2 * t1 / (t2 - t1) * math.log(t2 / t1)
+        msl = {"T0": t0, "T": t0, "T10": 0.01 * t0, "tau1": t2, "tau2": t1, "eta": 1.0}
+    else:
+        t0 = t1 * (m * t2 / t1) ** (1 / (m + 1))
+        msl = {"T0": t0, "T": t0, "T10": 0.1 * t0, "tau1": t1, "tau2": t2, "eta": 1.0}
+
+    def shape(t, tau1, tau2):
+        if double_exp:
+            return np.exp(-t / tau1) - np.exp(-t / tau2)
+        ratio = (t / tau1) ** m
+        return ratio / (1 + ratio) * np.exp(-t / tau2)
+
+    def residuals(x):
+        eta, (t_max, t10, tau1, tau2) = x[0], x[1:] * t1
+        maximum = ((np.exp(-t_max / tau1) / tau1 - np.exp(-t_max / tau2) / tau2) * t1 if double_exp
+                   else tau2 / t_max * m - 1 - (t_max / tau1) ** m)
+        return [maximum, eta - shape(t_max, tau1, tau2), 0.1 * eta - shape(t10, tau1, tau2),
+                0.9 * eta - shape(t10 + 0.8 * t1, tau1, tau2), 0.5 * eta - shape(t10 - 0.1 * t1 + t2, tau1, tau2)]
+
+    from scipy.optimize import fsolve  # only here: a model without impulses does not load it
+
+    guess = np.array([msl["eta"], msl["T"] / t1, msl["T10"] / t1, msl["tau1"] / t1, msl["tau2"] / t1])
+    with np.errstate(all="ignore"):
+        solution, _, found, _ = fsolve(residuals, guess, full_output=True, xtol=1e-13)
+    if found != 1 or not np.all(np.isfinite(solution)) or np.min(solution) <= 0:
+        return msl
+    eta, t_max, t10, tau1, tau2 = solution[0], *(solution[1:] * t1)
+    return {"T0": msl["T0"], "T": t_max, "T10": t10, "tau1": tau1, "tau2": tau2, "eta": eta}
+
+
+class LightningImpulse(SignalSource):
+    """Lightning impulse voltage or current trajectory (Modelica.Electrical.Analog.Sources.LightningImpulse).
+
+    From ``startTime`` on, with ``t = time - startTime``, the double
+    exponential ``y = offset + amplitude/eta*(exp(-t/tau1) - exp(-t/tau2))``
+    or the Heidler function ``y = offset + amplitude/eta*(t/tau1)^m/(1 +
+    (t/tau1)^m)*exp(-t/tau2)``; ``offset`` before.  The shape's parameters
+    are found at initialization from the data sheet's rise time ``T1``
+    (10 % to 90 % of the peak in ``0.8*T1``, from ``T10`` on) and decay
+    time to half value ``T2`` (from the virtual start ``T10 - 0.1*T1``):
+    ``T`` where the maximum lies, ``eta`` scaling it to ``amplitude``,
+    the 10 % instant ``T10`` and the time constants ``tau1``, ``tau2`` —
+    five initial equations, as in the MSL.  ``T0`` is Newton's first guess
+    of ``T``.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Sources.LightningImpulse"
+
+    approximation = Parameter(ImpulseApproximation.Heidler, structural=True,
+                              description="Approximation of impulse")
+    amplitude = Parameter(1.0, description="Amplitude (MSL: no default)")
+    T1 = Parameter(10e-6, unit="s", description="Rise time")
+    T2 = Parameter(350e-6, unit="s", description="Decay time to half value")
+    m = Parameter(5, structural=True, min=2, description="Integer exponent of Heidler-function 5..10")
+    eta = Parameter(None, unit="1", min=SMALL, fixed=False, description="Amplitude parameter (protected)")
+    T0 = Parameter(None, unit="s", description="Initial value of time parameter (protected)")
+    T = Parameter(None, unit="s", min=SMALL, fixed=False, description="Time when maximum occurs (protected)")
+    T10 = Parameter(None, unit="s", min=SMALL, fixed=False, description="Time to 10% (protected)")
+    tau1 = Parameter(None, unit="s", min=SMALL, fixed=False, description="Time constant 1 (protected)")
+    tau2 = Parameter(None, unit="s", min=SMALL, fixed=False, description="Time constant 2 (protected)")
+
+    def parameter_binding(self, name: str):
+        # the MSL's bindings (T0) and start values (fixed=false parameters) computed from T1, T2, m
+        if name in ("eta", "T0", "T", "T10", "tau1", "tau2") and name not in self._modifiers:
+            return _impulse_start_guesses(self)[name]
+        return super().parameter_binding(name)
+
+    def _shape(self, t: sp.Expr) -> sp.Expr:
+        """The unscaled trajectory at ``t`` after the start."""
+        if self.approximation == ImpulseApproximation.DoubleExp:
+            return sp.exp(-t / self.tau1) - sp.exp(-t / self.tau2)
+        ratio = (t / self.tau1) ** self.m
+        return ratio / (1 + ratio) * sp.exp(-t / self.tau2)
+
+    def initial_equations(self):
+        rise_end = self.T10 + 0.8 * self.T1
+        half = self.T10 - 0.1 * self.T1 + self.T2
+        if self.approximation == ImpulseApproximation.DoubleExp:
+            maximum = Eq(sp.exp(-self.T / self.tau1) / self.tau1, sp.exp(-self.T / self.tau2) / self.tau2)
+        else:
+            maximum = Eq(self.tau2 / self.T * self.m, 1 + (self.T / self.tau1) ** self.m)
+        return [maximum,
+                Eq(self.eta, self._shape(self.T)),         # amplitude reached at T
+                Eq(0.1 * self.eta, self._shape(self.T10)),  # 10 % at T10
+                Eq(0.9 * self.eta, self._shape(rise_end)),  # 90 % at T10 + 0.8*T1
+                Eq(0.5 * self.eta, self._shape(half))]      # 50 % at T2 from the virtual start
+
+    def equations(self):
+        t = time - self.startTime
+        return [Assert(sp.Or(sp.true if self.approximation == ImpulseApproximation.Heidler else sp.false,
+                             self.T1 < 0.2 * self.T2),
+                       "Rise time has to be smaller than 0.2*decay time!"),
+                Eq(self.y, If(time < self.startTime, self.offset,
+                              self.offset + self.amplitude / self.eta * self._shape(t)))]
+
+
+class _LightningShape:
+    """The impulse's own parameters, handed to the LightningImpulse block (signalSource)."""
+
+    approximation = Parameter(ImpulseApproximation.Heidler, structural=True,
+                              description="Approximation of impulse")
+    T1 = Parameter(10e-6, unit="s", description="Rise time")
+    T2 = Parameter(350e-6, unit="s", description="Decay time to half value")
+    m = Parameter(5, structural=True, min=2, description="Integer exponent of Heidler-function 5..10")
+
+    def _block(self, amplitude) -> LightningImpulse:
+        block = LightningImpulse(approximation=self.approximation, amplitude=amplitude, T1=self.T1, T2=self.T2,
+                                 m=self.m, **_common(self))
+        # the numbers of T1, T2 seed Newton's guesses of the block's parameters found at initialization
+        block._start_hints = {name: self._modifiers[name] for name in ("T1", "T2")
+                              if isinstance(self._modifiers.get(name), (int, float))}
+        return block
+
+
+class LightningImpulseVoltage(_LightningShape, VoltageSource):
+    """Lightning impulse voltage (Modelica.Electrical.Analog.Sources.LightningImpulseVoltage).
+
+    ``v`` is a LightningImpulse of amplitude ``V`` (see there).
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Sources.LightningImpulseVoltage"
+
+    V = Parameter(1.0, unit="V", description="Amplitude (MSL: no default)")
+
+    def signal_source(self):
+        return self._block(self.V)
+
+
+class LightningImpulseCurrent(_LightningShape, CurrentSource):
+    """Lightning impulse current (Modelica.Electrical.Analog.Sources.LightningImpulseCurrent).
+
+    ``i`` is a LightningImpulse of amplitude ``I`` (see there).
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Sources.LightningImpulseCurrent"
+
+    I = Parameter(1.0, unit="A", description="Amplitude (MSL: no default)")  # noqa: E741 - Modelica name
+
+    def signal_source(self):
+        return self._block(self.I)
+
+
+# --------------------------------------------------------------------------
+# DC power supply
+# --------------------------------------------------------------------------
+
+
+def _power_limited(source: Component) -> sp.Expr:
+    """The MSL's ``cp``: the corner of the cv and cc lines, ``vLim*iLim``, lies above ``P0``."""
+    return _corner_voltage(source) * _corner_current(source) > source.P0
+
+
+def _corner_voltage(source: Component) -> sp.Expr:
+    return (source.V0 - source.Rcv * source.I0) / (1 - source.Rcv * source.Gcc)
+
+
+def _corner_current(source: Component) -> sp.Expr:
+    return (source.I0 - source.Gcc * source.V0) / (1 - source.Gcc * source.Rcv)
+
+
+class DCPowerSupply(DerivedDefaults, Component):
+    """Simple model of a DC power supply cv - cp - cc (Modelica.Electrical.Analog.Sources.DCPowerSupply).
+
+    Constant voltage (cv): ``v = V0 - Rcv*(-i)`` while the delivered
+    current ``-i`` is at most ``iLim``; constant current (cc): ``-i = I0 -
+    Gcc*v`` while ``v`` is at most ``vLim``; and, when the corner of these
+    two lines delivers more than ``P0`` (``cp``), constant power ``P0 =
+    v*(-i)`` between them, the limits then being where the cv and cc lines
+    deliver ``P0``.  The two operating Booleans ``cv`` and ``cc`` switch by
+    state events.  The MSL's protected ``vLim``, ``iLim`` and ``cp``
+    (computed in an initial algorithm from the parameters alone) are here
+    bindings of the parameters.  The three laws are one residual in volts:
+    the current law is multiplied by ``V0/I0`` and the power law divided by
+    ``I0`` (positive factors: the same solutions), as the branches of an if
+    share a unit.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Sources.DCPowerSupply"
+
+    derived_defaults = {
+        "vLim": lambda c: sp.Piecewise(((c.I0 - sp.sqrt(c.I0 ** 2 - 4 * c.Gcc * c.P0)) / (2 * c.Gcc),
+                                        _power_limited(c)), (_corner_voltage(c), True)),
+        "iLim": lambda c: sp.Piecewise(((c.V0 - sp.sqrt(c.V0 ** 2 - 4 * c.Rcv * c.P0)) / (2 * c.Rcv),
+                                        _power_limited(c)), (_corner_current(c), True)),
+    }
+
+    V0 = Parameter(60.0, unit="V", min=EPS, description="No-load voltage")
+    I0 = Parameter(50.0, unit="A", min=EPS, description="Short-circuit current")
+    P0 = Parameter(1200.0, unit="W", min=EPS, description="Maximum power")
+    Rcv = Parameter(1e-3, unit="Ohm", min=EPS, description="Inner resistance in constant voltage region")
+    Gcc = Parameter(1e-3, unit="S", min=EPS, description="Inner conductance in constant current region")
+    iBack = Parameter(1e-3, unit="A", description="Allowed back current")  # noqa: N815 - Modelica name
+    vLim = Parameter(None, unit="V", description="Voltage limit for cc (protected)")  # noqa: N815
+    iLim = Parameter(None, unit="A", description="Current limit for cv (protected)")  # noqa: N815
+    v = Variable(unit="V", start=lambda c: c.V0, description="Terminal voltage")
+    # no start in the MSL; a small delivered current keeps the constant-power law (singular at
+    # i = 0) solvable when initialization first tries it
+    i = Variable(unit="A", start=lambda c: -1e-3 * c.I0, description="Current (delivered < 0)")
+    P = Variable(unit="W", description="Power (delivered < 0)")
+    p = PositivePin(description="Positive electrical pin")
+    n = NegativePin(description="Negative electrical pin")
+    cp = Boolean(description="Is cp present? (protected)")
+    cv = Boolean(start=True, description="Operation in cv, otherwise cc (or cp) (protected)")
+    cc = Boolean(start=False, description="Operation in cc, otherwise cv (or cp) (protected)")
+
+    def equations(self):
+        delivered = -self.i
+        voltage_law = self.v - (self.V0 - self.Rcv * delivered)
+        current_law = (delivered - (self.I0 - self.Gcc * self.v)) * (self.V0 / self.I0)
+        power_law = (self.P0 - self.v * delivered) / self.I0
+        power_limited = _power_limited(self)
+        return [
+            Assert(self.Rcv < self.V0 / self.I0, "Rcv too high!"),
+            Assert(self.Gcc < self.I0 / self.V0, "Gcc too high!"),
+            Assert(sp.Or(sp.Not(power_limited), self.Rcv < self.V0 ** 2 / (4 * self.P0)), "Rcv too high!"),
+            Assert(sp.Or(sp.Not(power_limited), self.Gcc < self.I0 ** 2 / (4 * self.P0)), "Gcc too high!"),
+            Eq(self.v, self.p.v - self.n.v),
+            Eq(self.i, self.p.i),
+            Eq(self.P, self.v * self.i),
+            Eq(self.p.i + self.n.i, 0),
+            Assert(self.v >= 0, "Only voltage >= 0 allowed"),
+            Assert(self.i <= self.iBack, "Back current exceeded!"),
+            Eq(self.cp, power_limited),
+            Eq(self.cv, delivered <= self.iLim),
+            Eq(self.cc, self.v <= self.vLim),
+            # MSL: if cp then (if cv .. elseif cc .. else P0 = v*(-i)) else (if cv .. else ..)
+            Eq(0, If(self.cv, voltage_law, If(sp.Or(self.cc, sp.Not(self.cp)), current_law, power_law))),
+        ]

@@ -388,9 +388,6 @@ class TriacFired(Model):
         self.connect(self.gate_resistor.n, self.triac.g)
 
 
-@pytest.mark.xfail(strict=True, reason="the run stops when the gate current starts (t = 1 ms): 'Newton iteration "
-                   "for load ... triac.thyristor (Thyristor eq. 1) ... did not converge in 50 iterations'; "
-                   "a constant gate current from t = 0 fails at initialization (residual nan)")
 def test_simple_triac_fired_conducts_both_half_waves_alike():
     """Fired, the forward-biased thyristor conducts each half wave: i = u/(R + Ron||Roff), the same in both."""
     result = simulate(TriacFired(), rtol=1e-8)
@@ -400,5 +397,8 @@ def test_simple_triac_fired_conducts_both_half_waves_alike():
     ron = (1.7 - 0.7) / 25.0
     r_conducting = 1 / (1 / ron + 1 / ROFF_DEFAULT)
     conducting = (np.abs(u) > 2.0) & (t > 2e-3)
+    # the gate circuit reaches p through the other gate's reverse-biased ideal diode too: its
+    # Goff = 1e-5 S leaks at most Goff*(5 V + 20 V) = 2.5e-4 A into the main current
+    leakage = 1e-5 * (5.0 + 20.0)
     np.testing.assert_allclose(result["triac.p.i"][conducting], u[conducting] / (10.0 + r_conducting),
-                               rtol=1e-4)
+                               rtol=1e-4, atol=leakage)
