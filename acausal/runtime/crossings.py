@@ -369,6 +369,9 @@ def states_at(dense: Callable, times) -> np.ndarray:
     """
     times = np.asarray(times, dtype=float).reshape(-1)
     batched = _BATCHED.get(type(dense))
+    if batched is None and not _SCIPY_KINDS[0]:
+        _fast_paths(type(dense))
+        batched = _BATCHED.get(type(dense))
     if batched is not None and batched[1] is not False and len(times):
         try:
             out = batched[0](dense, times)
@@ -387,6 +390,9 @@ def state_at(dense: Callable, t: float) -> np.ndarray:
     (for the dense outputs of RK23, RK45 and Radau; others are called)."""
     kind = type(dense)
     point = _POINT.get(kind)
+    if point is None and not _SCIPY_KINDS[0]:
+        _fast_paths(kind)
+        point = _POINT.get(kind)
     if point is not None and point[1] is not False:
         try:
             y = point[0](dense, t)
@@ -501,14 +507,25 @@ def _point_kinds() -> dict:
     return {RkDenseOutput: [_rk_point, None], RadauDenseOutput: [_radau_point, None]}
 
 
-try:
-    _BATCHED, _POINT = _batched_kinds(), _point_kinds()
-except ImportError:  # another scipy layout: one call per instant
-    _BATCHED, _POINT = {}, {}
 # acausal's own Runge-Kutta pairs: an array of instants gives, column by column, what
-# one instant gives (checked once per process all the same)
-_BATCHED.update({explicit_rk.QuarticDenseOutput: [_columns_as_rows, None],
-                 explicit_rk.Dop853DenseOutput: [_columns_as_rows, None]})
+# one instant gives (checked once per process all the same); scipy's kinds are added
+# when a scipy solver's dense output first comes (a run with an explicit method never
+# imports scipy)
+_BATCHED: dict = {explicit_rk.QuarticDenseOutput: [_columns_as_rows, None],
+                  explicit_rk.Dop853DenseOutput: [_columns_as_rows, None]}
+_POINT: dict = {}
+_SCIPY_KINDS = [False]  # whether scipy's kinds were looked up
+
+
+def _fast_paths(kind: type) -> None:
+    """Add scipy's dense-output kinds once ``kind`` is one of scipy's."""
+    if not _SCIPY_KINDS[0] and kind.__module__.startswith("scipy."):
+        _SCIPY_KINDS[0] = True
+        try:
+            _BATCHED.update(_batched_kinds())
+            _POINT.update(_point_kinds())
+        except ImportError:  # another scipy layout: one call per instant
+            pass
 
 
 #: generated function -> its numpy version (or False): made once per compiled function

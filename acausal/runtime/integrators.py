@@ -1,4 +1,4 @@
-"""Fixed-step integrators in scipy's ``OdeSolver`` interface.
+"""Fixed-step integrators in the ``OdeSolver`` interface of :mod:`.explicit_rk` (scipy's).
 
 scipy offers only adaptive methods.  Explicit Euler and the classical
 Runge-Kutta method with a fixed step are what real-time and embedded targets
@@ -12,7 +12,7 @@ land exactly on ``t_bound``.
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import DenseOutput, OdeSolver
+from .explicit_rk import DenseOutput, OdeSolver
 
 __all__ = ["Euler", "RK4"]
 

@@ -32,7 +32,6 @@ from collections import deque
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
-import scipy.integrate as integrate
 
 from ..compiler.translate import ModeSystem, Translation, translate, with_start_values
 from ..errors import (AcausalError, AssertionViolation, ChatteringError, InitializationError, ModelDefinitionError,
@@ -58,14 +57,29 @@ __all__ = ["simulate", "METHODS", "MAX_OUTPUT_POINTS"]
 #: interval is refused before anything is allocated).
 MAX_OUTPUT_POINTS = 10_000_000
 
+class _ScipyMethod:
+    """One of scipy's implicit solvers, imported when a run first asks for it."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __call__(self, *args, **kwargs):
+        import scipy.integrate
+
+        return getattr(scipy.integrate, self.name)(*args, **kwargs)
+
+    def __repr__(self) -> str:
+        return f"scipy.integrate.{self.name}"
+
+
 #: The integration methods by name. The explicit Runge-Kutta pairs are acausal's own, in
 #: numpy (:mod:`.explicit_rk`: the same steps as scipy's, bit for bit); the implicit ones are scipy's.
 METHODS = {
     "RK45": explicit_rk.RK45,
     "DOP853": explicit_rk.DOP853,
-    "Radau": integrate.Radau,
-    "BDF": integrate.BDF,
-    "LSODA": integrate.LSODA,
+    "Radau": _ScipyMethod("Radau"),
+    "BDF": _ScipyMethod("BDF"),
+    "LSODA": _ScipyMethod("LSODA"),
     "Euler": Euler,
     "RK4": RK4,
 }

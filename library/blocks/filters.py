@@ -39,7 +39,6 @@ from typing import Any, Callable
 import mpmath
 import numpy as np
 import sympy as sp
-from scipy.optimize import brentq
 
 from acausal.components.blocks import SISO
 from acausal.components.checks import parameter_number, where
@@ -148,6 +147,8 @@ def normalization_factor(den1: np.ndarray, den2: np.ndarray) -> float:
     alpha_max = 1.0
     while residue(alpha_max) >= 0:
         alpha_max *= 1.1
+    from scipy.optimize import brentq  # only here: most models have no such filter
+
     return brentq(residue, 0.0, alpha_max, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500)
 
 
