@@ -16,6 +16,16 @@ Written from the MSL 4.1.0 sources of Modelica.Electrical.Machines:
 * the loss models (``Machines.Losses.Friction``, ``Losses.DCMachines.Brush``,
   ``Core``, ``StrayLoad``), the linear air gap ``AirGapDC``, the armature and
   field inductor ``InductorDC`` and ``CompoundDCExcitation``;
+* the power balance records (``Machines.Interfaces.DCMachines.
+  PartialPowerBalanceDCMachines``, ``PowerBalanceDCPM``, ``PowerBalanceDCEE``,
+  ``PowerBalanceDCSE``): each machine's ``powerBalance`` sub-component, its
+  terms (W) bound by the machine as the MSL's ``final`` modifiers bind them
+  (``powerArmature = va*ia``, ``powerMechanical = wMechanical*tauShaft``,
+  ``powerInertiaRotor = J*a*w`` of the rotor inertia, ``lossPowerArmature =
+  ra.LossPower`` ..., the excitation's power and losses), the record summing
+  the losses into ``lossPowerTotal``.  As in the MSL, the windings' magnetic
+  energy is in no term: the balance (electrical power = mechanical power +
+  inertia powers + total losses) holds once the currents are steady;
 * the three DC machines: permanent magnet, electrically (shunt/separately)
   excited and series excited, each with armature resistance and inductance,
   brushes, core, stray load and friction losses and rotor/stator inertias.
@@ -27,9 +37,8 @@ windings are at their operational temperatures (``TaOperational``,
 their heat to fixed temperatures, which feeds nothing back); with ``useThermalPort`` every loss has a heat
 port of its own on the machine, named as the MSL's thermal port's members
 (``thermalPort_heatPortArmature`` for ``thermalPort.heatPortArmature``):
-acausal has no connectors made of connectors.  The MSL's ``powerBalance``
-record is not reproduced; its terms are the components' variables
-(``ra.LossPower``, ``brush.lossPower`` ...).
+acausal has no connectors made of connectors, so the MSL's composite
+``thermalPort`` stays a set of separate heat ports.
 """
 
 from __future__ import annotations
@@ -60,6 +69,10 @@ __all__ = [
     "InductorDC",
     "AirGapDC",
     "CompoundDCExcitation",
+    "PartialPowerBalanceDCMachines",
+    "PowerBalanceDCPM",
+    "PowerBalanceDCEE",
+    "PowerBalanceDCSE",
     "DC_PermanentMagnet",
     "DC_ElectricalExcited",
     "DC_SeriesExcited",
@@ -486,6 +499,92 @@ class CompoundDCExcitation(Component):
 
 
 # --------------------------------------------------------------------------
+# power balance records
+
+
+def _power(description: str) -> Variable:
+    return Variable(unit="W", description=description)
+
+
+class PartialPowerBalanceDCMachines(Component):
+    """Partial power balance of DC machines (Modelica.Electrical.Machines.Interfaces.DCMachines.PartialPowerBalanceDCMachines).
+
+    A record of outputs: the machine binds every term (the MSL's ``final``
+    modifiers of the machine's ``powerBalance``), the record itself only
+    sums the losses into ``lossPowerTotal``.  In a motor, ``powerArmature``
+    (plus the excitation power) = ``powerMechanical`` + ``powerInertiaRotor``
+    + ``powerInertiaStator`` + ``lossPowerTotal`` + the rate of change of the
+    magnetic energy of the windings, which the record leaves out.
+    """
+
+    modelica_name = "Modelica.Electrical.Machines.Interfaces.DCMachines.PartialPowerBalanceDCMachines"
+
+    powerArmature = _power("Electrical armature power")  # noqa: N815 - Modelica name
+    powerMechanical = _power("Mechanical power")  # noqa: N815 - Modelica name
+    powerInertiaStator = _power("Stator inertia power")  # noqa: N815 - Modelica name
+    powerInertiaRotor = _power("Rotor inertia power")  # noqa: N815 - Modelica name
+    lossPowerTotal = _power("Total loss power")  # noqa: N815 - Modelica name
+    lossPowerArmature = _power("Armature copper losses")  # noqa: N815 - Modelica name
+    lossPowerCore = _power("Core losses")  # noqa: N815 - Modelica name
+    lossPowerStrayLoad = _power("Stray load losses")  # noqa: N815 - Modelica name
+    lossPowerFriction = _power("Friction losses")  # noqa: N815 - Modelica name
+    lossPowerBrush = _power("Brush losses")  # noqa: N815 - Modelica name
+
+    def loss_terms(self) -> list[Any]:
+        """The losses every DC machine has; a variant's total adds its excitation (or magnet) losses."""
+        return [self.lossPowerArmature, self.lossPowerCore, self.lossPowerStrayLoad,
+                self.lossPowerFriction, self.lossPowerBrush]
+
+
+class PowerBalanceDCPM(PartialPowerBalanceDCMachines):
+    """Power balance of DC machines with permanent magnet (Modelica.Electrical.Machines.Interfaces.DCMachines.PowerBalanceDCPM).
+
+    ``lossPowerTotal`` includes the magnets' losses ``lossPowerPermanentMagnet``.
+    """
+
+    modelica_name = "Modelica.Electrical.Machines.Interfaces.DCMachines.PowerBalanceDCPM"
+
+    lossPowerPermanentMagnet = _power("Permanent magnet losses")  # noqa: N815 - Modelica name
+
+    def equations(self):
+        return [Eq(self.lossPowerTotal, sp.Add(*self.loss_terms(), self.lossPowerPermanentMagnet))]
+
+
+class PowerBalanceDCEE(PartialPowerBalanceDCMachines):
+    """Power balance of DC machines with electrical excitation (Modelica.Electrical.Machines.Interfaces.DCMachines.PowerBalanceDCEE).
+
+    ``powerExcitation`` is the electrical power into the (shunt) field
+    winding; ``lossPowerTotal`` includes its copper losses
+    ``lossPowerExcitation``.
+    """
+
+    modelica_name = "Modelica.Electrical.Machines.Interfaces.DCMachines.PowerBalanceDCEE"
+
+    powerExcitation = _power("Electrical (shunt) excitation power")  # noqa: N815 - Modelica name
+    lossPowerExcitation = _power("Excitation losses")  # noqa: N815 - Modelica name
+
+    def equations(self):
+        return [Eq(self.lossPowerTotal, sp.Add(*self.loss_terms(), self.lossPowerExcitation))]
+
+
+class PowerBalanceDCSE(PartialPowerBalanceDCMachines):
+    """Power balance of DC machines with series excitation (Modelica.Electrical.Machines.Interfaces.DCMachines.PowerBalanceDCSE).
+
+    ``powerSeriesExcitation`` is the electrical power into the series field
+    winding; ``lossPowerTotal`` includes its copper losses
+    ``lossPowerSeriesExcitation``.
+    """
+
+    modelica_name = "Modelica.Electrical.Machines.Interfaces.DCMachines.PowerBalanceDCSE"
+
+    powerSeriesExcitation = _power("Electrical series excitation power")  # noqa: N815 - Modelica name
+    lossPowerSeriesExcitation = _power("Series excitation losses")  # noqa: N815 - Modelica name
+
+    def equations(self):
+        return [Eq(self.lossPowerTotal, sp.Add(*self.loss_terms(), self.lossPowerSeriesExcitation))]
+
+
+# --------------------------------------------------------------------------
 # the machines
 
 
@@ -599,6 +698,9 @@ class _PartialBasicDCMachine(_PartialBasicMachine):
     thermalPort_heatPortFriction = _heat_port("Heat port of (optional) friction losses")  # noqa: N815
     thermalPort_heatPortBrush = _heat_port("Heat port of (optional) brush losses")  # noqa: N815
 
+    #: The class of ``powerBalance`` (the MSL's replaceable record, redeclared by each machine).
+    power_balance_record: type[PartialPowerBalanceDCMachines] = PartialPowerBalanceDCMachines
+
     def friction_reference_speed(self) -> Any:
         return self.wNominal
 
@@ -620,6 +722,7 @@ class _PartialBasicDCMachine(_PartialBasicMachine):
         self.strayLoad = StrayLoad(useHeatPort=self.useThermalPort,  # noqa: N815 - Modelica name
                                    strayLoadParameters=_record_values(self.strayLoadParameters))
         self.airGapDC = AirGapDC(turnsRatio=self.turnsRatio, Le=self.main_excitation_inductance())  # noqa: N815
+        self.powerBalance = self.power_balance_record()  # noqa: N815 - Modelica name
         self.connect(self.la.p, self.ra.n)
         self.connect(self.brush.n, self.pin_an)
         self.connect(self.pin_ap, self.strayLoad.p)
@@ -643,10 +746,21 @@ class _PartialBasicDCMachine(_PartialBasicMachine):
         raise NotImplementedError
 
     def equations(self):
+        balance = self.powerBalance
         return [Assert(self.ViNominal > EPS, "VaNominal has to be > (Ra[+Rse])*IaNominal"),
                 Eq(self.va, self.pin_ap.v - self.pin_an.v),
                 Eq(self.ia, self.pin_ap.i),
-                Eq(self.core.w, self.airGapDC.w)]
+                Eq(self.core.w, self.airGapDC.w),
+                # the power balance: the terms every DC machine has
+                Eq(balance.powerArmature, self.va * self.ia),
+                Eq(balance.powerMechanical, self.wMechanical * self.tauShaft),
+                Eq(balance.powerInertiaStator, self.inertiaStator.J * self.inertiaStator.a * self.inertiaStator.w),
+                Eq(balance.powerInertiaRotor, self.inertiaRotor.J * self.inertiaRotor.a * self.inertiaRotor.w),
+                Eq(balance.lossPowerArmature, self.ra.LossPower),
+                Eq(balance.lossPowerCore, self.core.lossPower),
+                Eq(balance.lossPowerStrayLoad, self.strayLoad.lossPower),
+                Eq(balance.lossPowerFriction, self.friction.lossPower),
+                Eq(balance.lossPowerBrush, self.brush.lossPower)]
 
 
 class DC_PermanentMagnet(_PartialBasicDCMachine):  # noqa: N801 - Modelica name
@@ -662,6 +776,8 @@ class DC_PermanentMagnet(_PartialBasicDCMachine):  # noqa: N801 - Modelica name
     """
 
     modelica_name = "Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_PermanentMagnet"
+
+    power_balance_record = PowerBalanceDCPM
 
     derived_defaults = {
         "ViNominal": lambda m: m.VaNominal - m.armature_drop(),
@@ -687,8 +803,11 @@ class DC_PermanentMagnet(_PartialBasicDCMachine):  # noqa: N801 - Modelica name
         self.connect(self.airGapDC.pin_en, self.eGround.p)
 
     def equations(self):
-        # the magnets' heat port takes no loss (powerBalance: lossPowerPermanentMagnet = 0)
-        return [Eq(self.thermalPort_heatPortPermanentMagnet.Q_flow, 0)] if self.useThermalPort else []
+        # the magnets are loss-free: nothing in the power balance, nothing into their heat port
+        magnets = [Eq(self.powerBalance.lossPowerPermanentMagnet, 0)]
+        if self.useThermalPort:
+            magnets.append(Eq(self.thermalPort_heatPortPermanentMagnet.Q_flow, 0))
+        return magnets
 
 
 class _ExcitationWinding(_PartialBasicDCMachine):
@@ -740,6 +859,8 @@ class DC_ElectricalExcited(_ExcitationWinding):  # noqa: N801 - Modelica name
 
     modelica_name = "Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_ElectricalExcited"
 
+    power_balance_record = PowerBalanceDCEE
+
     derived_defaults = {
         "ViNominal": lambda m: m.VaNominal - m.armature_drop(),
         "psi_eNominal": lambda m: m.Lme * m.IeNominal,
@@ -761,6 +882,10 @@ class DC_ElectricalExcited(_ExcitationWinding):  # noqa: N801 - Modelica name
         if self.useThermalPort:
             self.connect(self.re.heatPort, self.thermalPort_heatPortExcitation)
 
+    def equations(self):
+        return [Eq(self.powerBalance.powerExcitation, self.ve * self.ie),
+                Eq(self.powerBalance.lossPowerExcitation, self.re.LossPower)]
+
 
 class DC_SeriesExcited(_ExcitationWinding):  # noqa: N801 - Modelica name
     """Series excited linear DC machine (Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_SeriesExcited).
@@ -773,6 +898,8 @@ class DC_SeriesExcited(_ExcitationWinding):  # noqa: N801 - Modelica name
     """
 
     modelica_name = "Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_SeriesExcited"
+
+    power_balance_record = PowerBalanceDCSE
 
     derived_defaults = {
         "ViNominal": lambda m: (m.VaNominal - m.armature_drop()
@@ -797,3 +924,7 @@ class DC_SeriesExcited(_ExcitationWinding):  # noqa: N801 - Modelica name
         self.connect(self.compoundDCExcitation.pin_en, self.groundE.p)
         if self.useThermalPort:
             self.connect(self.re.heatPort, self.thermalPort_heatPortSeriesExcitation)
+
+    def equations(self):
+        return [Eq(self.powerBalance.powerSeriesExcitation, self.ve * self.ie),
+                Eq(self.powerBalance.lossPowerSeriesExcitation, self.re.LossPower)]
