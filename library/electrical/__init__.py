@@ -127,3 +127,8 @@ from .sources import (  # noqa: E402,F401
 )
 
 __all__ += ["LightningImpulseVoltage", "LightningImpulseCurrent", "DCPowerSupply"]
+
+# Basic: the general signal adaptors (a oneport as an input/output block)
+from .basic import GeneralCurrentToVoltageAdaptor, GeneralVoltageToCurrentAdaptor  # noqa: E402
+
+__all__ += ["GeneralCurrentToVoltageAdaptor", "GeneralVoltageToCurrentAdaptor"]

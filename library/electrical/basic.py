@@ -728,3 +728,138 @@ class M_Transformer(Component):  # noqa: N801 - Modelica name
 def _dim_l(N: int) -> int:  # noqa: N803 - Modelica name
     """``div(N*(N + 1), 2)``: the number of entries of a symmetric N x N matrix's upper triangle."""
     return int(N) * (int(N) + 1) // 2
+
+
+# --------------------------------------------------------------------------
+# signal adaptors (a oneport as an input/output block, e.g. for an FMU)
+
+# appended section: its own imports, kept next to the only classes that need them
+from acausal.components.checks import where  # noqa: E402
+from acausal.functions import prescribed  # noqa: E402
+from acausal.language import RealOutput  # noqa: E402
+
+
+class _ElectricalAdaptor(Component):
+    """The oneport and the switches of both electrical adaptors (each declares its protected signals, in its units).
+
+    The MSL builds them on Modelica.Blocks.Interfaces.Adaptors'
+    FlowToPotentialAdaptor and PotentialToFlowAdaptor with ``use_pder2 =
+    use_fder2 = false`` (final): a potential and a flow with at most their
+    first derivatives.  Unlike the mechanical adaptors they keep the flow
+    derivative ``use_fder``, so the generic classes of
+    :mod:`acausal.components.adaptors` (which leave it out) are not used;
+    the equations here are theirs with those two switches false.
+    """
+
+    use_pder = Parameter(True, structural=True, description="Use signal for 1st derivative of potential (dv)")
+    use_fder = Parameter(True, structural=True, description="Use signal for 1st derivative of flow (di)")
+    v = Variable(unit="V", description="Voltage drop between the two pins (= p.v - n.v)")
+    i = Variable(unit="A", description="Current flowing from pin p to pin n")
+    pin_p = PositivePin(description="Positive pin")
+    pin_n = NegativePin(description="Negative pin")
+
+    def oneport(self) -> list:
+        """The pins' equations: ``v = pin_p.v - pin_n.v``, ``i = pin_p.i``, ``pin_p.i + pin_n.i = 0``."""
+        return [Eq(self.v, self.pin_p.v - self.pin_n.v),
+                Eq(self.i, self.pin_p.i),
+                Eq(self.pin_p.i + self.pin_n.i, 0)]
+
+    def prescribed_input(self, value: sp.Basic, use_derivative: bool, name: str) -> sp.Basic:
+        """``u``: the input ``value`` whose time derivative is the input ``u1`` if given.
+
+        The MSL's ``state1({value, u1}, time)``; a second derivative is that
+        of ``u1`` (``differentiate_last``: a Modelica tool differentiates the
+        body of ``state1der1``, which has no derivative of its own).
+        """
+        if not use_derivative:
+            return value
+        return prescribed(value, self.u1, name=f"{where(self)}.{name}", differentiate_last=True)
+
+
+class GeneralCurrentToVoltageAdaptor(_ElectricalAdaptor):
+    """Current and its derivative in, voltage and its derivative out
+    (Modelica.Electrical.Analog.Basic.GeneralCurrentToVoltageAdaptor).
+
+    Wraps the circuit between ``pin_p`` and ``pin_n`` as a signal block:
+    the input current ``f`` enters ``pin_p`` (``i = f``; the circuit
+    delivers it), the output ``p = v`` is the voltage between the pins and
+    ``pder = der(v)`` (if ``use_pder``).  Where the circuit needs ``der(i)``
+    (an inductor) it takes the input ``fder`` (if ``use_fder``), which must
+    be consistent, ``fder = der(f)``.  The adaptor has no ground.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Basic.GeneralCurrentToVoltageAdaptor"
+
+    p = RealOutput(unit="V", description="Output for potential (v)")
+    pder = RealOutput(unit="V/s", condition="use_pder", description="Optional output for der(potential) (dv)")
+    f = RealInput(unit="A", description="Input for flow (i)")
+    fder = RealInput(unit="A/s", condition="use_fder", description="Optional input for der(flow) (di)")
+    # the protected signals: output = voltage, input = current
+    y = Variable(unit="V", description="Output signal (protected)")
+    y1 = Variable(unit="V/s", description="Optional 1st derivative of output (protected)")
+    y2 = Variable(unit="V/s2", description="Optional 2nd derivative of output (protected)")
+    u = Variable(unit="A", description="Input signal (protected)")
+    u1 = Variable(unit="A/s", description="Optional 1st derivative of input (protected)")
+    u2 = Variable(unit="A/s2", description="Optional 2nd derivative of input (protected)")
+
+    def equations(self):
+        equations = [
+            Eq(self.y, self.p),
+            Eq(self.y1, der(self.y) if self.use_pder else 0),
+            Eq(self.y2, 0),
+            Eq(self.u1, self.fder if self.use_fder else 0),
+            Eq(self.u2, 0),
+            Eq(self.u, self.prescribed_input(self.f, self.use_fder, "f")),
+            *self.oneport(),
+            Eq(self.y, self.v),  # output = potential = voltage
+            Eq(self.u, self.i),  # input = flow = current
+        ]
+        if self.use_pder:
+            equations.append(Eq(self.pder, self.y1))
+        return equations
+
+
+class GeneralVoltageToCurrentAdaptor(_ElectricalAdaptor):
+    """Voltage and its derivative in, current and its derivative out
+    (Modelica.Electrical.Analog.Basic.GeneralVoltageToCurrentAdaptor).
+
+    Wraps the circuit between ``pin_p`` and ``pin_n`` as a signal block:
+    the input ``p`` is the voltage between the pins, the output ``f = -i``
+    the current the circuit draws out of ``pin_p`` and ``fder = der(f)``
+    (if ``use_fder``).  Where the circuit needs ``der(v)`` (a capacitor) it
+    takes the input ``pder`` (if ``use_pder``), which must be consistent,
+    ``pder = der(p)``.  The adaptor has no ground.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Basic.GeneralVoltageToCurrentAdaptor"
+
+    p = RealInput(unit="V", description="Input for potential (v)")
+    pder = RealInput(unit="V/s", condition="use_pder", description="Optional input for der(potential) (dv)")
+    f = RealOutput(unit="A", description="Output for flow (i)")
+    fder = RealOutput(unit="A/s", condition="use_fder", description="Optional output for der(flow) (di)")
+    # the protected signals: output = current, input = voltage
+    y = Variable(unit="A", description="Output signal (protected)")
+    y1 = Variable(unit="A/s", description="Optional 1st derivative of output (protected)")
+    y2 = Variable(unit="A/s2", description="Optional 2nd derivative of output (protected)")
+    u = Variable(unit="V", description="Input signal (protected)")
+    u1 = Variable(unit="V/s", description="Optional 1st derivative of input (protected)")
+    u2 = Variable(unit="V/s2", description="Optional 2nd derivative of input (protected)")
+
+    def equations(self):
+        equations = [
+            Eq(self.y, -self.f),
+            Eq(self.y1, -der(self.y) if self.use_fder else 0),
+            Eq(self.y2, 0),
+            Eq(self.u1, self.pder if self.use_pder else 0),
+            Eq(self.u2, 0),
+            Eq(self.u, self.prescribed_input(self.p, self.use_pder, "p")),
+            *self.oneport(),
+            Eq(self.y, self.i),  # output = flow = current
+            Eq(self.u, self.v),  # input = potential = voltage
+        ]
+        if self.use_fder:
+            equations.append(Eq(self.fder, self.y1))
+        return equations
+
+
+__all__ += ["GeneralCurrentToVoltageAdaptor", "GeneralVoltageToCurrentAdaptor"]

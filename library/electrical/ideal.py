@@ -18,11 +18,14 @@ visited (:class:`acausal.components.electrical.IdealSemiconductor`,
 
 from __future__ import annotations
 
+import enum
+
 import sympy as sp
 
-from acausal.language import Component, Eq, If, Parameter, Variable, der
+from acausal.hybrid import When, div, integer, mod
+from acausal.language import Component, Eq, If, Integer, Parameter, Variable, der
 from acausal.components.logic import pre_boolean
-from acausal.components.blocks import BooleanInput
+from acausal.components.blocks import BooleanInput, IntegerInput, IntegerOutput
 from acausal.components.electrical import (
     ConditionalHeatPort,
     IdealSemiconductor,
@@ -460,3 +463,130 @@ class Short(OnePort):
 
     def equations(self):
         return [Eq(self.v, 0)]
+
+
+# --------------------------------------------------------------------------
+# analog-digital converters
+
+# appended section: its own imports, kept next to the only classes that need them
+
+
+
+class Logic(enum.IntEnum):
+    """Nine-valued logic of IEEE 1164 STD_ULOGIC (Modelica.Electrical.Digital.Interfaces.Logic).
+
+    The values are Modelica's ordinals.  The MSL's literals ``'0'``, ``'1'``
+    and ``'-'`` are no Python names; they are :attr:`Zero`, :attr:`One` and
+    :attr:`DontCare` here.  A digital signal (the MSL's ``DigitalInput`` /
+    ``DigitalOutput``, connectors of this type) is an Integer signal holding
+    one of these values.
+    """
+
+    U = 1  #: 'U' uninitialized
+    X = 2  #: 'X' forcing unknown
+    Zero = 3  #: '0' forcing 0
+    One = 4  #: '1' forcing 1
+    Z = 5  #: 'Z' high impedance
+    W = 6  #: 'W' weak unknown
+    L = 7  #: 'L' weak 0
+    H = 8  #: 'H' weak 1
+    DontCare = 9  #: '-' don't care
+
+
+# set after the body: in an IntEnum's body a str would become a member
+Logic.modelica_name = "Modelica.Electrical.Digital.Interfaces.Logic"
+
+
+def DigitalInput(**kw) -> Integer:  # noqa: N802 - Modelica's connector name
+    """A digital signal input (Modelica.Electrical.Digital.Interfaces.DigitalInput).
+
+    An Integer input holding a :class:`Logic` value.
+    """
+    return IntegerInput(min=int(Logic.U), max=int(Logic.DontCare), **kw)
+
+
+def DigitalOutput(**kw) -> Integer:  # noqa: N802
+    """A digital signal output (Modelica.Electrical.Digital.Interfaces.DigitalOutput).
+
+    An Integer output holding a :class:`Logic` value.
+    """
+    return IntegerOutput(min=int(Logic.U), max=int(Logic.DontCare), **kw)
+
+
+def _is_high(signal: sp.Basic) -> sp.Basic:
+    """``signal`` is a forcing or a weak 1 (the MSL's ``s == L.'1' or s == L.'H'``)."""
+    return sp.Or(sp.Eq(signal, int(Logic.One)), sp.Eq(signal, int(Logic.H)))
+
+
+class AD_Converter(Component):  # noqa: N801 - Modelica's name
+    """Simple n-bit analog to digital converter (Modelica.Electrical.Analog.Ideal.AD_Converter).
+
+    The input voltage ``u = p.v - n.v`` drives ``i = u/Rin`` through the
+    input resistance.  Where the trigger ``trig`` becomes ``'1'`` or ``'H'``
+    the converter samples ``u`` and writes the code
+    ``k = integer((u - VRefLow)/(VRefHigh - VRefLow)*(2^N - 1) + 0.5)``
+    (0 for ``u <= VRefLow``) to ``y`` in binary, least significant bit
+    first (``y[1]``), as ``'1'``/``'0'`` (:class:`Logic`).  ``y`` is ``'X'``
+    until the first trigger.  The MSL shifts ``z`` right once per bit, so
+    after a conversion ``z = div(k, 2^N)``: 0 unless the input was above
+    the range (then the bits are ``k``'s lowest ``N``).
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Ideal.AD_Converter"
+
+    N = Parameter(8, structural=True, min=1, description="Resolution in bits - output signal width")
+    VRefHigh = Parameter(10.0, unit="V", description="High reference voltage")  # noqa: N815 - Modelica name
+    VRefLow = Parameter(0.0, unit="V", description="Low reference voltage")  # noqa: N815
+    Rin = Parameter(1e6, unit="Ohm", description="Input resistance")
+    p = PositivePin()
+    n = NegativePin()
+    y = DigitalOutput(shape="N", start=int(Logic.X), fixed=True, description="Digital output")
+    trig = DigitalInput(description="Trigger input")
+    z = Integer(start=0, fixed=True, description="Code left after shifting out the N bits")
+    u = Variable(unit="V", description="Input voltage")
+
+    def equations(self):
+        steps = 2 ** int(self.N) - 1
+        code = If(self.u > self.VRefLow,
+                  integer((self.u - self.VRefLow) / (self.VRefHigh - self.VRefLow) * steps + sp.Rational(1, 2)),
+                  sp.Integer(0))
+        # bit i (from 1) of the code: what the MSL's loop of mod and div leaves in y[i]
+        bits = [Eq(self.y[i], If(mod(div(code, 2 ** (i - 1)), 2) > 0, int(Logic.One), int(Logic.Zero)))
+                for i in range(1, int(self.N) + 1)]
+        return [Eq(self.p.v - self.n.v, self.u),
+                Eq(self.p.i * self.Rin, self.u),
+                Eq(self.p.i + self.n.i, 0),
+                When(_is_high(self.trig), *bits, Eq(self.z, div(code, 2 ** int(self.N))))]
+
+
+class DA_Converter(Component):  # noqa: N801 - Modelica's name
+    """Simple digital to analog converter (Modelica.Electrical.Analog.Ideal.DA_Converter).
+
+    Where the trigger ``trig`` becomes ``'1'`` or ``'H'`` the converter reads
+    the bits ``x`` (least significant first; ``'1'`` and ``'H'`` count as 1,
+    every other value as 0), ``y = sum(x[i]*2^(i-1))``, and sets the ideal
+    voltage source between its pins to ``vout = y*Vref/(2^N - 1)``, held
+    until the next trigger; 0 before the first.
+    """
+
+    modelica_name = "Modelica.Electrical.Analog.Ideal.DA_Converter"
+
+    trig = DigitalInput(description="Trigger input")
+    x = DigitalInput(shape="N", description="Digital input")
+    p = PositivePin()
+    n = NegativePin()
+    vout = Variable(unit="V", start=0.0, fixed=True, description="Output voltage")
+    y = Variable(unit="1", start=0.0, fixed=True, description="Value of the input code")
+    N = Parameter(8, structural=True, min=1, description="Resolution - input signal width")
+    Vref = Parameter(10.0, unit="V", description="Reference voltage")
+
+    def equations(self):
+        code = sp.Add(*[If(_is_high(self.x[i]), 2 ** (i - 1), 0) for i in range(1, int(self.N) + 1)])
+        return [When(_is_high(self.trig),
+                     Eq(self.y, code),
+                     Eq(self.vout, code * self.Vref / (2 ** int(self.N) - 1))),
+                Eq(self.p.v - self.n.v, self.vout),
+                Eq(self.p.i + self.n.i, 0)]
+
+
+__all__ += ["Logic", "DigitalInput", "DigitalOutput", "AD_Converter", "DA_Converter"]

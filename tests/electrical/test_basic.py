@@ -27,7 +27,7 @@ from acausal.compiler.units import check_units
 from acausal.errors import UnitWarning
 from acausal.language import Boolean, Component, Connector, Integer, Parameter, Variable
 from acausal.library import electrical
-from acausal.library.blocks import BooleanConstant, Constant
+from acausal.library.blocks import BooleanConstant, Constant, IntegerConstant
 from acausal.library.electrical import (
     CCC,
     CCV,
@@ -101,7 +101,8 @@ def test_every_electrical_class_passes_the_unit_check(name):
             for key, declaration in self.x.declarations().items():
                 if (isinstance(declaration, Variable) and declaration.causality == "input"
                         and declaration.enabled(self.x)):
-                    source = BooleanConstant() if isinstance(declaration, Boolean) else Constant()
+                    source = (BooleanConstant() if isinstance(declaration, Boolean) else
+                              IntegerConstant() if isinstance(declaration, Integer) else Constant())
                     setattr(self, f"source_{key}", source)
                     self.connect(getattr(self, f"source_{key}").y, getattr(self.x, key))
 
