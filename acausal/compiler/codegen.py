@@ -437,6 +437,7 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
         if isinstance(step, NewtonSolve):
             start = [float(guesses.get(t, 0.0)) for t in step.tears]
             lines.append(f"    _start_{local[step.tears[0]]} = np.array({start!r})")
+            lines.append(f"    _memo_{local[step.tears[0]]} = {{}}  # its last Jacobian (newton_solve)")
     unpack = f"        {', '.join(local[n] for n in states)}, = x" if states else None
 
     def function(fname: str, chosen: list[int], result: str) -> None:
@@ -616,7 +617,7 @@ def _step_code(step, printer, local) -> list[str]:
     guess = f"_guess_{own}"
     lines = [f"{guess} = _state.get({own!r})"] + lines
     lines += [f"if {guess} is None:", f"    {guess} = _start_{own}",
-              f"_sol_{own} = _newton(_res_{own}, {guess}, {what}, memo=_state.setdefault({own + ':J'!r}, {{}}))",
+              f"_sol_{own} = _newton(_res_{own}, {guess}, {what}, memo=_memo_{own})",
               f"_state[{own!r}] = _sol_{own}",
               f"{', '.join(z)}, = _sol_{own}"]
     for var, expr in inner:

@@ -1105,22 +1105,12 @@ class DiscreteEvaluator:
         if not booleans:  # no Boolean chooses the equations: the relations themselves may
             return self._search_relations(t, values, pre, relations_before, initial, fired, cycle, current)
         base = {**current, **{n: pre[n] for n in booleans}}
-        # every candidate is judged against the same pass: the last of the cycle
-        judged_against = (self._clear, self._clear_for)
-        for flips in range(len(booleans) + 1):
-            for chosen in itertools.combinations(booleans, flips):
-                candidate = dict(base)
-                for n in chosen:
-                    candidate[n] = not candidate[n]
-                self._clear, self._clear_for = judged_against
-                try:
-                    result, rels = self._pass(t, values, candidate, pre, relations,
-                                              relations_before, initial, fired)
-                except SimulationError:
-                    continue  # e.g. a singular system in an impossible configuration
-                if all(result[n] == candidate[n] for n in selectors):
-                    return result, rels
-        return None
+
+        def flipped(chosen):
+            return {**base, **{n: not base[n] for n in chosen}}, relations
+
+        return self._first_consistent(t, values, pre, relations_before, initial, fired, booleans, flipped,
+                                      lambda guess, _r, result, _rels: all(result[n] == guess[n] for n in selectors))
 
     def _search_relations(self, t, values, pre, relations_before, initial, fired, cycle, current):
         """The first consistent assignment of the relations that change along ``cycle``
@@ -1145,20 +1135,29 @@ class DiscreteEvaluator:
         cycling = sorted(changing | {k for k in selecting if owners & set(self.relations[k].components)})
         if not changing or len(cycling) > _SEARCHED_RELATIONS:
             return None
-        base = list(cycle[-1][1])
+        base = cycle[-1][1]
+
+        def flipped(chosen):
+            return current, tuple(not v if k in chosen else v for k, v in enumerate(base))
+
+        return self._first_consistent(t, values, pre, relations_before, initial, fired, cycling, flipped,
+                                      lambda _d, guess, _result, rels: all(rels[k] == guess[k] for k in cycling))
+
+    def _first_consistent(self, t, values, pre, relations_before, initial, fired, items, flipped, consistent):
+        """The first guess ``flipped(chosen)`` = ``(discrete, relations)`` that a pass
+        reproduces (``consistent(discrete, relations, result, result_relations)``), the
+        subsets ``chosen`` of ``items`` tried with fewest flips first; or None."""
+        # every guess is judged against the same pass: the last of the cycle
         judged_against = (self._clear, self._clear_for)
-        for flips in range(len(cycling) + 1):
-            for chosen in itertools.combinations(cycling, flips):
-                candidate = list(base)
-                for k in chosen:
-                    candidate[k] = not candidate[k]
-                candidate = tuple(candidate)
+        for flips in range(len(items) + 1):
+            for chosen in itertools.combinations(items, flips):
+                discrete, relations = flipped(set(chosen))
                 self._clear, self._clear_for = judged_against
                 try:
-                    result, rels = self._pass(t, values, current, pre, candidate, relations_before, initial, fired)
+                    result, rels = self._pass(t, values, discrete, pre, relations, relations_before, initial, fired)
                 except SimulationError:
-                    continue
-                if all(rels[k] == candidate[k] for k in cycling):
+                    continue  # e.g. a singular system in an impossible configuration
+                if consistent(discrete, relations, result, rels):
                     return result, rels
         return None
 

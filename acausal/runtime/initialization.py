@@ -35,7 +35,7 @@ import warnings
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
-from ..errors import InitializationError, SimulationError, SolverError, StartValueWarning, StructuralError
+from ..errors import AcausalError, InitializationError, SolverError, StartValueWarning
 from ..compiler.translate import ModeSystem, Translation
 from .crossings import clock_ticks, ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values, with_aliases
@@ -112,25 +112,19 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         try:
             problem = translation.initial_system(key)
             outputs = _with_held_values(translation, problem, assigned)
-        except StructuralError:
-            if simplified is None or not discrete[simplified]:
-                raise
-            # the simplified problem cannot be solved: the actual one alone (MLS 3.7.4.4)
-            discrete, relations = start_guess(translation)
-            history.append(dict(discrete))
-            continue
-        try:
             values = dict(zip(problem.unknowns, outputs(start_time, ())))
-        except (ArithmeticError, ValueError, SimulationError) as failure:  # e.g. a domain error
+        except (AcausalError, ArithmeticError, ValueError) as failure:
             if simplified is not None and discrete[simplified]:
-                discrete, relations = start_guess(translation)  # as above
+                # the simplified problem is singular or cannot be solved: the actual
+                # one alone (MLS 3.7.4.4)
+                discrete, relations = start_guess(translation)
                 history.append(dict(discrete))
                 continue
-            if guessed or (isinstance(failure, SimulationError) and not isinstance(failure, SolverError)):
+            if guessed or (isinstance(failure, AcausalError) and not isinstance(failure, SolverError)):
                 raise
             # the first guess (every relation false) selects a branch that cannot be
-            # evaluated (1/|w| at w = 0) or solved here: guess again from the start
-            # values, as a Modelica tool starts its mixed system from them
+            # evaluated (1/|w| at w = 0, a domain error) or solved here: guess again from
+            # the start values, as a Modelica tool starts its mixed system from them
             guessed = True
             relations = start_value_relations(translation, start_time)
             continue
