@@ -42,6 +42,7 @@ from .hybrid import (Assert, When, ceil, change, delay, div, edge, floor, homoto
 from .runtime.result import Event, SimulationResult
 from .runtime.simulate import METHODS, simulate
 from .compiler.translate import Translation, translate
+from .options import EngineOptions
 
 __version__ = "0.1.0"
 
@@ -71,7 +72,7 @@ __all__ = [
     # functions with given derivatives (Modelica's derivative annotation)
     "prescribed",
     # the engine
-    "METHODS", "Event", "SimulationResult", "Translation", "simulate", "translate",
+    "METHODS", "EngineOptions", "Event", "SimulationResult", "Translation", "simulate", "translate",
     # the errors
     *errors.__all__,
 ]

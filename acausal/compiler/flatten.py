@@ -367,7 +367,7 @@ class FlatModel:
 # --------------------------------------------------------------------------
 
 
-def flatten(model: Component, parameters: dict[str, float] | None = None) -> FlatModel:
+def flatten(model: Component, parameters: dict[str, float] | None = None, *, templates: bool = True) -> FlatModel:
     """Flatten ``model`` (a :class:`~acausal.language.Model` instance).
 
     Parameters
@@ -379,6 +379,11 @@ def flatten(model: Component, parameters: dict[str, float] | None = None) -> Fla
         value, in place of its modifier or default; those of state
         candidates and fixed variables are tunable
         (:attr:`FlatModel.tunable_starts`).
+    templates : bool
+        Build the equations of repeated components from templates
+        (:class:`_Template`, :attr:`acausal.options.EngineOptions.templates`).
+        False calls every instance's ``equations()``; the flat model is the
+        same (``tests/compiler/test_flatten_templates.py``).
 
     Raises
     ------
@@ -391,18 +396,12 @@ def flatten(model: Component, parameters: dict[str, float] | None = None) -> Fla
         a variable's start value is named ``<variable>.start``), and for a
         start value that is not a finite number or not tunable.
     """
-    return _Flattener(model, parameters).run()
-
-
-#: Whether flattening builds the equations of repeated components from templates
-#: (:class:`_Template`).  False calls every instance's ``equations()``; the flat
-#: model is the same (``tests/compiler/test_flatten_templates.py``).
-USE_TEMPLATES = True
+    return _Flattener(model, parameters, templates=templates).run()
 
 
 class _Flattener:
     def __init__(self, model: Component, overrides: dict[str, float] | None = None, *,
-                 templates: bool | None = None) -> None:
+                 templates: bool = True) -> None:
         if not isinstance(model, Component):
             raise ModelDefinitionError(f"flatten() takes a Model instance, not {type(model).__name__}",
                                        hint="instantiate the class first: flatten(MyModel())")
@@ -419,7 +418,7 @@ class _Flattener:
         self.unknown_parameters: list[str] = []
         #: template key -> _Template, or None where templates are not used
         self.templates: dict[tuple, list[_Template] | None] | None = (
-            {} if (USE_TEMPLATES if templates is None else templates) else None)
+            {} if templates else None)
         self._plans: dict[type, tuple] = {}  # class -> (structural, conditional, structural names)
         self._class_declarations: dict[type, dict] = {}
         self._keys: dict[int, tuple | None] = {}  # id of a component -> its template key

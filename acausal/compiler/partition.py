@@ -35,11 +35,6 @@ from ..names import is_derivative, parse, pre_name, relation_name, sample_name
 
 __all__ = ["Relation", "Clock", "PartitionedModel", "partition"]
 
-#: Whether partition treats the equations flattening built from one template
-#: (:class:`~acausal.compiler.flatten._Template`) alike (:class:`_RelationTemplate`).
-#: False visits every equation; the result is the same.
-USE_TEMPLATES = True
-
 #: How many relation templates one template equation may have (one per order of the names).
 _MAX_VARIANTS = 8
 
@@ -505,16 +500,18 @@ def _fill(pieces: list, texts: list) -> str:
     return "".join(texts[piece] if i % 2 else piece for i, piece in enumerate(pieces))
 
 
-def partition(flat: FlatModel, *, templates: bool | None = None) -> PartitionedModel:
+def partition(flat: FlatModel, *, templates: bool = True) -> PartitionedModel:
     """Find relations, order discrete equations and the discrete state.
 
-    ``templates=False`` (default: :data:`USE_TEMPLATES`) visits every equation
-    instead of reusing the work done for another instance of a component's
-    template equation; the result is the same.
+    ``templates`` (:attr:`acausal.options.EngineOptions.templates`) treats the
+    equations flattening built from one template
+    (:class:`~acausal.compiler.flatten._Template`) alike
+    (:class:`_RelationTemplate`); False visits every equation instead.  The
+    result is the same.
     """
     variables = flat.variable_map
     finder = _RelationFinder(flat, variables)
-    use_templates = USE_TEMPLATES if templates is None else templates
+    use_templates = templates
     #: (id of a flatten template, its equation) -> relation templates, or None
     variants: dict[tuple, list | None] = {}
     free: dict[int, list] = {}  # id of a new equation -> its free symbols, where known

@@ -48,6 +48,7 @@ from .initial import (InitialSystem, StartDependence, StartValues, bind_start_va
                       compile_initial_system, newton_guesses)
 from .modes import ModeSystem, PassLog, RelaxedConstraints, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
+from ..options import DEFAULT_OPTIONS, EngineOptions
 from .structure import _incidence, relax_redundant
 
 __all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "TranslationBundle", "translate",
@@ -55,12 +56,6 @@ __all__ = ["ModeSystem", "InitialSystem", "ComposedSystem", "Translation", "Tran
 
 #: A call of a table function in generated code (see ``codegen._Printer``).
 _CALLED_TABLE = re.compile(r"\b(_f_\w+)\(")
-
-#: Whether a hybrid model with independent parts compiles one system per part
-#: and part mode (:mod:`~acausal.compiler.clusters`).  False compiles the whole
-#: model per discrete state; the results are the same.
-USE_CLUSTERS = True
-
 
 def _value_of(value) -> Any:
     if isinstance(value, (bool, np.bool_)):
@@ -100,8 +95,10 @@ class Translation:
     def __init__(self, flat: FlatModel, partitioned: PartitionedModel, flatten_seconds: float,
                  demand: frozenset[str] | None = None, clusters: bool = True,
                  clustering: Clustering | None = None, disk: bool = True,
-                 redundant_constraints: str = "relax") -> None:
+                 redundant_constraints: str = "relax", options: EngineOptions = DEFAULT_OPTIONS) -> None:
         self.flat = flat
+        #: how the engine works for this translation and the runs of it (:class:`~acausal.options.EngineOptions`)
+        self.options = options
         #: what a discrete state that constrains one motion twice gets (see :func:`translate`)
         self.redundant_constraints = redundant_constraints
         self.demand = demand
@@ -125,7 +122,8 @@ class Translation:
             # a delayed value links the equations that read it to its expression's
             # equations through the run's history, which the incidence does not show
             clusters = False
-        if clustering is None and clusters and USE_CLUSTERS and partitioned.selectors:
+        clusters = clusters and options.clusters
+        if clustering is None and clusters and partitioned.selectors:
             found = find_clusters(partitioned, self.continuous)
             clustering = found if len(found) > 1 else None
         self.clustering: Clustering | None = clustering if clusters else None
@@ -155,7 +153,7 @@ class Translation:
                 del self.initial_systems[key]
             return self
         return Translation(self.flat, self.partitioned, self.flatten_seconds, self.demand, clusters=False,
-                           disk=False)
+                           disk=False, options=dataclasses.replace(self.options, clusters=False))
 
     # -- parameters -----------------------------------------------------------
 
@@ -241,7 +239,7 @@ class Translation:
         partitioned = dataclasses.replace(self.partitioned, flat=flat)
         translation = Translation(flat, partitioned, flatten_seconds, self.demand,
                                   clusters=self.clustering is not None, clustering=self.clustering,
-                                  redundant_constraints=self.redundant_constraints)
+                                  redundant_constraints=self.redundant_constraints, options=self.options)
         translation.rebound_from = self
         return translation
 
@@ -1202,7 +1200,8 @@ def with_start_values(parameters: Mapping[str, float] | None,
 def translate(model: Component, outputs: Iterable[str] | None = None, cache: bool = True,
               parameters: Mapping[str, float] | None = None,
               redundant_constraints: str = "relax", disk_cache: bool = True,
-              start: Mapping[str, float] | None = None) -> Translation:
+              start: Mapping[str, float] | None = None,
+              options: EngineOptions | None = None) -> Translation:
     """Flatten and partition ``model``; its systems are compiled on demand.
 
     Parameters
@@ -1251,10 +1250,21 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         are parameters of the generated code: like numeric parameters, other
         values reuse the compiled systems.  The parameter ``J1.w.start`` is
         the same value.
+    options : EngineOptions, optional
+        How the engine works (:class:`~acausal.options.EngineOptions`; the
+        defaults otherwise).  Translations with other compiler options
+        (:attr:`~acausal.options.EngineOptions.compiler_fields`) are cached
+        apart; the runtime's are those of the runs (``simulate(translation)``
+        uses the translation's unless given others).
     """
     if redundant_constraints not in ("relax", "error"):
         raise SettingError(f"redundant_constraints must be 'relax' or 'error', not {redundant_constraints!r}",
                            hint="'relax' picks a split of the holding force as Modelica tools do")
+    if options is None:
+        options = DEFAULT_OPTIONS
+    elif not isinstance(options, EngineOptions):
+        raise SettingError(f"options must be an EngineOptions, not {type(options).__name__}",
+                           hint="from acausal import EngineOptions; translate(model, options=EngineOptions(...))")
     t0 = _time.perf_counter()
     parameters = with_start_values(parameters, start)
     if parameters:
@@ -1264,24 +1274,28 @@ def translate(model: Component, outputs: Iterable[str] | None = None, cache: boo
         if structural:
             model = with_structural(model, {n: parameters[n] for n in structural})
             parameters = {n: v for n, v in parameters.items() if n not in structural}
-    flat = flatten(model, dict(parameters) if parameters else None)
+    flat = flatten(model, dict(parameters) if parameters else None, templates=options.templates)
     demand = _demand(flat, outputs)
     if not cache:
-        return Translation(flat, partition(flat), _time.perf_counter() - t0, demand, disk=False,
-                           redundant_constraints=redundant_constraints)
+        return Translation(flat, partition(flat, templates=options.templates), _time.perf_counter() - t0, demand,
+                           disk=False, redundant_constraints=redundant_constraints, options=options)
     equations = _Equations(flat)
-    # translations without the disk cache are kept apart: theirs keep every stage
-    key = (_parameter_part(flat, False, equations), equations, demand, redundant_constraints, disk_cache)
+    # translations without the disk cache are kept apart: theirs keep every stage; so are
+    # those of other compiler options (the runtime's are the run's: simulate() passes them)
+    key = (_parameter_part(flat, False, equations), equations, demand, redundant_constraints, disk_cache,
+           options.compiler_key)
     found = _CACHE.get(key)
     if found is not None:
         _CACHE.move_to_end(key)
         return found
-    structure = (_parameter_part(flat, True, equations), equations, demand, redundant_constraints, disk_cache)
+    structure = (_parameter_part(flat, True, equations), equations, demand, redundant_constraints, disk_cache,
+                 options.compiler_key)
     base = _STRUCTURES.get(structure)
     translation = base.rebound(flat, _time.perf_counter() - t0) if base is not None else None
     if translation is None:
-        translation = Translation(flat, partition(flat), _time.perf_counter() - t0, demand,
-                                  redundant_constraints=redundant_constraints, disk=disk_cache)
+        translation = Translation(flat, partition(flat, templates=options.templates), _time.perf_counter() - t0,
+                                  demand, redundant_constraints=redundant_constraints, disk=disk_cache,
+                                  options=options)
         _remember(_STRUCTURES, structure, translation)
     elif not disk_cache:
         translation._disk = False  # rebound from one made without the disk cache: the same

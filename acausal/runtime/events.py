@@ -47,12 +47,6 @@ __all__ = ["DiscreteEvaluator", "EventOutcome", "ImpureCalls", "evaluator_for", 
 #: From this many watched relations on, they are checked with numpy at once.
 _VECTORISE_FROM = 48
 
-#: Whether a pass of event iteration re-evaluates only what changed since the
-#: last (:meth:`DiscreteEvaluator._evaluate_again`) and the relevant relations
-#: are found again only where something changed.  False evaluates everything;
-#: the results are the same.
-INCREMENTAL = True
-
 #: Up to this many watched relations, a composed system computes the crossing
 #: functions of the parts that own them only.
 _FEW_RELATIONS = 8
@@ -82,13 +76,13 @@ def with_aliases(values: dict[str, float], system) -> dict[str, float]:
 
 
 def evaluator_for(translation: Translation, relation_epsilon: float = 1e-10,
-                  max_iterations: int = 20) -> "DiscreteEvaluator":
+                  max_iterations: int = 20, incremental: bool = True) -> "DiscreteEvaluator":
     """The discrete-part evaluator of ``translation``, built once per setting and kept
     with the translation (compiling the discrete equations is a few milliseconds)."""
     cache = translation.extras.setdefault("evaluators", {})
-    key = (relation_epsilon, max_iterations)
+    key = (relation_epsilon, max_iterations, incremental)
     if key not in cache:
-        cache[key] = DiscreteEvaluator(translation, relation_epsilon, max_iterations)
+        cache[key] = DiscreteEvaluator(translation, relation_epsilon, max_iterations, incremental)
     return cache[key]
 
 
@@ -172,8 +166,13 @@ class DiscreteEvaluator:
     """Evaluates relations and discrete equations of a translated model."""
 
     def __init__(self, translation: Translation, relation_epsilon: float = 1e-10,
-                 max_iterations: int = 20) -> None:
+                 max_iterations: int = 20, incremental: bool = True) -> None:
         self.translation = translation
+        #: whether a pass of event iteration re-evaluates only what changed since the
+        #: last (:meth:`_evaluate_again`) and the relevant relations are found again only
+        #: where something changed (:attr:`acausal.options.EngineOptions.incremental_events`);
+        #: False evaluates everything, with the same results
+        self.incremental = incremental
         self.partitioned = translation.partitioned
         self.relations = self.partitioned.relations
         self.epsilon = relation_epsilon
@@ -699,7 +698,7 @@ class DiscreteEvaluator:
         parts concerned.
         """
         last = self._last
-        if last is None or last[1] != initial or not INCREMENTAL or self._hybrid:
+        if last is None or last[1] != initial or not self.incremental or self._hybrid:
             return None  # (continuous values and clocks are not tracked: evaluate all)
         last_pre, _, before, old_start, old_result = last
         if len(before) != len(relations) or len(old_result) != len(discrete):
@@ -819,7 +818,7 @@ class DiscreteEvaluator:
         to check again: those whose check reads a discrete value or a relation that
         changed since (None: check all)."""
         last = self._last_relevance
-        if last is None or not INCREMENTAL or self._hybrid or len(last[1]) != len(relations) \
+        if last is None or not self.incremental or self._hybrid or len(last[1]) != len(relations) \
                 or len(last[0]) != len(discrete) or last[3] != self._twins:
             return None
         old_discrete, old_relations, answers, _twins = last

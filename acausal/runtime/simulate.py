@@ -39,6 +39,7 @@ from ..errors import (AcausalError, AssertionViolation, ChatteringError, Initial
                       StructuralError, ZenoError)
 from ..language import Component, finish_hooks, structural_names, with_structural
 from ..names import base_name, der_name
+from ..options import DEFAULT_OPTIONS, EngineOptions
 from ..compiler.delays import activate
 from .delays import DelayHistory
 from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, states_at, step_samples,
@@ -146,7 +147,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
              cache: bool = True, parameters: Mapping[str, float] | None = None,
              redundant_constraints: str = "relax",
              progress: "bool | Callable[[float, float, float], object] | None" = None,
-             start: Mapping[str, float] | None = None) -> SimulationResult:
+             start: Mapping[str, float] | None = None, options: EngineOptions | None = None) -> SimulationResult:
     """Simulate a model.
 
     Parameters
@@ -219,6 +220,11 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
         picked as Modelica tools do, with a warning, or the error (see
         :func:`~acausal.compiler.translate.translate`).  A translation
         given as ``model`` keeps its own choice.
+    options : EngineOptions, optional
+        How the engine works (:class:`~acausal.options.EngineOptions`), for
+        the translation and for this run.  With a translation as ``model``,
+        its own options by default; options given then may differ from the
+        translation's only in the runtime's fields.
 
     Returns
     -------
@@ -251,10 +257,17 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
                 raise SettingError(f"{what}= needs the model, not a translation",
                                    hint=f"simulate(model, {what}={{...}}) reuses the compiled systems")
         translation = model
+        if options is not None and options.compiler_key != translation.options.compiler_key:
+            raise SettingError(f"options {options} differ from those {model.flat.name} was translated with "
+                               f"({translation.options}) in the compiler's fields",
+                               hint="translate(model, options=...) with these options, or simulate(model, "
+                                    "options=...)")
     else:
         parameters = with_start_values(parameters, start)
         translation = translate(model, outputs, cache=cache, parameters=parameters,
-                                redundant_constraints=redundant_constraints)
+                                redundant_constraints=redundant_constraints, options=options)
+        # a cached translation may have been made for other runtime options: these are the run's
+        options = DEFAULT_OPTIONS if options is None else options
     flatten_seconds = _time.perf_counter() - t_setup
     experiment = translation.flat.experiment
     t0 = experiment.start_time if start_time is None else start_time
@@ -274,7 +287,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_epsilon,
                     max_event_iterations, chattering_events, max_steps, timeout)
     run = _Run(translation, method, float(rtol), atol, max_step, relation_epsilon, max_event_iterations,
-               chattering_events)
+               chattering_events, options)
     run.notes.extend(_structural_notes(translation, parameters))
     run.max_steps, run.timeout = max_steps, timeout
     run.progress = progress_reporter(progress, translation.flat.name)
@@ -389,11 +402,6 @@ def _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_eps
         number("timeout", timeout, 0.0, allow_inf=True)
 
 
-#: Whether the flip instant of a single relation is searched with regula falsi
-#: (Illinois) rather than by halving alone (:func:`~acausal.runtime.crossings.bisect_flip`).
-USE_SECANT = True
-
-
 class _Budget(Exception):
     """A budget ran out (internal: turned into a SolverError saying where the time went)."""
 
@@ -405,9 +413,14 @@ class _Run:
     _ROWS_AT_ONCE = 65536
 
     def __init__(self, translation: Translation, method, rtol, atol, max_step, relation_epsilon,
-                 max_event_iterations, chattering_events) -> None:
+                 max_event_iterations, chattering_events, options: EngineOptions | None = None) -> None:
         self.translation = translation
-        self.evaluator = evaluator_for(translation, relation_epsilon, max_event_iterations)
+        options = translation.options if options is None else options
+        self.evaluator = evaluator_for(translation, relation_epsilon, max_event_iterations,
+                                       options.incremental_events)
+        #: whether the flip instant of a single relation is searched with regula falsi
+        #: (Illinois) rather than by halving alone (:func:`~acausal.runtime.crossings.bisect_flip`)
+        self.secant = options.secant
         self.relations = translation.partitioned.relations
         self.method = method
         self.rtol = rtol
@@ -854,7 +867,7 @@ class _Run:
         def narrow(candidates):
             def flipped_among(tt, xx):
                 return evaluator.flipped_relations(system, tt, xx, relations, candidates)
-            one = len(candidates) == 1 and USE_SECANT
+            one = len(candidates) == 1 and self.secant
             return flipped_among, evaluator.distance_to_flip(system, relations, candidates[0]) if one else None
 
         try:

@@ -92,7 +92,7 @@ printed at the end:
    ``--quick``), each point in a fresh process stopped after 240 s (60 s
    quick); every N with clusters (one system per independent part and part
    mode, the default) and, for N <= 20 (6 quick), with
-   ``acausal.compiler.translate.USE_CLUSTERS = False`` (the whole model
+   ``EngineOptions(clusters=False)`` (the whole model
    compiled per discrete state).  Wall and translation seconds, compiled
    systems, events, peak RSS; the growth exponent ``b`` of ``wall = a N^b``
    per mode and the goals "N = 200 under 10 s, N = 1000 under a minute".
@@ -1851,15 +1851,15 @@ def storm_point(n: int, clusters: bool = True, progress: Callable[[dict], None] 
 
     ``translate(model, cache=False)`` then ``simulate(translation, stop_time,
     interval)`` -- what ``simulate(model)`` does in a fresh process -- with
-    ``acausal.compiler.translate.USE_CLUSTERS`` set to ``clusters`` while the
-    model is translated (restored afterwards).  ``wall`` is the time of both
+    ``EngineOptions(clusters=clusters)``.  ``wall`` is the time of both
     calls; ``translation`` the translation's ``translation_seconds`` at the
     end (flattening, every system compiled, the initialization systems);
     ``simulate`` the rest (integration, events, result); ``final_watched``
     the final value of the suite's ``STORM_WATCHED`` (NaN if the result has
     no such variable).
     """
-    from ..compiler import translate as translate_module
+    from ..compiler.translate import translate
+    from ..options import EngineOptions
     from ..runtime.simulate import simulate
 
     benchmarks = suite()
@@ -1869,15 +1869,10 @@ def storm_point(n: int, clusters: bool = True, progress: Callable[[dict], None] 
     watched = benchmarks.STORM_WATCHED
     progress(dict(point, phase="translating and simulating"))
     gc.collect()
-    previous = translate_module.USE_CLUSTERS
-    translate_module.USE_CLUSTERS = bool(clusters)
-    try:
-        t0 = time.perf_counter()
-        translation = translate_module.translate(model, cache=False)
-        result = simulate(translation, stop_time=benchmarks.STORM_STOP_TIME, interval=benchmarks.STORM_INTERVAL)
-        wall = time.perf_counter() - t0
-    finally:
-        translate_module.USE_CLUSTERS = previous
+    t0 = time.perf_counter()
+    translation = translate(model, cache=False, options=EngineOptions(clusters=bool(clusters)))
+    result = simulate(translation, stop_time=benchmarks.STORM_STOP_TIME, interval=benchmarks.STORM_INTERVAL)
+    wall = time.perf_counter() - t0
     clustering = translation.clustering
     point.update({
         "status": int(result.status),
@@ -1915,7 +1910,7 @@ def run_storm(sizes: Sequence[int] = FULL_STORM, whole_up_to: int = FULL_STORM_W
     """The storm points: the suite's ``storm_model(N)`` for every N in ``sizes``.
 
     Each N with clusters (the default engine) and, for ``N <= whole_up_to``,
-    once more with ``USE_CLUSTERS = False`` (the whole model compiled per
+    once more with ``EngineOptions(clusters=False)`` (the whole model compiled per
     discrete state).  With ``isolate`` (default) each point runs in a fresh
     process stopped after ``timeout`` seconds (status ``"not finished in T
     s"``); once a mode has a point that did not finish, its larger sizes are
@@ -2057,7 +2052,7 @@ def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
         "(RK45, rtol 1e-6), each point in a fresh process (sympy's caches cold, the persistent compile "
         f"cache off, the garbage collector as in an `acausal` command) stopped after {timeout:.0f} s. "
         "*clusters*: the default engine, one system per independent part and part mode; *whole model*: "
-        "`acausal.compiler.translate.USE_CLUSTERS = False`, the whole model compiled per discrete state "
+        "`EngineOptions(clusters=False)`, the whole model compiled per discrete state "
         "(the old behaviour). Wall: `translate(model, cache=False)` and `simulate(translation)`, what "
         "`simulate(model)` does; translation: the translation's `translation_seconds` at the end "
         "(flattening, every system compiled, the initialization systems); integration+events: the rest. "

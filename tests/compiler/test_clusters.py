@@ -2,7 +2,7 @@
 
 Each test compares the composed run (one system per part and part mode,
 :mod:`acausal.compiler.clusters`) with the whole-model run
-(``USE_CLUSTERS = False``, one system per discrete state of the whole model).
+(``EngineOptions(clusters=False)``, one system per discrete state of the whole model).
 """
 
 from __future__ import annotations
@@ -10,8 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import acausal.compiler.translate as translate_module
-from acausal import Eq, Model, simulate
+from acausal import EngineOptions, Eq, Model, simulate
 from acausal.compiler.clusters import ComposedSystem
 from acausal.compiler.modes import ModeSystem
 from acausal.compiler.translate import translate
@@ -52,20 +51,16 @@ def storm(n: int, extra_equation: bool = False, coupled_start: bool = False) -> 
     return Storm()
 
 
-@pytest.fixture
-def whole_model(monkeypatch):
-    """Compile the whole model per discrete state (no clusters)."""
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
+#: compile the whole model per discrete state (no clusters)
+WHOLE = EngineOptions(clusters=False)
 
 
-def run_both(make, monkeypatch, **options):
+def run_both(make, **options):
     outputs = options.get("outputs")
     clustered = translate(make(), outputs, cache=False)
     composed = simulate(clustered, **options)
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
-    whole_translation = translate(make(), outputs, cache=False)
+    whole_translation = translate(make(), outputs, cache=False, options=WHOLE)
     whole = simulate(whole_translation, **options)
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", True)
     return clustered, composed, whole_translation, whole
 
 
@@ -96,24 +91,24 @@ def test_independent_units_are_clusters_with_their_own_discrete_symbols():
     assert sorted(relations) == list(range(len(translation.partitioned.relations)))
 
 
-def test_a_rigid_train_is_one_part_and_compiles_as_before(monkeypatch):
+def test_a_rigid_train_is_one_part_and_compiles_as_before():
     """CoupledClutches: one part; the same systems and the same results as without clusters."""
-    clustered, composed, whole_translation, whole = run_both(CoupledClutches, monkeypatch)
+    clustered, composed, whole_translation, whole = run_both(CoupledClutches)
     assert clustered.clustering is None
     assert all(isinstance(s, ModeSystem) for s in clustered.systems.values())
     assert clustered.compiled_systems == whole_translation.compiled_systems
     assert_same_results(composed, whole)
 
 
-def test_composed_run_equals_whole_model_run_on_a_storm(monkeypatch):
+def test_composed_run_equals_whole_model_run_on_a_storm():
     make = lambda: storm(4)  # noqa: E731
-    clustered, composed, _, whole = run_both(make, monkeypatch, stop_time=1.0, interval=0.01)
+    clustered, composed, _, whole = run_both(make, stop_time=1.0, interval=0.01)
     assert all(isinstance(s, ComposedSystem) for s in clustered.systems.values())
     assert len(composed.events) > 10
     assert_same_results(composed, whole)
 
 
-def test_compiled_systems_grow_linearly_with_the_units(monkeypatch):
+def test_compiled_systems_grow_linearly_with_the_units():
     counts = {}
     for n in (2, 4):
         translation = translate(storm(n), cache=False)
@@ -123,8 +118,7 @@ def test_compiled_systems_grow_linearly_with_the_units(monkeypatch):
         for (index, subkey), part in translation.parts.items():
             assert len(subkey) == len(translation.clustering.clusters[index].selectors)
     assert counts[4] == 2 * counts[2]
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
-    whole = translate(storm(4), cache=False)
+    whole = translate(storm(4), cache=False, options=WHOLE)
     simulate(whole, stop_time=1.0, interval=0.01)
     assert counts[4] <= whole.compiled_systems
 
@@ -144,9 +138,9 @@ def test_a_new_parameter_value_rebinds_every_part():
     assert not np.allclose(result["j1.w"], np.interp(result.time, untouched.time, untouched["j1.w"]))
 
 
-def test_an_output_demand_gives_the_whole_models_demanded_values(monkeypatch):
+def test_an_output_demand_gives_the_whole_models_demanded_values():
     """With outputs=[...], the parts keep what the output and the events need, as the whole model does."""
-    clustered, composed, _, whole = run_both(lambda: storm(3), monkeypatch, stop_time=1.0, interval=0.01,
+    clustered, composed, _, whole = run_both(lambda: storm(3), stop_time=1.0, interval=0.01,
                                              outputs=["j1.w"])
     assert_same_results(composed, whole)
     # and the values are those of the full run, to the integration tolerance
@@ -155,23 +149,22 @@ def test_an_output_demand_gives_the_whole_models_demanded_values(monkeypatch):
                                atol=1e-4)
 
 
-def test_a_structural_error_in_one_part_reads_as_the_whole_models(monkeypatch):
+def test_a_structural_error_in_one_part_reads_as_the_whole_models():
     with pytest.raises(StructuralError) as clustered:
         simulate(storm(3, extra_equation=True), stop_time=1.0, cache=False)
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
     with pytest.raises(StructuralError) as whole:
-        simulate(storm(3, extra_equation=True), stop_time=1.0, cache=False)
+        simulate(storm(3, extra_equation=True), stop_time=1.0, cache=False, options=WHOLE)
     assert type(clustered.value) is type(whole.value)
     assert str(clustered.value) == str(whole.value)
     assert "j1" in str(clustered.value)
 
 
-def test_an_initial_equation_joins_the_parts_it_relates(monkeypatch):
+def test_an_initial_equation_joins_the_parts_it_relates():
     translation = translate(storm(3, coupled_start=True), cache=False)
     assert len(translation.clustering.clusters) == 2
     joined = translation.clustering.clusters[0]
     assert {"j0.w", "j1.w"} <= set(joined.variables)
-    clustered, composed, _, whole = run_both(lambda: storm(3, coupled_start=True), monkeypatch,
+    clustered, composed, _, whole = run_both(lambda: storm(3, coupled_start=True),
                                              stop_time=1.0, interval=0.01)
     assert_same_results(composed, whole)
 
@@ -201,7 +194,7 @@ class _LockedPairAndUnit(Model):
         self.connect(self.j.flange_b, self.f.flange_a)
 
 
-def test_a_part_that_fails_mid_run_leaves_a_usable_translation(tmp_path, monkeypatch):
+def test_a_part_that_fails_mid_run_leaves_a_usable_translation(tmp_path):
     """The failing part sends the translation back to the whole model; what it composed
     before goes, so that explain and a new parameter value still work."""
     from acausal.tools.explain import explain
@@ -209,14 +202,13 @@ def test_a_part_that_fails_mid_run_leaves_a_usable_translation(tmp_path, monkeyp
     translation = translate(_LockedPairAndUnit(), cache=False, redundant_constraints="error")
     assert translation.clustering is not None
     result = simulate(translation, stop_time=2.0)
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", False)
-    whole = simulate(_LockedPairAndUnit(), stop_time=2.0, cache=False, redundant_constraints="error")
+    whole = simulate(_LockedPairAndUnit(), stop_time=2.0, cache=False, redundant_constraints="error",
+                     options=WHOLE)
     assert result.status == whole.status == -1
     assert result.message == whole.message
     assert translation.clustering is None
     assert not any(isinstance(s, ComposedSystem) for s in translation.systems.values())
     assert "Independent parts" not in str(explain(translation, out_dir=tmp_path))
-    monkeypatch.setattr(translate_module, "USE_CLUSTERS", True)
     base = translate(_LockedPairAndUnit())
     simulate(base, stop_time=2.0)
     rebound = translate(_LockedPairAndUnit(), parameters={"j.J": 2.0})

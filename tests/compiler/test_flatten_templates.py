@@ -20,10 +20,11 @@ import inspect
 import pytest
 import sympy as sp
 
-from acausal import Component, Eq, Experiment, If, Model, Parameter, Variable, der, time
+from acausal import Component, EngineOptions, Eq, Experiment, If, Model, Parameter, Variable, der, time
 from acausal.compiler import flatten as flatten_module
 from acausal.compiler.flatten import _Flattener, _Source
 from acausal.compiler.partition import partition
+from acausal.compiler.translate import translate
 from acausal.errors import EquationError
 from acausal.library.blocks import Sine
 from acausal.library.rotational import (BearingFriction, Clutch, Fixed, IdealGear, Inertia, Spring,
@@ -114,15 +115,18 @@ def test_drive_train_flattens_alike_and_uses_templates(n, heat_ports):
         assert templated >= (n - 2) * per_unit
 
 
-def test_templates_can_be_switched_off_module_wide(monkeypatch):
+def test_templates_are_switched_by_the_engine_options():
     from examples.benchmarks import drive_train_model
 
-    monkeypatch.setattr(flatten_module, "USE_TEMPLATES", False)
-    flat = flatten_module.flatten(drive_train_model(4))
+    flat = flatten_module.flatten(drive_train_model(4), templates=False)
     assert not any(isinstance(e.origin.source, _Source) for e in flat.equations)
-    monkeypatch.setattr(flatten_module, "USE_TEMPLATES", True)
     flat = flatten_module.flatten(drive_train_model(4))
     assert any(isinstance(e.origin.source, _Source) for e in flat.equations)
+    # through translate(): the flat model of EngineOptions(templates=False) has no template
+    # equation, and it equals the templated one
+    untemplated = translate(drive_train_model(4), cache=False, options=EngineOptions(templates=False))
+    assert not any(isinstance(e.origin.source, _Source) for e in untemplated.flat.equations)
+    assert [str(e) for e in untemplated.flat.equations] == [str(e) for e in flat.equations]
 
 
 def test_origin_text_of_a_templated_equation_is_printed_on_demand():

@@ -1,6 +1,6 @@
 """Event iteration evaluates only what changed: the same results as evaluating everything.
 
-``acausal.runtime.events.INCREMENTAL`` switches the incremental passes (and
+``EngineOptions(incremental_events=False)`` switches the incremental passes (and
 the incremental search for the relations to watch) off; every model here
 must give bit-identical results both ways, on friction models whose
 discrete equations read relations, ``pre()`` values and one another.
@@ -14,8 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import acausal.runtime.events as events
-from acausal import Eq, If, Integer, Model, Variable, der, simulate
+from acausal import EngineOptions, Eq, If, Integer, Model, Variable, der, simulate
 from examples.coupled_clutches import CoupledClutches
 from examples import friction_elements
 
@@ -40,9 +39,9 @@ class DiscreteLoop(Model):
                 *(Eq(getattr(self, f"c{k}"), If(self.x > 5 + k, 1, 0)) for k in range(20))]
 
 
-def test_a_discrete_loop_reaches_the_fixed_point_a_full_pass_reaches(monkeypatch):
+def test_a_discrete_loop_reaches_the_fixed_point_a_full_pass_reaches():
     """At t = 1 b becomes 1, then a follows in the next pass: a = b = 1, y = 11."""
-    incremental, full = both_ways(DiscreteLoop, monkeypatch, stop_time=2.0)
+    incremental, full = both_ways(DiscreteLoop, stop_time=2.0)
     for result in (incremental, full):
         assert result.status == 0
         assert (result["a"][-1], result["b"][-1], result["y"][-1]) == (1.0, 1.0, 11.0)
@@ -50,11 +49,9 @@ def test_a_discrete_loop_reaches_the_fixed_point_a_full_pass_reaches(monkeypatch
         [(e.time, e.changes, e.iterations) for e in full.events]
 
 
-def both_ways(make, monkeypatch, **options):
+def both_ways(make, **options):
     incremental = simulate(make(), cache=False, **options)
-    monkeypatch.setattr(events, "INCREMENTAL", False)
-    full = simulate(make(), cache=False, **options)
-    monkeypatch.setattr(events, "INCREMENTAL", True)
+    full = simulate(make(), cache=False, options=EngineOptions(incremental_events=False), **options)
     return incremental, full
 
 
@@ -63,8 +60,8 @@ def both_ways(make, monkeypatch, **options):
     (friction_elements.TestFriction, {}),
     (lambda: storm(5), {"stop_time": 1.0, "interval": 0.01}),
 ])
-def test_incremental_event_iteration_gives_the_same_results(make, options, monkeypatch):
-    incremental, full = both_ways(make, monkeypatch, **options)
+def test_incremental_event_iteration_gives_the_same_results(make, options):
+    incremental, full = both_ways(make, **options)
     assert incremental.status == full.status == 0
     assert len(incremental.events) > 3
     assert [(e.time, e.changes, e.iterations) for e in incremental.events] == \
