@@ -10,39 +10,41 @@ data flows:
 against the Modelica reference results; ``explain`` shows the stages.
 """
 
+import importlib
+
 from . import errors
 from .errors import *  # noqa: F401,F403
-from .arrays import Array, each
-from .language import (
-    Boolean,
-    Component,
-    ComponentArray,
-    Connector,
-    Eq,
-    Experiment,
-    Flow,
-    If,
-    Integer,
-    Model,
-    Parameter,
-    Potential,
-    RealInput,
-    RealOutput,
-    StateSelect,
-    Variable,
-    der,
-    describe,
-    initial,
-    pre,
-    time,
-)
-from .functions import prescribed
-from .hybrid import (Assert, When, ceil, change, delay, div, edge, floor, homotopy, integer, mod, noEvent, reinit,
-                     rem, sample, smooth, terminal, terminate)
-from .runtime.result import Event, SimulationResult
-from .runtime.simulate import METHODS, simulate
-from .compiler.translate import Translation, translate
-from .options import EngineOptions
+
+#: Where each public name lives.  They are imported on first use (PEP 562), so that
+#: ``import acausal`` and the runtime (a compiled model run from the cache, a sweep's
+#: worker) load neither sympy nor networkx until a model is written or translated.
+_EXPORTS = {
+    **dict.fromkeys(("Array", "each"), "arrays"),
+    **dict.fromkeys(("Boolean", "Component", "ComponentArray", "Connector", "Eq", "Experiment", "Flow", "If",
+                     "Integer", "Model", "Parameter", "Potential", "RealInput", "RealOutput", "StateSelect",
+                     "Variable", "der", "describe", "initial", "pre", "time"), "language"),
+    "prescribed": "functions",
+    **dict.fromkeys(("Assert", "When", "ceil", "change", "delay", "div", "edge", "floor", "homotopy", "integer",
+                     "mod", "noEvent", "reinit", "rem", "sample", "smooth", "terminal", "terminate"), "hybrid"),
+    **dict.fromkeys(("Event", "SimulationResult"), "runtime.result"),
+    **dict.fromkeys(("METHODS", "simulate"), "runtime.simulate"),
+    **dict.fromkeys(("Translation", "translate"), "compiler.translate"),
+    "EngineOptions": "options",
+}
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'acausal' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value  # found once: later lookups are plain attribute reads
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
+
 
 __version__ = "0.1.0"
 

@@ -343,6 +343,16 @@ class ComposedSystem:
         out.update(zip(self.unknowns, self.outputs(t, x)))
         return out
 
+    def vectorised(self, name: str) -> Callable | None:
+        """The numpy form of ``crossings`` or ``outputs`` (see
+        :meth:`~acausal.compiler.modes.ModeSystem.vectorised`), composed from the
+        parts' once per system; None if a part that has values lacks one."""
+        found = self._made.get(("vectorised", name))
+        if found is None:
+            found = self._made[("vectorised", name)] = (
+                self.compose_vectorised(name, [p.vectorised(name) for p in self.parts]) or False)
+        return found or None
+
     def compose_vectorised(self, name: str, functions: Sequence[Callable | None]) -> Callable | None:
         """The numpy form of ``crossings`` or ``outputs`` from the parts' numpy forms
         (``functions``, one per part; None if a part that has values lacks one)."""

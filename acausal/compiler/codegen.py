@@ -25,6 +25,7 @@ import itertools
 import keyword
 import math
 import re
+import weakref
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
@@ -687,6 +688,30 @@ def vectorised(function: Callable, source: str) -> Callable | None:
 _VECTOR_CODE: dict = {}
 _VECTOR_CODE_SIZE = 256
 _MISSING = object()
+
+
+#: generated function -> its numpy version (or False): made once per compiled function
+_VECTORISED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def vectorised_of(system, name: str) -> Callable | None:
+    """The numpy version (:func:`vectorised`) of ``system.<name>`` (``crossings``,
+    ``outputs``) of a system compiled from its own :class:`GeneratedCode`, made once
+    per function; None where the code does not allow one."""
+    function = getattr(system, name)
+    try:
+        found = _VECTORISED.get(function)
+    except TypeError:  # not weakly referable: not a generated function
+        return None
+    if found is None:
+        code = getattr(system, "code", None)
+        source = getattr(code, "source", None)
+        found = (vectorised(function, source) if isinstance(source, str) else None) or False
+        try:
+            _VECTORISED[function] = found
+        except TypeError:
+            pass
+    return found or None
 
 
 def _vector_code(source: str, name: str, filename: str):

@@ -22,7 +22,6 @@ translation refers to it by reference.
 
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass
 from typing import Callable, Mapping
 
@@ -31,6 +30,7 @@ import sympy as sp
 from ..errors import ModelDefinitionError, SolverError
 from ..hybrid import Delay
 from ..language import real_symbol, time
+from .run_context import activate, active_history
 
 __all__ = ["FlatDelay", "DelayedValue", "extract_delays", "at_start", "activate", "active_history",
            "DELAY_STEM"]
@@ -38,32 +38,9 @@ __all__ = ["FlatDelay", "DelayedValue", "extract_delays", "at_start", "activate"
 #: The stem of the hidden variables: ``<component>.$delay3``.
 DELAY_STEM = "$delay"
 
-_ACTIVE = threading.local()
-
-
-def active_history():
-    """The history the delayed values of this thread read (None: no run in progress)."""
-    return getattr(_ACTIVE, "history", None)
-
-
-class activate:  # noqa: N801 - a context manager used like a function
-    """``with activate(history):`` the generated code of this thread reads ``history``."""
-
-    def __init__(self, history) -> None:
-        self.history = history
-
-    def __enter__(self):
-        self.previous = active_history()
-        _ACTIVE.history = self.history
-        return self.history
-
-    def __exit__(self, *exc) -> None:
-        _ACTIVE.history = self.previous
-
-
 def _delayed(k, t, delay_time, delay_max):
     """The implementation the generated code calls: delay number ``k`` at time ``t``."""
-    history = getattr(_ACTIVE, "history", None)
+    history = active_history()
     if history is None:
         raise SolverError("delay(): a delayed value was asked for outside a simulation run",
                           hint="delayed values come from the recorded solution of a run: simulate the model")

@@ -61,7 +61,8 @@ from typing import Any, Callable, Mapping, Sequence
 import sympy as sp
 
 from ..errors import InitializationError, OverDeterminedError
-from ..language import real_symbol
+from ..language import real_symbol, time
+from ..names import is_derivative
 from .algebraic import AlgebraicResult, NewtonSolve, solve_blocks
 from .alias import AliasResult, derivative_substitution
 from .delays import at_start
@@ -73,6 +74,7 @@ from .modes import ModeSystem, PassLog
 from .structure import augmenting_path, priority_matching
 
 __all__ = ["InitialSystem", "StartDependence", "StartValues", "compile_initial_system", "check_fixed_constants",
+           "start_value_relations",
            "bind_start_values", "newton_guesses"]
 
 
@@ -532,3 +534,25 @@ def check_fixed_constants(aliases: AliasResult, parameter_symbols) -> None:
                 f"makes it the constant {expr} = {value}",
                 hint=f"remove fixed=True from {name} or change its start value",
                 components=(name.rpartition(".")[0],))
+
+
+def start_value_relations(flat, relations, parameter_symbols: Mapping, start_time: float) -> tuple[bool, ...]:
+    """Each relation evaluated with the start values of the variables (0 when none is given).
+
+    A guess for the initial event iteration: derivatives count as 0, and a
+    relation that cannot be evaluated this way is guessed false.
+    """
+    variables = flat.variable_map
+    guesses = []
+    for rel in relations:
+        g = sp.sympify(rel.g).xreplace(parameter_symbols)
+        values = {time: start_time}
+        for sym in g.free_symbols - {time}:
+            variable = variables.get(sym.name)
+            start = getattr(variable, "start", None) if variable is not None and not is_derivative(sym.name) else None
+            values[sym] = start if isinstance(start, (int, float)) else 0.0
+        try:
+            guesses.append(rel.holds(float(g.xreplace(values))))
+        except (TypeError, ValueError, ZeroDivisionError):
+            guesses.append(False)
+    return tuple(guesses)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import time as _time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Iterator, Mapping, Sequence
+from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import sympy as sp
 
@@ -29,7 +29,7 @@ from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .cache import ModelCache
-from .codegen import GeneratedCode, generate, needed_steps
+from .codegen import GeneratedCode, generate, needed_steps, vectorised_of
 from .flatten import FlatEquation, FlatVariable
 from .partition import PartitionedModel
 from .structure import StructuralResult, _incidence, analyse, check_balance
@@ -197,6 +197,14 @@ class ModeSystem:
         if self.structure is None:
             return tuple(self.loaded_derivatives or ())
         return tuple(self.structure.derivatives)
+
+    def vectorised(self, name: str) -> Callable | None:
+        """The numpy version of ``crossings`` or ``outputs``: ``f(t, X)`` for ``m``
+        times and the states as the rows of ``X`` gives a ``k x m`` array whose
+        columns equal the scalar function's values bit for bit
+        (:func:`~acausal.compiler.codegen.vectorised`); None where the code does
+        not allow one."""
+        return vectorised_of(self, name)
 
     def values(self, t: float, x) -> dict[str, float]:
         """Continuous variables and derivatives at ``(t, x)`` (aliases: see :attr:`alias_plan`)."""

@@ -28,7 +28,7 @@ import re
 import time as _time
 from collections import OrderedDict
 from types import SimpleNamespace
-from typing import Any, Iterable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
@@ -45,9 +45,11 @@ from .diskcache import DiskCache, MemoryCache, cache_folder, disk_cache_enabled,
 from .clusters import Cluster, Clustering, ComposedInitialSystem, ComposedSystem, compose, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, FlatVariable, Origin, flatten, start_parameter
 from .initial import (InitialSystem, StartDependence, StartValues, bind_start_values, check_fixed_constants,
-                      compile_initial_system, newton_guesses)
+                      compile_initial_system, newton_guesses, start_value_relations)
 from .modes import ModeSystem, PassLog, RelaxedConstraints, alias_plan, compile_mode, describe_key
 from .partition import PartitionedModel, partition
+from .discrete import DiscreteProgram, compile_discrete
+from .timing import clock_ticks, delay_numbers, held_time_events, time_event_roots
 from ..options import DEFAULT_OPTIONS, EngineOptions
 from .structure import _incidence, relax_redundant
 
@@ -813,6 +815,35 @@ class Translation:
         translation._disk = bundle.store() if store is None else store
         translation._tables = translation._table_functions() or {}
         return translation
+
+    # -- what the runtime asks (acausal.runtime.contract.CompiledModel) ------------
+
+    def discrete_program(self, impure_call: Callable) -> DiscreteProgram:
+        """The discrete equations, reinits, terminations and assertions, compiled
+        (:func:`~acausal.compiler.discrete.compile_discrete`); each call site of an
+        impure function calls ``impure_call(site, function class, *args)``."""
+        return compile_discrete(self.flat, self.partitioned, impure_call)
+
+    def time_events(self) -> tuple[tuple, tuple]:
+        """``(roots, held)`` of the time events for this translation's parameter values
+        (:func:`~acausal.compiler.timing.time_event_roots`,
+        :func:`~acausal.compiler.timing.held_time_events`)."""
+        relations, symbols = self.partitioned.relations, self.cache.parameters.symbols
+        return time_event_roots(relations, symbols), held_time_events(relations, symbols)
+
+    def clock_ticks(self) -> tuple[tuple[float, float], ...]:
+        """``(start, interval)`` of every sample clock (:func:`~acausal.compiler.timing.clock_ticks`)."""
+        return clock_ticks(self.partitioned.clocks, self.cache.parameters.symbols)
+
+    def delay_numbers(self) -> dict[int, float]:
+        """Delay index -> delay time or ``delayMax`` (:func:`~acausal.compiler.timing.delay_numbers`)."""
+        return delay_numbers(self.flat.delays, self.cache.parameters.symbols)
+
+    def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
+        """Each relation evaluated with the start values of the variables
+        (:func:`~acausal.compiler.initial.start_value_relations`)."""
+        return start_value_relations(self.flat, self.partitioned.relations, self.cache.parameters.symbols,
+                                     start_time)
 
     # -- summary --------------------------------------------------------------
 

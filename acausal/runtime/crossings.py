@@ -6,7 +6,9 @@ the step's dense output and a function that says which watched relations
 have flipped at a state.
 
 * Time events have closed-form instants (a relation linear in time with
-  parameter coefficients): :func:`time_event_roots`, :func:`next_time_event`.
+  parameter coefficients), which the translation gives
+  (:meth:`~acausal.compiler.translate.Translation.time_events`):
+  :func:`next_time_event` picks the next.
 * State events are found by sampling the dense output of each accepted step
   (:func:`sample_times`: several samples a step and every output point in it,
   so that two sign changes inside one step are not missed, scipy issue
@@ -16,92 +18,29 @@ have flipped at a state.
   points (:func:`states_at`, bit for bit what the dense output gives at each
   instant alone), and the relations are decided for all samples at once
   (:meth:`~acausal.runtime.events.DiscreteEvaluator.first_flip`, with the
-  numpy versions of the generated functions, :func:`vectorised_function`).
+  numpy versions of the generated functions a compiled system gives, its
+  ``vectorised(name)``).
 """
 
 from __future__ import annotations
 
 import math
-import weakref
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
-import sympy as sp
 
-from ..compiler.codegen import vectorised
 from . import explicit_rk
-from ..language import time as time_symbol
 
-__all__ = ["time_event_roots", "held_time_events", "held_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip", "states_at",
-           "state_at", "sample_states", "step_samples", "vectorised_function"]
+__all__ = ["held_roots", "next_time_event", "sample_times", "locate_flip", "bisect_flip", "states_at",
+           "state_at", "sample_states", "step_samples"]
 
 #: Most samples taken in one step (a long step of a stuck model on a fine grid).
 MAX_SAMPLES = 2000
 
 
-def time_event_roots(relations: Sequence, parameter_symbols: Mapping) -> tuple[tuple[int, float], ...]:
-    """``(relation index, instant)`` of every time event (``inf`` if it never crosses).
-
-    Kept for the last few ``(relations, parameter_symbols)`` seen (the same objects,
-    holding the same values): each run of a translation asks again, and the
-    symbolic work costs a fraction of a millisecond.
-    """
-    key = (id(relations), id(parameter_symbols))
-    values = tuple(item for pair in parameter_symbols.items() for item in pair)
-    found = _ROOTS.get(key)
-    if (found is not None and found[0] is relations and found[1] is parameter_symbols
-            and len(found[2]) == len(values) and all(a is b for a, b in zip(found[2], values))
-            and len(found[3]) == len(relations) and all(a is b for a, b in zip(found[3], relations))):
-        return found[4]
-    roots = _time_event_roots(relations, parameter_symbols)
-    _ROOTS[key] = (relations, parameter_symbols, values, tuple(relations), roots)
-    while len(_ROOTS) > 16:
-        del _ROOTS[next(iter(_ROOTS))]
-    return roots
-
-
-#: (id(relations), id(parameter symbols)) -> (relations, symbols, their items, the relations, roots)
-_ROOTS: dict = {}
-
-
-def _time_event_roots(relations: Sequence, parameter_symbols: Mapping) -> tuple[tuple[int, float], ...]:
-    roots = []
-    for rel in relations:
-        if rel.is_time_event:
-            g = sp.sympify(rel.g).xreplace(parameter_symbols)
-            if g.free_symbols - {time_symbol}:
-                continue  # reads held values: see held_time_events
-            slope = float(sp.diff(g, time_symbol))
-            offset = float(g.xreplace({time_symbol: 0}))
-            roots.append((rel.index, -offset / slope if slope else math.inf))
-    return tuple(roots)
-
-
-def held_time_events(relations: Sequence, parameter_symbols: Mapping) -> tuple:
-    """The time events whose crossing time depends on held discrete Reals.
-
-    ``time >= t_next`` with a discrete ``t_next`` crosses at ``t_next``: a time
-    event, but one whose instant is known only once the event that sets
-    ``t_next`` is over.  Returns ``(relation index, names, root)`` per such
-    relation, ``root(values)`` being the crossing time for the held values.
-    """
-    found = []
-    for rel in relations:
-        if not rel.is_time_event:
-            continue
-        g = sp.sympify(rel.g).xreplace(parameter_symbols)
-        held = sorted((s for s in g.free_symbols if s is not time_symbol), key=lambda s: s.name)
-        if not held:
-            continue
-        slope = sp.diff(g, time_symbol)
-        offset = g.xreplace({time_symbol: 0})
-        root = sp.lambdify(held, sp.Piecewise((-offset / slope, sp.Ne(slope, 0)), (sp.oo, True)), "math")
-        found.append((rel.index, tuple(s.name for s in held), root))
-    return tuple(found)
-
-
 def held_roots(found: tuple, values: Mapping) -> tuple[tuple[int, float], ...]:
-    """``(relation index, instant)`` of :func:`held_time_events` for the current held values."""
+    """``(relation index, instant)`` of the held time events (:func:`acausal.compiler.timing.held_time_events`)
+    for the current held values."""
     return tuple((index, float(root(*(values[n] for n in names)))) for index, names, root in found)
 
 
@@ -112,25 +51,6 @@ def next_time_event(t: float, roots, relations: Sequence, values) -> float:
         if root > t or (root == t and relations[index].holds(0.0) != values[index]):
             best = min(best, root)
     return best
-
-
-def clock_ticks(clocks: Sequence, parameter_symbols: Mapping) -> tuple[tuple[float, float], ...]:
-    """``(start, interval)`` of every sample clock, as numbers.
-
-    Raises
-    ------
-    ValueError
-        For an interval that is not a positive finite number.
-    """
-    out = []
-    for clock in clocks:
-        start = float(sp.sympify(clock.start).xreplace(parameter_symbols))
-        interval = float(sp.sympify(clock.interval).xreplace(parameter_symbols))
-        if not (math.isfinite(start) and math.isfinite(interval) and interval > 0):
-            raise ValueError(f"{clock.text}: the interval must be a positive number and the start "
-                             f"finite (start = {start}, interval = {interval})")
-        out.append((start, interval))
-    return tuple(out)
 
 
 def tick_at_or_after(t: float, start: float, interval: float, strictly: bool) -> float:
@@ -526,36 +446,3 @@ def _fast_paths(kind: type) -> None:
             _POINT.update(_point_kinds())
         except ImportError:  # another scipy layout: one call per instant
             pass
-
-
-#: generated function -> its numpy version (or False): made once per compiled function
-_VECTORISED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-
-
-def vectorised_function(system, name: str) -> Callable | None:
-    """The numpy version of ``system.<name>`` (``crossings``, ``outputs``; see
-    :func:`acausal.compiler.codegen.vectorised`), or None."""
-    function = getattr(system, name)
-    parts = getattr(system, "parts", None)
-    if parts is not None:  # a composed system: from its clusters' numpy forms
-        try:
-            found = _VECTORISED.get(function)
-        except TypeError:
-            return None
-        if found is None:
-            found = system.compose_vectorised(name, [vectorised_function(p, name) for p in parts]) or False
-            _VECTORISED[function] = found
-        return found or None
-    try:
-        found = _VECTORISED.get(function)
-    except TypeError:  # not weakly referable: not a generated function
-        return None
-    if found is None:
-        code = getattr(system, "code", None)
-        source = getattr(code, "source", None)
-        found = (vectorised(function, source) if isinstance(source, str) else None) or False
-        try:
-            _VECTORISED[function] = found
-        except TypeError:
-            pass
-    return found or None

@@ -32,11 +32,14 @@ import bisect
 import heapq
 import math
 
-import numpy as np
-import sympy as sp
+from typing import TYPE_CHECKING, Mapping
 
-from ..compiler.delays import FlatDelay
+import numpy as np
+
 from ..errors import ModelDefinitionError, SolverError
+
+if TYPE_CHECKING:  # the runtime reads the compiler's delays, it does not import the compiler
+    from ..compiler.delays import FlatDelay
 
 __all__ = ["DelayHistory", "BREAK_DEPTH"]
 
@@ -52,17 +55,18 @@ class DelayHistory:
     Parameters
     ----------
     delays : sequence of FlatDelay
-    parameters : mapping
-        Parameter symbol -> value (the translation's parameter table), for
-        the fixed delay times.
+    numbers : mapping
+        Delay index -> its delay time (a fixed delay) or its ``delayMax``
+        (a variable one), as numbers (the translation's
+        :meth:`~acausal.runtime.contract.CompiledModel.delay_numbers`).
     """
 
-    def __init__(self, delays: "tuple[FlatDelay, ...]", parameters) -> None:
+    def __init__(self, delays: "tuple[FlatDelay, ...]", numbers: Mapping[int, float]) -> None:
         self.delays = tuple(delays)
         self.fixed_times: dict[int, float] = {}
         for d in self.delays:
             if d.fixed:
-                value = _number(d.delay_time, parameters)
+                value = numbers[d.index]
                 if not (math.isfinite(value) and value > 0):
                     raise ModelDefinitionError(
                         f"{d.component or '(model)'}: {d.text}: the delay time is {value:g}; it must be > 0",
@@ -70,7 +74,7 @@ class DelayHistory:
                         components=(d.component,))
                 self.fixed_times[d.index] = value
             else:
-                value = _number(d.delay_max, parameters)
+                value = numbers[d.index]
                 if not (math.isfinite(value) and value >= 0):
                     raise ModelDefinitionError(f"{d.component or '(model)'}: {d.text}: delayMax is "
                                                f"{value:g}; it must be finite and >= 0",
@@ -216,12 +220,3 @@ def _reader(system, name: str):
         outputs = system.outputs
         return lambda t, x: coefficient * float(outputs(t, x)[j])
     raise SolverError(f"the delayed expression {name} is not computed by the system {system.description}")
-
-
-def _number(expr, parameters) -> float:
-    value = sp.sympify(expr).xreplace(parameters)
-    try:
-        return float(value)
-    except TypeError:
-        raise ModelDefinitionError(f"the delay time {expr} is not a number for these parameter values") \
-            from None

@@ -25,7 +25,6 @@ References
 from __future__ import annotations
 
 import copy
-import functools
 import heapq
 import itertools
 from dataclasses import dataclass, field
@@ -33,12 +32,9 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from ..compiler.codegen import compile_functions
 from ..errors import EventIterationError, SimulationError
-from ..functions import ImpureFunction, impure_applications
 from ..names import INITIAL_NAME, TERMINAL_NAME, is_relation, parse, pre_name, relation_name
-from ..compiler.translate import ModeSystem, Translation
-from .crossings import vectorised_function
+from .contract import CompiledModel, CompiledSystem
 from .relations import decide, decide_many, kind_arrays
 
 __all__ = ["DiscreteEvaluator", "EventOutcome", "ImpureCalls", "evaluator_for", "mode_values"]
@@ -60,7 +56,7 @@ _SEARCHED_RELATIONS = 8
 _MANY_FROM = 40
 
 
-def mode_values(system: ModeSystem, t: float, x) -> dict[str, float]:
+def mode_values(system: CompiledSystem, t: float, x) -> dict[str, float]:
     """All continuous variables at ``(t, x)``: unknowns, states and aliases."""
     return with_aliases(system.values(t, x), system)
 
@@ -75,7 +71,7 @@ def with_aliases(values: dict[str, float], system) -> dict[str, float]:
     return values
 
 
-def evaluator_for(translation: Translation, relation_epsilon: float = 1e-10,
+def evaluator_for(translation: CompiledModel, relation_epsilon: float = 1e-10,
                   max_iterations: int = 20, incremental: bool = True) -> "DiscreteEvaluator":
     """The discrete-part evaluator of ``translation``, built once per setting and kept
     with the translation (compiling the discrete equations is a few milliseconds)."""
@@ -92,7 +88,7 @@ class EventOutcome:
 
     discrete: dict
     relations: tuple[bool, ...]
-    system: ModeSystem
+    system: CompiledSystem
     values: dict
     iterations: int
     changes: tuple
@@ -127,32 +123,6 @@ class ImpureCalls:
     calls: int = 0
 
 
-def _bind_impure_sites(expressions, call: Callable) -> tuple[list, int]:
-    """``expressions`` with every impure application replaced by a function of its
-    own call site, whose code calls ``call(site, function class, *args)``; and the
-    number of sites.  Sites are numbered equation by equation (inner calls first)."""
-    out, site = [], 0
-    for expr in expressions:
-        found = impure_applications(expr)
-        if not found:
-            out.append(expr)
-            continue
-        replaced: dict = {}
-        for application in found:  # inner calls first: their replacements go into the outer ones
-            cls = type(application)
-            bound = type(f"{cls.__name__}_site{site}", (ImpureSite,), {
-                "__module__": __name__, "_imp_": staticmethod(functools.partial(call, site, cls))})
-            replaced[application] = bound(*(a.xreplace(replaced) for a in application.args))
-            site += 1
-        out.append(expr.xreplace(replaced))
-    return out, site
-
-
-class ImpureSite(ImpureFunction):
-    """One call site of an impure function in the compiled discrete equations
-    (made by :func:`_bind_impure_sites`; its ``_imp_`` is bound to the evaluator)."""
-
-
 def _cast(kind: str, value):
     """A discrete equation's value as its variable's type."""
     if kind == "boolean":
@@ -165,7 +135,7 @@ def _cast(kind: str, value):
 class DiscreteEvaluator:
     """Evaluates relations and discrete equations of a translated model."""
 
-    def __init__(self, translation: Translation, relation_epsilon: float = 1e-10,
+    def __init__(self, translation: CompiledModel, relation_epsilon: float = 1e-10,
                  max_iterations: int = 20, incremental: bool = True) -> None:
         self.translation = translation
         #: whether a pass of event iteration re-evaluates only what changed since the
@@ -180,16 +150,15 @@ class DiscreteEvaluator:
         variables = translation.flat.variable_map
         self.held = self.partitioned.held_variables
         self.kinds = {n: variables[n].kind for n in (*self.partitioned.discrete_variables, *self.held)}
-        equations = self.partitioned.discrete_equations
-        arguments = [sorted(s.name for s in eq.rhs.free_symbols) for eq in equations]
         #: the run's impure functions (their state, the values of this event's call sites)
         self.impure = ImpureCalls()
-        right_sides, self.impure_sites = _bind_impure_sites([eq.rhs for eq in equations], self._impure_call)
-        functions = compile_functions(arguments, right_sides,
-                                      f"the discrete equations of {translation.flat.name}")
-        self.equations = [(eq.variable, args, fn, eq.origin)
-                          for eq, args, fn in zip(equations, arguments, functions)]
-        self._setup_hybrid(translation, arguments)
+        # compiled by the translation (the one callback into the compiler); the call
+        # sites of impure functions call back into this evaluator
+        program = translation.discrete_program(self._impure_call)
+        self.impure_sites = program.impure_sites
+        self.equations = list(program.equations)
+        arguments = [args for _variable, args, _fn, _origin in self.equations]
+        self._setup_hybrid(translation, program, arguments)
         #: the equations reading each name, in evaluation order
         self._readers: dict[str, list[int]] = {}
         for i, (_variable, args, _fn, _origin) in enumerate(self.equations):
@@ -245,11 +214,10 @@ class DiscreteEvaluator:
         self._kind_arrays: tuple | None = None
         self._relations_now: tuple | None = None
 
-    def _setup_hybrid(self, translation: Translation, arguments) -> None:
+    def _setup_hybrid(self, translation: CompiledModel, program, arguments) -> None:
         """What the discrete equations read besides discrete values and relations
         (continuous values, their left limits, sample clocks, terminal()), and the
-        reinits, terminations and assertions, compiled."""
-        hybrid = translation.flat.hybrid
+        reinits, terminations and assertions of ``program``."""
         self.clocks = self.partitioned.clocks
         own = {*self.kinds, INITIAL_NAME, TERMINAL_NAME}
         parameters = translation.cache.parameters.values
@@ -270,25 +238,9 @@ class DiscreteEvaluator:
             return out
 
         self._continuous_args = set().union(*map(continuous_reads, arguments)) if arguments else set()
-        context = f"the when-clauses of {translation.flat.name}"
-        reinits = hybrid.reinits
-        fns = compile_functions([sorted(s.name for s in r.fires.free_symbols) for r in reinits]
-                                + [sorted(s.name for s in r.value.free_symbols) for r in reinits],
-                                [r.fires for r in reinits] + [r.value for r in reinits], context)
-        self.reinits = [(r, sorted(s.name for s in r.fires.free_symbols), fns[i],
-                         sorted(s.name for s in r.value.free_symbols), fns[len(reinits) + i])
-                        for i, r in enumerate(reinits)]
-        terminations = hybrid.terminations
-        fns = compile_functions([sorted(s.name for s in r.fires.free_symbols) for r in terminations],
-                                [r.fires for r in terminations], context)
-        self.terminations = [(r, sorted(s.name for s in r.fires.free_symbols), fn)
-                             for r, fn in zip(terminations, fns)]
-        asserts = hybrid.asserts
-        conditions = [a.condition for a in asserts]
-        fns = compile_functions([sorted(s.name for s in c.free_symbols) for c in conditions], conditions,
-                                f"the assertions of {translation.flat.name}")
-        self.asserts = [(a, sorted(s.name for s in c.free_symbols), fn)
-                        for a, c, fn in zip(asserts, conditions, fns)]
+        self.reinits = list(program.reinits)
+        self.terminations = list(program.terminations)
+        self.asserts = list(program.asserts)
         for _r, fire_args, _f, value_args, _v in self.reinits:
             self._continuous_args |= continuous_reads(fire_args) | continuous_reads(value_args)
         for _r, fire_args, _f in self.terminations:
@@ -335,7 +287,7 @@ class DiscreteEvaluator:
         calls.calls += 1
         return value
 
-    def _continuous_env(self, system: ModeSystem, t: float, x, left: Mapping) -> dict:
+    def _continuous_env(self, system: CompiledSystem, t: float, x, left: Mapping) -> dict:
         """The continuous values the discrete equations read at ``(t, x)``, and the left
         limits (``pre(u)`` of a continuous ``u``)."""
         if not self._continuous_args:
@@ -352,7 +304,7 @@ class DiscreteEvaluator:
                 env[name] = values.get(name, float("nan"))
         return env
 
-    def prepare(self, system: ModeSystem | None, t: float, x) -> None:
+    def prepare(self, system: CompiledSystem | None, t: float, x) -> None:
         """Set the continuous values the discrete equations read (outside event iteration:
         during initialization, where ``pre(u)`` of a continuous ``u`` is ``u``); None clears."""
         self._extra = {clock.symbol.name: False for clock in self.clocks} if self._hybrid else {}
@@ -360,11 +312,11 @@ class DiscreteEvaluator:
             values = mode_values(system, t, x)
             self._extra.update(self._continuous_env(system, t, x, values))
 
-    def _states(self, system: ModeSystem, values: Mapping, discrete: Mapping) -> list:
+    def _states(self, system: CompiledSystem, values: Mapping, discrete: Mapping) -> list:
         """The state vector of ``system``: held values from ``discrete``, the rest from ``values``."""
         return [discrete[s] if s in self.kinds else values[s] for s in system.states]
 
-    def check_asserts(self, t: float, system: ModeSystem, x, discrete: Mapping, pre: Mapping,
+    def check_asserts(self, t: float, system: CompiledSystem, x, discrete: Mapping, pre: Mapping,
                       initial: bool = False, terminal: bool = False) -> list:
         """The assertions violated at ``(t, x)``: ``[(FlatAssert, message)]`` (``terminal``:
         at the end of the run, where ``terminal()`` is true)."""
@@ -422,7 +374,7 @@ class DiscreteEvaluator:
 
     # -- relations --------------------------------------------------------------
 
-    def relation_values(self, system: ModeSystem, t: float, x, previous, exact: bool = False,
+    def relation_values(self, system: CompiledSystem, t: float, x, previous, exact: bool = False,
                         fired: frozenset = frozenset(), clear=None, raw=None):
         """Relation values at ``(t, x)``; with hysteresis against ``previous``.
 
@@ -467,7 +419,7 @@ class DiscreteEvaluator:
                 out.append(abs(lhs - rhs) > epsilon * max(floor, abs(lhs), abs(rhs)))
         return tuple(out)
 
-    def flipped_relations(self, system: ModeSystem, t: float, x, relations,
+    def flipped_relations(self, system: CompiledSystem, t: float, x, relations,
                           watched: tuple[int, ...]) -> tuple[int, ...]:
         """The watched relations whose value at ``(t, x)`` differs from ``relations``.
 
@@ -500,7 +452,7 @@ class DiscreteEvaluator:
                 out.append(k)
         return tuple(out)
 
-    def distance_to_flip(self, system: ModeSystem, relations, k: int) -> Callable:
+    def distance_to_flip(self, system: CompiledSystem, relations, k: int) -> Callable:
         """``distance(t, x)`` for relation ``k``: the margin-shifted ``g`` that
         :meth:`flipped_relations` decides on, signed to be negative while the
         relation keeps its value in ``relations`` and positive once it has
@@ -575,7 +527,7 @@ class DiscreteEvaluator:
         holds = np.where(strict, v > 0, v >= 0)
         return w, holds != previous
 
-    def first_flip(self, system: ModeSystem, times, states, relations,
+    def first_flip(self, system: CompiledSystem, times, states, relations,
                    watched: tuple[int, ...]) -> tuple[int, tuple[int, ...]] | None:
         """The first of ``times`` at which a watched relation has flipped.
 
@@ -587,7 +539,7 @@ class DiscreteEvaluator:
         The relations are decided for all times at once, with numpy
         (:meth:`_flips`), on the crossing functions' values: from one numpy call
         when the system's code allows it
-        (:func:`~acausal.runtime.crossings.vectorised_function`; from an instant
+        (the system's ``vectorised("crossings")``; from an instant
         whose values are not all finite on, or if it raises, the scalar function
         decides instant by instant), else from the scalar function at each time.
         A few samples of few relations are decided one by one: a numpy call has
@@ -598,7 +550,7 @@ class DiscreteEvaluator:
             return None
         start = 0
         if m * (len(watched) + 2) >= _MANY_FROM:
-            many = vectorised_function(system, "crossings")
+            many = system.vectorised("crossings")
             if many is not None:
                 found, start = self._first_flip_many(many, times, states, relations, watched)
             else:

@@ -36,10 +36,10 @@ from dataclasses import dataclass
 from typing import Mapping, Sequence
 
 from ..errors import AcausalError, InitializationError, SolverError, StartValueWarning
-from ..compiler.translate import ModeSystem, Translation
-from .crossings import clock_ticks, ticking_at
+from ..compiler.run_context import active_history
+from .contract import CompiledModel, CompiledSystem
+from .crossings import ticking_at
 from .events import DiscreteEvaluator, EventOutcome, mode_values, with_aliases
-from ..compiler.delays import active_history
 
 __all__ = ["InitialState", "initialize", "start_guess", "start_system", "start_value_message"]
 
@@ -69,7 +69,7 @@ class InitialState:
     ticks: frozenset = frozenset()
 
 
-def start_guess(translation: Translation) -> tuple[dict, tuple[bool, ...]]:
+def start_guess(translation: CompiledModel) -> tuple[dict, tuple[bool, ...]]:
     """The discrete values and relation values initialization starts from: the
     start values (discrete Reals included) and every relation false.
 
@@ -84,7 +84,7 @@ def start_guess(translation: Translation) -> tuple[dict, tuple[bool, ...]]:
     return discrete, tuple(False for _ in translation.partitioned.relations)
 
 
-def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_time: float) -> InitialState:
+def initialize(translation: CompiledModel, evaluator: DiscreteEvaluator, start_time: float) -> InitialState:
     """Solve the initialization problem at ``start_time``."""
     flat = translation.flat
     variables = flat.variable_map
@@ -126,7 +126,7 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
             # evaluated (1/|w| at w = 0, a domain error) or solved here: guess again from
             # the start values, as a Modelica tool starts its mixed system from them
             guessed = True
-            relations = start_value_relations(translation, start_time)
+            relations = translation.start_value_relations(start_time)
             continue
         system = translation.system(key)
         delays = active_history() if flat.delays else None
@@ -179,13 +179,12 @@ def initialize(translation: Translation, evaluator: DiscreteEvaluator, start_tim
         notes.append(message)
         warnings.warn(message, StartValueWarning, stacklevel=2)
     # a sample clock whose first tick is the start time ticks in this event iteration
-    ticks = ticking_at(start_time, clock_ticks(translation.partitioned.clocks,
-                                               translation.cache.parameters.symbols))
+    ticks = ticking_at(start_time, translation.clock_ticks())
     outcome = evaluator.iterate(start_time, values, discrete, relations, initial=False, ticks=ticks)
     return InitialState(start_time, values, discrete, relations, outcome, tuple(notes), ticks)
 
 
-def _held_from_start(translation: Translation, problem, held: set[str]) -> list[tuple[str, float]]:
+def _held_from_start(translation: CompiledModel, problem, held: set[str]) -> list[tuple[str, float]]:
     """The discrete Reals whose value the initialization problem takes from their start
     values, with those values: a fixed start (for a discrete variable Modelica's
     ``pre(r) = start``, which makes ``r`` the start unless a when-clause with ``initial()``
@@ -203,7 +202,7 @@ def _held_from_start(translation: Translation, problem, held: set[str]) -> list[
     return found
 
 
-def _with_held_values(translation: Translation, problem, assigned: Mapping[str, float]):
+def _with_held_values(translation: CompiledModel, problem, assigned: Mapping[str, float]):
     """``problem.outputs``, or its code bound to start values in which the discrete Reals of
     ``assigned`` start at their assigned values (their start is what the problem reads for
     them: they are among its ``from_start``).  A problem composed of clusters keeps its own."""
@@ -269,35 +268,7 @@ def start_value_message(model: str, from_start: Sequence[tuple[str, float]],
     return "\n".join(lines)
 
 
-def start_value_relations(translation: Translation, start_time: float) -> tuple[bool, ...]:
-    """Each relation evaluated with the start values of the variables (0 when none is given).
-
-    A guess for the initial event iteration: derivatives count as 0, and a
-    relation that cannot be evaluated this way is guessed false.
-    """
-    import sympy as sp
-
-    from ..language import time as time_symbol
-    from ..names import is_derivative
-
-    variables = translation.flat.variable_map
-    parameters = translation.cache.parameters.symbols
-    guesses = []
-    for rel in translation.partitioned.relations:
-        g = sp.sympify(rel.g).xreplace(parameters)
-        values = {time_symbol: start_time}
-        for sym in g.free_symbols - {time_symbol}:
-            variable = variables.get(sym.name)
-            start = getattr(variable, "start", None) if variable is not None and not is_derivative(sym.name) else None
-            values[sym] = start if isinstance(start, (int, float)) else 0.0
-        try:
-            guesses.append(rel.holds(float(g.xreplace(values))))
-        except (TypeError, ValueError, ZeroDivisionError):
-            guesses.append(False)
-    return tuple(guesses)
-
-
-def start_system(translation: Translation) -> ModeSystem:
+def start_system(translation: CompiledModel) -> CompiledSystem:
     """The system in force at the start time, after initialization.
 
     Convenient for inspecting a model: it runs the initialization (and its

@@ -18,9 +18,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..compiler.translate import ModeSystem, Translation
 from ..errors import SimulationError
-from .crossings import vectorised_function
+from .contract import CompiledModel, CompiledSystem
 
 __all__ = ["Recorder", "output_grid"]
 
@@ -41,7 +40,7 @@ class Recorder:
     grid : ndarray
         The output points.
     interval : float
-    rows : list of (t, ModeSystem, x, discrete)
+    rows : list of (t, CompiledSystem, x, discrete)
     """
 
     def __init__(self, t0: float, t1: float, interval: float) -> None:
@@ -59,7 +58,7 @@ class Recorder:
         """Whether output points are still to be written."""
         return self.next_grid < len(self.grid)
 
-    def add(self, t: float, system: ModeSystem, x, discrete: dict) -> None:
+    def add(self, t: float, system: CompiledSystem, x, discrete: dict) -> None:
         """A row at ``t`` (an event's limit, a segment's end, the start)."""
         x = x.copy() if type(x) is np.ndarray and x.dtype == np.float64 else np.array(x, dtype=float)
         self.rows.append((float(t), system, x, self._snapshot(discrete)))
@@ -71,7 +70,7 @@ class Recorder:
         while self.next_grid < len(self.grid) and self.grid[self.next_grid] <= limit:
             self.next_grid += 1
 
-    def emit_grid_until(self, t_end: float, inclusive: bool, system: ModeSystem, x_at: Callable,
+    def emit_grid_until(self, t_end: float, inclusive: bool, system: CompiledSystem, x_at: Callable,
                         discrete: dict, check: Callable[[], None] | None = None) -> None:
         """Rows at the output points before ``t_end`` (or up to it), states from ``x_at(t)``.
 
@@ -94,7 +93,7 @@ class Recorder:
         stop = int(np.searchsorted(self.grid, t_end, side="right" if inclusive else "left"))
         return self.grid[self.next_grid:max(self.next_grid, stop)]
 
-    def emit_rows(self, times: np.ndarray, states: np.ndarray, system: ModeSystem, discrete: dict,
+    def emit_rows(self, times: np.ndarray, states: np.ndarray, system: CompiledSystem, discrete: dict,
                   check: Callable[[], None] | None = None) -> None:
         """Rows at the next output points ``times`` (from :meth:`pending`), the states as rows.
 
@@ -133,7 +132,7 @@ class Recorder:
 
     # -- the result's columns ----------------------------------------------------------
 
-    def columns(self, translation: Translation) -> tuple[np.ndarray, dict[str, np.ndarray], tuple | None]:
+    def columns(self, translation: CompiledModel) -> tuple[np.ndarray, dict[str, np.ndarray], tuple | None]:
         """The result's time and columns, and the first row whose values are not finite.
 
         Columns: every variable by name (only the demanded ones with an
@@ -186,7 +185,7 @@ class Recorder:
 _ADD = Recorder.add
 
 
-def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, discrete: dict,
+def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem, discrete: dict,
           plan, names_of: dict[str, str],
           times: np.ndarray | None = None) -> tuple[int, list[str], str] | None:
     """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
@@ -204,7 +203,7 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
     # the unknowns of all rows in one numpy call where the code allows it; rows whose
     # values are not all finite (or all rows, if it raises) are computed row by row
     redo = range(m)
-    many = vectorised_function(system, "outputs") if m > 1 and system.unknowns else None
+    many = system.vectorised("outputs") if m > 1 and system.unknowns else None
     if many is not None:
         if times is None:
             times = np.fromiter(map(itemgetter(0), rows), float, m)
@@ -246,7 +245,7 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: ModeSystem, di
     return failed
 
 
-def _failing_line(exc: BaseException, system: ModeSystem, names_of: dict[str, str]) -> tuple[str, str]:
+def _failing_line(exc: BaseException, system: CompiledSystem, names_of: dict[str, str]) -> tuple[str, str]:
     """The variable whose line of generated code raised ``exc``, and that line."""
     identifiers = {ident: name for name, ident in names_of.items()}
     return generated_line(exc, system.sources, identifiers)
@@ -280,7 +279,7 @@ def generated_line(exc: BaseException, sources, identifiers) -> tuple[str, str]:
     return "a value", ""
 
 
-def fill_plan(system: ModeSystem, index: dict[str, int], memo: dict | None = None):
+def fill_plan(system: CompiledSystem, index: dict[str, int], memo: dict | None = None):
     """Where a system's values go in the result: ``(targets, sources, aliases)``.
 
     The system's values are its states then its unknowns; ``targets`` are

@@ -29,28 +29,28 @@ import sys
 import time as _time
 import warnings
 from collections import deque
-from typing import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..compiler.translate import ModeSystem, Translation, translate, with_start_values
 from ..errors import (AcausalError, AssertionViolation, ChatteringError, InitializationError, ModelDefinitionError,
                       RedundantConstraintWarning, SettingError, SimulationError, SimulationInterrupted, SolverError,
                       StructuralError, ZenoError)
-from ..language import Component, finish_hooks, structural_names, with_structural
 from ..names import base_name, der_name
 from ..options import DEFAULT_OPTIONS, EngineOptions
-from ..compiler.delays import activate
+from ..compiler.run_context import activate
+from .contract import CompiledModel, CompiledSystem, is_compiled_model
 from .delays import DelayHistory
-from .crossings import (clock_ticks, locate_flip, next_tick, next_time_event, states_at, step_samples,
-                        ticking_at,
-                        held_roots, held_time_events, time_event_roots)
+from .crossings import held_roots, locate_flip, next_tick, next_time_event, states_at, step_samples, ticking_at
 from .events import evaluator_for, mode_values
 from .initialization import initialize
 from . import explicit_rk
 from .integrators import RK4, Euler
 from .recorder import Recorder, generated_line
 from .result import Event, SimulationResult, describe_columns
+
+if TYPE_CHECKING:  # a model is translated on demand: the compiler is imported when one is given
+    from ..language import Component
 
 __all__ = ["simulate", "METHODS", "MAX_OUTPUT_POINTS"]
 
@@ -138,7 +138,7 @@ def progress_reporter(progress, name: str) -> "Callable[[float, float, float], o
                        hint="progress(t, start_time, stop_time) is called as the run advances")
 
 
-def simulate(model: Component | Translation, *, start_time: float | None = None,
+def simulate(model: "Component | CompiledModel", *, start_time: float | None = None,
              stop_time: float | None = None, interval: float | None = None, method: str | None = None,
              rtol: float | None = None, atol: float | None = None, max_step: float | None = None,
              relation_epsilon: float = 1e-10, max_event_iterations: int = 20,
@@ -249,7 +249,8 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     if method is not None and method not in METHODS:
         raise SettingError(f"unknown method {method!r}", hint=f"choose one of {', '.join(METHODS)}")
     t_setup = _time.perf_counter()
-    if isinstance(model, Translation):
+    given_model = not is_compiled_model(model)
+    if not given_model:
         if outputs is not None and model.demand != frozenset(outputs):
             raise ValueError("outputs must be given to translate() when simulating a Translation")
         for given, what in ((parameters, "parameters"), (start, "start")):
@@ -263,6 +264,9 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
                                hint="translate(model, options=...) with these options, or simulate(model, "
                                     "options=...)")
     else:
+        # the compiler, for a model (a translation given was made by it: already loaded)
+        from ..compiler.translate import translate, with_start_values
+
         parameters = with_start_values(parameters, start)
         translation = translate(model, outputs, cache=cache, parameters=parameters,
                                 redundant_constraints=redundant_constraints, options=options)
@@ -295,7 +299,7 @@ def simulate(model: Component | Translation, *, start_time: float | None = None,
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
     result = run.execute(t0, t1, float(interval), t_setup)
-    if result.success and isinstance(model, Component):
+    if result.success and given_model:
         result = _finish(model, parameters, result)
     return result
 
@@ -307,6 +311,8 @@ def _finish(model: Component, parameters: Mapping[str, float] | None,
     A SimulationError a hook raises makes the run a failure (the result, status -1,
     with that error); the hooks after it are not called.
     """
+    from ..language import finish_hooks, structural_names, with_structural
+
     hooks = finish_hooks(model)
     if not hooks:
         return result  # no class defines a hook (no walk), or none of this model's components
@@ -323,7 +329,7 @@ def _finish(model: Component, parameters: Mapping[str, float] | None,
     return result
 
 
-def _structural_notes(translation: Translation, parameters: Mapping[str, float] | None) -> list[str]:
+def _structural_notes(translation: CompiledModel, parameters: Mapping[str, float] | None) -> list[str]:
     """Which of the parameters given change the equations, so that the model was translated for them."""
     notes = []
     structural = translation.flat.structural_parameters
@@ -412,7 +418,7 @@ class _Run:
     #: Most output rows evaluated and written at once (memory and budget checks stay bounded).
     _ROWS_AT_ONCE = 65536
 
-    def __init__(self, translation: Translation, method, rtol, atol, max_step, relation_epsilon,
+    def __init__(self, translation: CompiledModel, method, rtol, atol, max_step, relation_epsilon,
                  max_event_iterations, chattering_events, options: EngineOptions | None = None) -> None:
         self.translation = translation
         options = translation.options if options is None else options
@@ -427,7 +433,7 @@ class _Run:
         self.atol = atol
         self.max_step = np.inf if max_step is None else max_step
         #: the run's history for delay() (None: the model has none, and pays nothing)
-        self.delays = (DelayHistory(translation.flat.delays, translation.cache.parameters.symbols)
+        self.delays = (DelayHistory(translation.flat.delays, translation.delay_numbers())
                        if translation.flat.delays else None)
         if self.delays is not None:
             # t - T never lies in the step being taken (fixed delays)
@@ -448,11 +454,10 @@ class _Run:
         self.t_start = self.t_stop = 0.0
         # where the wall time goes, for a budget's message
         self.seconds = {"output": 0.0, "events": 0.0}
-        self._static_time_roots = time_event_roots(self.relations, translation.cache.parameters.symbols)
-        self._held_time_events = held_time_events(self.relations, translation.cache.parameters.symbols)
+        self._static_time_roots, self._held_time_events = translation.time_events()
         self._time_roots = self._static_time_roots
         try:
-            self._ticks = clock_ticks(translation.partitioned.clocks, translation.cache.parameters.symbols)
+            self._ticks = translation.clock_ticks()
         except ValueError as exc:
             raise ModelDefinitionError(str(exc), hint="sample(start, interval) needs an interval > 0") \
                 from exc
@@ -568,7 +573,7 @@ class _Run:
                   "the parameters of the components named"),
             components=tuple(dict.fromkeys(n.rpartition(".")[0] for n in [variable] if "." in n)))
 
-    def _record_mode(self, system: ModeSystem) -> None:
+    def _record_mode(self, system: CompiledSystem) -> None:
         if system.description not in self.modes:
             self.modes.append(system.description)
             relaxed = getattr(system, "relaxed", None)
@@ -677,7 +682,7 @@ class _Run:
         changes = outcome.changes + tuple((f"reinit({n})", a, b) for n, a, b in outcome.reinits)
         self.events.append(Event(t, kind, fired, changes, outcome.iterations))
 
-    def _check_asserts(self, t: float, system: ModeSystem, x, discrete, terminal: bool = False,
+    def _check_asserts(self, t: float, system: CompiledSystem, x, discrete, terminal: bool = False,
                        pre=None) -> None:
         """Assertions at an accepted step, after an event or at the end (``terminal``, with the
         ``pre`` values before its event iteration): an error stops the run (what was computed is
@@ -692,7 +697,7 @@ class _Run:
                 self._warned.add(id(item))
                 self.notes.append(message)
 
-    def _asserts_in_step(self, rows, at_rows, dense, y_new, t_new: float, system: ModeSystem, discrete) -> None:
+    def _asserts_in_step(self, rows, at_rows, dense, y_new, t_new: float, system: CompiledSystem, discrete) -> None:
         """Assertions at the output points of a step: the rows before the first one that
         violates an error-level assertion are written, and the run stops there."""
         if not len(rows):
@@ -706,7 +711,7 @@ class _Run:
                 self._emit_rows(rows[:i + 1], states[:i + 1], system, discrete)
                 raise
 
-    def _terminal_iteration(self, t: float, system: ModeSystem, x, discrete, relations) -> None:
+    def _terminal_iteration(self, t: float, system: CompiledSystem, x, discrete, relations) -> None:
         """At the end of a successful run, ``terminal()`` is true in one more event
         iteration (only if the model uses it); its values are the last row."""
         if not self.evaluator.uses_terminal:
@@ -763,7 +768,7 @@ class _Run:
                      "rule to the model that ends it, e.g. a Boolean that stops the bouncing when the "
                      "speed after an impact is small (see docs/hybrid.md)", components=owners)
 
-    def _emit(self, t_end: float, inclusive: bool, system: ModeSystem, x_at, discrete) -> None:
+    def _emit(self, t_end: float, inclusive: bool, system: CompiledSystem, x_at, discrete) -> None:
         """Output points up to ``t_end`` (timed, and within the budgets)."""
         started = _time.perf_counter()
         try:
@@ -772,7 +777,7 @@ class _Run:
         finally:
             self.seconds["output"] += _time.perf_counter() - started
 
-    def _emit_rows(self, times, states, system: ModeSystem, discrete) -> None:
+    def _emit_rows(self, times, states, system: CompiledSystem, discrete) -> None:
         """Rows at the next output points ``times``, states given as rows (timed, within the
         budgets, a block of at most ``_ROWS_AT_ONCE`` rows at a time)."""
         block = self._ROWS_AT_ONCE
@@ -784,7 +789,7 @@ class _Run:
             finally:
                 self.seconds["output"] += _time.perf_counter() - started
 
-    def _emit_step(self, rows, at_rows, dense, y_new, t_new: float, system: ModeSystem, discrete) -> None:
+    def _emit_step(self, rows, at_rows, dense, y_new, t_new: float, system: CompiledSystem, discrete) -> None:
         """The output points ``rows`` of a step ending at ``t_new``: states from ``at_rows``
         (None: from the dense output, a block at a time), the step's own value at
         its end (up to round-off)."""
@@ -833,7 +838,7 @@ class _Run:
                             "relation named (a threshold that its own switching crosses)", *own)),
             components=owners)
 
-    def _segment(self, system: ModeSystem, t: float, x, t_bound: float, discrete, relations):
+    def _segment(self, system: CompiledSystem, t: float, x, t_bound: float, discrete, relations):
         """Integrate one mode until t_bound or the first crossing.
 
         Returns ``(t_end, x_end, event)``, event = ``(t_e, x_e, fired names)`` or None.
@@ -1026,7 +1031,7 @@ def _check_finite(t: float, names, values, what: str) -> None:
                           components=tuple(dict.fromkeys(base_name(n).rpartition(".")[0] for n, _ in bad)))
 
 
-def _check_crossings(t: float, system: ModeSystem, x, watched, relations) -> None:
+def _check_crossings(t: float, system: CompiledSystem, x, watched, relations) -> None:
     """The sides of the watched relations must be finite: NaN makes every relation false."""
     raw = np.asarray(system.crossings(t, x), dtype=float)
     if np.all(np.isfinite(raw)):

@@ -25,13 +25,14 @@ from hypothesis import strategies as st
 
 from acausal import simulate, translate
 from acausal.compiler.algebraic import Assign, LinearSolve
-from acausal.compiler.codegen import generate, vectorised
+from acausal.compiler.clusters import ComposedSystem
+from acausal.compiler.codegen import generate, vectorised, vectorised_of
+from acausal.compiler.modes import ModeSystem
+from acausal.compiler.timing import time_event_roots
 from acausal.language import real_symbol, time
 from acausal.runtime import crossings as crossings_module
-from acausal.runtime import events as events_module
-from acausal.runtime import recorder as recorder_module
 from acausal.runtime.crossings import (locate_flip, sample_states, sample_times, state_at,
-                                       states_at, step_samples, time_event_roots, vectorised_function)
+                                       states_at, step_samples)
 from acausal.runtime.events import evaluator_for
 from acausal.runtime.recorder import Recorder
 from examples.benchmarks import StickSlip
@@ -95,7 +96,14 @@ def _system(steps, crossings, unknowns, states=("x1", "x2"), parameters=("k",), 
     """A compiled stand-in for a ModeSystem: its crossings and outputs, and the code's text."""
     code = generate(steps, states, (), unknowns, parameters, crossings=crossings, name=name)
     _derivatives, crossing_fn, outputs = code.make([1.5])
-    return types.SimpleNamespace(crossings=crossing_fn, outputs=outputs, code=code, states=states)
+    return _Compiled(crossings=crossing_fn, outputs=outputs, code=code, states=states)
+
+
+class _Compiled(types.SimpleNamespace):
+    """The stand-in's numpy forms, as a ModeSystem gives them (from its generated text)."""
+
+    def vectorised(self, name):
+        return vectorised_of(self, name)
 
 
 x1, x2, k, a, b = (S(n) for n in ("x1", "x2", "k", "a", "b"))
@@ -150,8 +158,8 @@ def test_an_untranslated_construct_gives_no_numpy_version():
                          (x1, x2, k), (), ("e0", "e1", "e2"))]
     system = _system(steps, (z[0],), ("z0", "z1", "z2"))
     assert vectorised(system.crossings, system.code.source) is None
-    assert vectorised_function(system, "crossings") is None  # and the runtime asks once
-    assert vectorised_function(types.SimpleNamespace(crossings=len), "crossings") is None
+    assert vectorised_of(system, "crossings") is None  # and the runtime asks once
+    assert vectorised_of(types.SimpleNamespace(crossings=len), "crossings") is None
 
 
 def test_a_singular_column_raises_in_the_numpy_version_and_the_scalar_code_decides():
@@ -177,7 +185,7 @@ def test_numpy_versions_of_every_compiled_system_on_its_run(name):
         X = np.concatenate([X, X * rng.choice([0.0, -1.0, 1.0 + 1e-9], size=X.shape)], axis=1)
         t = np.concatenate([result.time, result.time])
         for fname in ("crossings", "outputs"):
-            many = vectorised_function(system, fname)
+            many = system.vectorised(fname)
             assert many is not None, (system.description, fname)
             with np.errstate(all="ignore"):
                 got = many(t, X)
@@ -214,6 +222,9 @@ class _Fixed:
 
     def crossings(self, t, x):
         return tuple(self.columns[:, int(t)].tolist())
+
+    def vectorised(self, name):
+        return None  # the relations are decided from the scalar function's values, collected
 
 
 def _columns(data, n, m):
@@ -322,6 +333,9 @@ def test_first_flip_raises_where_the_scalar_loop_does_and_only_there():
                 raise ZeroDivisionError("at the 5th sample")
             value = 1.0 if t >= self.flip_at else -1.0
             return tuple([value, 0.0] * len(_RELATIONS))
+
+        def vectorised(self, name):
+            return None
 
     relations = tuple(r.op in ("<", "<=") for r in _RELATIONS)  # each holds at -1 (g < 0)
     watched = tuple(k for k, r in enumerate(_RELATIONS) if not r.is_time_event)
@@ -448,8 +462,8 @@ def _scalar_only(monkeypatch):
     """Every vectorised path off: one dense output call, crossing and output call per instant."""
     monkeypatch.setattr(crossings_module, "_BATCHED", {})
     monkeypatch.setattr(crossings_module, "_POINT", {})
-    monkeypatch.setattr(events_module, "vectorised_function", lambda system, name: None)
-    monkeypatch.setattr(recorder_module, "vectorised_function", lambda system, name: None)
+    monkeypatch.setattr(ModeSystem, "vectorised", lambda system, name: None)
+    monkeypatch.setattr(ComposedSystem, "vectorised", lambda system, name: None)
 
 
 @pytest.mark.parametrize("name, method", [("StickSlip", "RK45"), ("Friction", "DOP853"),

@@ -1,0 +1,107 @@
+"""The discrete part of a model, compiled: discrete equations, reinits, terminations, assertions.
+
+The runtime's event iteration (:class:`~acausal.runtime.events.DiscreteEvaluator`)
+evaluates these functions by name; it asks a translation for them once
+(:meth:`~acausal.compiler.translate.Translation.discrete_program`) and never
+sees the symbolic expressions.  Impure functions
+(:class:`~acausal.functions.ImpureFunction`: a random number generator's
+next value) are bound here to their call sites, and each call site calls back
+into the evaluator of the run (``impure_call``), which keeps the functions'
+state.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from ..functions import ImpureFunction, impure_applications
+from .codegen import compile_functions
+
+__all__ = ["DiscreteProgram", "compile_discrete", "ImpureSite"]
+
+
+@dataclass(frozen=True)
+class DiscreteProgram:
+    """The compiled discrete part of a model.
+
+    Attributes
+    ----------
+    equations : tuple
+        ``(variable, argument names, function, origin)`` per discrete
+        equation, in evaluation order; ``function(*values of the arguments)``.
+    impure_sites : int
+        How many call sites of impure functions the equations have.
+    reinits : tuple
+        ``(reinit, fire arguments, fire function, value arguments, value
+        function)`` per ``reinit``.
+    terminations : tuple
+        ``(terminate, arguments, fire function)`` per ``terminate``.
+    asserts : tuple
+        ``(assert, arguments, condition function)`` per ``assert``.
+    """
+
+    equations: tuple[tuple[str, list[str], Callable, Any], ...]
+    impure_sites: int
+    reinits: tuple
+    terminations: tuple
+    asserts: tuple
+
+
+def _names(expr) -> list[str]:
+    return sorted(s.name for s in expr.free_symbols)
+
+
+def compile_discrete(flat, partitioned, impure_call: Callable) -> DiscreteProgram:
+    """Compile the discrete equations of ``partitioned`` and the hybrid constructs of ``flat``.
+
+    ``impure_call(site, function class, *args)`` is what each call site of an
+    impure function evaluates (see :func:`_bind_impure_sites`).
+    """
+    equations = partitioned.discrete_equations
+    arguments = [_names(eq.rhs) for eq in equations]
+    right_sides, impure_sites = _bind_impure_sites([eq.rhs for eq in equations], impure_call)
+    functions = compile_functions(arguments, right_sides, f"the discrete equations of {flat.name}")
+    compiled = tuple((eq.variable, args, fn, eq.origin) for eq, args, fn in zip(equations, arguments, functions))
+
+    hybrid = flat.hybrid
+    context = f"the when-clauses of {flat.name}"
+    reinits = hybrid.reinits
+    fns = compile_functions([_names(r.fires) for r in reinits] + [_names(r.value) for r in reinits],
+                            [r.fires for r in reinits] + [r.value for r in reinits], context)
+    compiled_reinits = tuple((r, _names(r.fires), fns[i], _names(r.value), fns[len(reinits) + i])
+                             for i, r in enumerate(reinits))
+    terminations = hybrid.terminations
+    fns = compile_functions([_names(r.fires) for r in terminations], [r.fires for r in terminations], context)
+    compiled_terminations = tuple((r, _names(r.fires), fn) for r, fn in zip(terminations, fns))
+    conditions = [a.condition for a in hybrid.asserts]
+    fns = compile_functions([_names(c) for c in conditions], conditions, f"the assertions of {flat.name}")
+    compiled_asserts = tuple((a, _names(c), fn) for a, c, fn in zip(hybrid.asserts, conditions, fns))
+    return DiscreteProgram(compiled, impure_sites, compiled_reinits, compiled_terminations, compiled_asserts)
+
+
+def _bind_impure_sites(expressions, call: Callable) -> tuple[list, int]:
+    """``expressions`` with every impure application replaced by a function of its
+    own call site, whose code calls ``call(site, function class, *args)``; and the
+    number of sites.  Sites are numbered equation by equation (inner calls first)."""
+    out, site = [], 0
+    for expr in expressions:
+        found = impure_applications(expr)
+        if not found:
+            out.append(expr)
+            continue
+        replaced: dict = {}
+        for application in found:  # inner calls first: their replacements go into the outer ones
+            cls = type(application)
+            bound = type(f"{cls.__name__}_site{site}", (ImpureSite,), {
+                "__module__": __name__, "_imp_": staticmethod(functools.partial(call, site, cls))})
+            replaced[application] = bound(*(a.xreplace(replaced) for a in application.args))
+            site += 1
+        out.append(expr.xreplace(replaced))
+    return out, site
+
+
+class ImpureSite(ImpureFunction):
+    """One call site of an impure function in the compiled discrete equations
+    (made by :func:`_bind_impure_sites`; its ``_imp_`` calls the run's evaluator)."""

@@ -1,0 +1,36 @@
+"""The run in progress, as generated code sees it: the history its delayed values read.
+
+Generated code evaluates ``delay(u, T)`` by asking the history of the run in
+progress (:mod:`acausal.compiler.delays`); the runtime says which history that
+is (``with activate(history):``).  This module is that meeting point and
+imports nothing else, so that the runtime can use it without loading the
+compiler (see :mod:`acausal.runtime.contract`).
+"""
+
+from __future__ import annotations
+
+import threading
+
+__all__ = ["activate", "active_history"]
+
+_ACTIVE = threading.local()
+
+
+def active_history():
+    """The history the delayed values of this thread read (None: no run in progress)."""
+    return getattr(_ACTIVE, "history", None)
+
+
+class activate:  # noqa: N801 - a context manager used like a function
+    """``with activate(history):`` the generated code of this thread reads ``history``."""
+
+    def __init__(self, history) -> None:
+        self.history = history
+
+    def __enter__(self):
+        self.previous = active_history()
+        _ACTIVE.history = self.history
+        return self.history
+
+    def __exit__(self, *exc) -> None:
+        _ACTIVE.history = self.previous

@@ -1,0 +1,101 @@
+"""The contract between compiler and runtime (acausal/runtime/contract.py).
+
+The runtime depends on the compiled model only through the Protocols of
+``acausal.runtime.contract``: importing it loads neither sympy nor networkx,
+it generates no code, and the compiler's objects satisfy the Protocols.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from acausal import simulate, translate
+from acausal.compiler.clusters import ComposedSystem
+from acausal.compiler.modes import ModeSystem
+from acausal.runtime.contract import CompiledModel, CompiledSystem, is_compiled_model
+from examples.coupled_clutches import CoupledClutches
+from tests.compiler.test_clusters import storm
+
+RUNTIME = Path(__file__).resolve().parents[2] / "acausal" / "runtime"
+RUNTIME_MODULES = sorted(f"acausal.runtime.{p.stem}" for p in RUNTIME.glob("*.py") if p.stem != "__init__")
+
+
+def test_every_runtime_module_imports_without_sympy_or_networkx():
+    # sympy and networkx made unimportable: an import of either anywhere in the runtime fails
+    code = ("import sys\n"
+            "sys.modules['sympy'] = None\nsys.modules['networkx'] = None\n"
+            f"for name in {RUNTIME_MODULES!r}:\n"
+            "    __import__(name)\n"
+            "import acausal\n"
+            "print(sorted(m for m in ('scipy', 'pandas', 'matplotlib') if m in sys.modules))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                          cwd=RUNTIME.parents[1])
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
+def test_the_runtime_generates_no_code():
+    """No exec, eval, compile or lambdify in the runtime: code comes from the compiler."""
+    found = []
+    for path in sorted(RUNTIME.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call):
+                name = getattr(node.func, "id", None) or getattr(node.func, "attr", None)
+                if getattr(getattr(node.func, "value", None), "id", None) == "re":
+                    continue  # re.compile: a pattern, not code
+                if name in ("exec", "eval", "compile", "lambdify", "compile_functions"):
+                    found.append(f"{path.name}:{node.lineno} {name}")
+    assert not found
+
+
+def test_a_translation_and_its_systems_satisfy_the_contract():
+    translation = translate(CoupledClutches())
+    assert isinstance(translation, CompiledModel) and is_compiled_model(translation)
+    assert not is_compiled_model(CoupledClutches())
+    simulate(translation)
+    assert translation.systems
+    for system in translation.systems.values():
+        assert isinstance(system, ModeSystem) and isinstance(system, CompiledSystem)
+
+
+def test_a_composed_system_satisfies_the_contract():
+    translation = translate(storm(2), cache=False)
+    simulate(translation, stop_time=0.5)
+    composed = [s for s in translation.systems.values() if isinstance(s, ComposedSystem)]
+    assert composed
+    assert all(isinstance(s, CompiledSystem) for s in composed)
+    # its numpy form is the parts', laid end to end: equal to the scalar function
+    import numpy as np
+
+    system = composed[0]
+    many = system.vectorised("crossings")
+    assert many is not None
+    X = np.zeros((len(system.states), 3))
+    t = np.array([0.0, 0.1, 0.2])
+    got = many(t, X)
+    for j in range(3):
+        np.testing.assert_array_equal(got[:, j], np.asarray(system.crossings(t[j], X[:, j]), dtype=float))
+
+
+@pytest.mark.parametrize("what", ["time_events", "clock_ticks", "delay_numbers"])
+def test_the_numbers_the_runtime_asks_for_are_plain_numbers(what):
+    translation = translate(CoupledClutches())
+    answer = getattr(translation, what)()
+    flat = []
+
+    def walk(value):
+        if isinstance(value, (tuple, list)):
+            for v in value:
+                walk(v)
+        elif isinstance(value, dict):
+            walk(list(value.items()))
+        else:
+            flat.append(value)
+
+    walk(answer if what != "time_events" else answer[0])
+    assert all(isinstance(v, (int, float)) for v in flat), flat
