@@ -45,6 +45,7 @@ import sympy as sp
 from . import arrays
 from .arrays import Array, Each, distribute, element_name, indices, is_array_value
 from .errors import ArraySizeError, ConnectorError, ModelDefinitionError, ModifierError
+from .attributes import Experiment, StateSelect  # noqa: F401 - part of the language
 
 __all__ = [
     "time",
@@ -191,16 +192,6 @@ def real_symbol(name: str) -> sp.Symbol:
 def parameter_symbols(values: Mapping[str, float]) -> dict[sp.Symbol, sp.Float]:
     """``{symbol: sympy Float}`` for parameter values by name: what substitution needs."""
     return {real_symbol(n): sp.Float(v) for n, v in values.items()}
-
-
-class StateSelect(enum.IntEnum):
-    """Modelica's StateSelect; the value orders the wish to be a state."""
-
-    never = 0
-    avoid = 1
-    default = 2
-    prefer = 3
-    always = 4
 
 
 # --------------------------------------------------------------------------
@@ -643,22 +634,6 @@ def _condition_text(declaration: Declaration) -> str:
 # --------------------------------------------------------------------------
 # Components and models
 # --------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Experiment:
-    """Modelica's experiment annotation.
-
-    ``method`` names the integrator a model needs (e.g. ``"BDF"`` for a stiff
-    one), as Modelica tools read it from a vendor annotation
-    (``__Dymola_Algorithm``); ``simulate`` uses it unless told otherwise.
-    """
-
-    start_time: float = 0.0
-    stop_time: float = 1.0
-    interval: float | None = None
-    tolerance: float | None = None
-    method: str | None = None
 
 
 _DOC_SECTIONS = ("Parameters", "Connectors", "Variables")

@@ -35,6 +35,7 @@ from .. import hybrid
 from ..hybrid import EVENT_FUNCTIONS, Delay, Homotopy, NoEvent, Reinit, Terminate, When
 from ..errors import AcausalError, ConnectorError, EquationError, ModelDefinitionError, ParameterError
 from ..functions import impure_applications
+from .compiled import FlatParameter, FlatVariable
 from ..language import (
     Boolean,
     BoundConnector,
@@ -149,47 +150,6 @@ class Origin:
         if self.declared_in in ("connect", "unconnected", "binding", "relaxation"):
             return f"{where}: {self.declared_in}: {self.text}"
         return f"{where} ({self.declared_in} eq. {self.index + 1}): {self.text}"
-
-
-@dataclass(frozen=True)
-class FlatParameter:
-    name: str
-    value: float
-    unit: str
-    component: str
-    description: str = ""
-    display_unit: str = ""  #: Modelica's displayUnit, as declared ("" when none)
-
-
-@dataclass(frozen=True, slots=True)
-class FlatVariable:
-    """A variable of the flat model with its attributes evaluated to numbers."""
-
-    name: str
-    kind: str  #: 'continuous', 'boolean' or 'integer'
-    start: float
-    fixed: bool
-    nominal: float
-    state_select: StateSelect
-    unit: str
-    component: str
-    causality: str = ""
-    role: str = ""  #: 'potential', 'flow' or ''
-    #: names of an Integer's values, ``((value, name), ...)``, from its component's class
-    #: constants (:func:`~acausal.language.value_names`); empty where there are none
-    labels: tuple[tuple[int, str], ...] = ()
-    description: str = ""  #: as declared
-    display_unit: str = ""  #: Modelica's displayUnit, as declared or modified ("" when none)
-
-    @property
-    def is_discrete(self) -> bool:
-        """A Boolean or an Integer: its values select the continuous equations."""
-        return self.kind in ("boolean", "integer")
-
-    @property
-    def is_held(self) -> bool:
-        """A discrete Real: a state with ``der(v) = 0`` whose value changes only at events."""
-        return self.kind == "discrete"
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,7 +19,7 @@ once, and the other instances get the result renamed (:class:`_RelationTemplate`
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Sequence
 
 import networkx as nx
@@ -28,6 +28,7 @@ from sympy.printing.repr import ReprPrinter
 from sympy.printing.str import StrPrinter
 
 from ..errors import ModelDefinitionError
+from .compiled import EXACT_MARGIN, RelationData  # noqa: F401 - EXACT_MARGIN: where it was
 from .flatten import DiscreteEquation, FlatEquation, FlatModel, _NotTemplatable, _Program, _Source, any_node
 from ..language import real_symbol, time
 from ..hybrid import NoEvent, without_no_event
@@ -41,78 +42,22 @@ _MAX_VARIANTS = 8
 _RELATIONS = (sp.StrictGreaterThan, sp.GreaterThan, sp.StrictLessThan, sp.LessThan)
 
 
-#: The relative margin of a relation free of integration noise (``Relation.is_exact``):
-#: round-off of its sides, no more.
-EXACT_MARGIN = 1e-13
-
-
 @dataclass(frozen=True)
-class Relation:
-    """A relation watched for events.
+class Relation(RelationData):
+    """A relation watched for events: :class:`~acausal.compiler.compiled.RelationData`
+    (how it is decided) with its symbolic sides.
 
-    ``value = g op 0`` with ``g = lhs - rhs``; ``op`` is one of ``>``, ``>=``,
-    ``<``, ``<=``.
+    ``value = g op 0`` with ``g = lhs - rhs``.
     """
 
-    index: int
-    symbol: sp.Symbol
-    lhs: sp.Expr
-    rhs: sp.Expr
-    op: str
-    text: str
-    #: g is linear in time, with coefficients of parameters and held discrete Reals only:
-    #: its crossing time is known in advance (recomputed after each event for held values)
-    is_time_event: bool
-    #: the components whose equations contain the relation (for their hints)
-    components: tuple[str, ...] = ()
-    #: g is free of integration noise: a function of time, parameters and values constant
-    #: between events, assigned without iteration (``exact_relations``); decided with a
-    #: round-off margin rather than the crossing margin
-    is_exact: bool = False
-
-    def holds(self, g_value: float) -> bool:
-        """The exact value of the relation for ``g = g_value``."""
-        if self.op == ">":
-            return g_value > 0
-        if self.op == ">=":
-            return g_value >= 0
-        if self.op == "<":
-            return g_value < 0
-        return g_value <= 0
+    #: the indicator symbol the equations read in place of the relation
+    symbol: sp.Symbol = field(default=None, kw_only=True)
+    lhs: sp.Expr = field(default=None, kw_only=True)
+    rhs: sp.Expr = field(default=None, kw_only=True)
 
     @property
     def g(self) -> sp.Expr:
         return self.lhs - self.rhs
-
-    def shifted(self, g_value: float, previous: bool, epsilon: float) -> float:
-        """``g`` moved by ``epsilon`` towards keeping the previous value.
-
-        The relation flips exactly where this function crosses zero, so it is
-        the function the event locator searches.  Without the margin a holding
-        torque that touches its static limit exactly (``sa == tau0_max`` up to
-        round-off, ModelicaTest.Rotational.ForUsersGuide.SupportTorque1) would
-        start sliding.  Time events get no margin: they are hit exactly.
-        """
-        if self.is_time_event:
-            return g_value
-        if self.op in (">", ">="):
-            return g_value + epsilon if previous else g_value - epsilon
-        return g_value - epsilon if previous else g_value + epsilon
-
-    def holds_with_hysteresis(self, g_value: float, previous: bool, epsilon: float) -> bool:
-        """The value of the relation at an event, given its value before it."""
-        return self.holds(self.shifted(g_value, previous, epsilon))
-
-    def margin_parameters(self, epsilon: float) -> tuple[float, float]:
-        """``(eps, floor)`` of this relation's margin ``eps * max(floor, |lhs|, |rhs|)`` for
-        the crossing margin ``epsilon``: ``(epsilon, 1)``, or for an exact relation
-        round-off relative to its sides alone, ``(EXACT_MARGIN, 0)``."""
-        return (EXACT_MARGIN, 0.0) if self.is_exact else (epsilon, 1.0)
-
-    def margin(self, lhs: float, rhs: float, epsilon: float) -> float:
-        """The margin of this relation at sides ``lhs`` and ``rhs`` (see :meth:`margin_parameters`)."""
-        eps, floor = self.margin_parameters(epsilon)
-        return eps * max(floor, abs(lhs), abs(rhs))
 
 
 @dataclass(frozen=True)
@@ -258,8 +203,8 @@ class _RelationFinder:
         if found is None:
             index = len(self.relations)
             lhs, rhs, op, text, is_time = make()
-            found = self.relations[key] = Relation(index, sp.Symbol(relation_name(index)), lhs, rhs, op,
-                                                   text, is_time)
+            found = self.relations[key] = Relation(index, relation_name(index), op, text, is_time,
+                                                   symbol=sp.Symbol(relation_name(index)), lhs=lhs, rhs=rhs)
         return found.symbol
 
     def clock(self, start: sp.Expr, interval: sp.Expr) -> sp.Symbol:

@@ -47,6 +47,7 @@ from .flatten import FlatEquation, FlatModel, FlatVariable, Origin, flatten, sta
 from .initial import (InitialSystem, StartDependence, StartValues, bind_start_values, check_fixed_constants,
                       compile_initial_system, newton_guesses, start_value_relations)
 from .modes import ModeSystem, PassLog, RelaxedConstraints, alias_plan, compile_mode, describe_key
+from .compiled import ClockData, DelayData, ModelData
 from .partition import PartitionedModel, partition
 from .discrete import DiscreteProgram, compile_discrete
 from .timing import clock_ticks, delay_numbers, held_time_events, time_event_roots
@@ -164,6 +165,23 @@ class Translation:
         """The names of the generated code's parameter vector: the model's numeric parameters,
         then the tunable start values (``J1.w.start``)."""
         return self.cache.parameters.names
+
+    @functools.cached_property
+    def data(self) -> ModelData:
+        """What the runtime reads of this model, as plain data (:class:`~acausal.compiler.compiled.ModelData`)."""
+        flat, partitioned, parameters = self.flat, self.partitioned, self.cache.parameters
+        return ModelData(
+            name=flat.name, experiment=flat.experiment, variables=tuple(flat.variables),
+            parameters=tuple(flat.parameters), parameter_names=tuple(parameters.names),
+            parameter_vector=tuple(parameters.vector), structural_parameters=dict(flat.structural_parameters),
+            evaluated_parameters=frozenset(partitioned.evaluated_parameters),
+            relations=tuple(r.as_data() for r in partitioned.relations),
+            clocks=tuple(ClockData(c.index, c.symbol.name, c.text) for c in partitioned.clocks),
+            delays=tuple(DelayData(d.index, d.variable, d.fixed, d.component, d.text) for d in flat.delays),
+            discrete_variables=tuple(partitioned.discrete_variables),
+            held_variables=tuple(partitioned.held_variables),
+            selectors=tuple(s.name for s in partitioned.selectors), identifiers=dict(self.cache.identifiers),
+            homotopy=flat.homotopy, hints=flat.hints)
 
     @property
     def parameter_values(self) -> Mapping[str, float]:

@@ -16,11 +16,13 @@ Two kinds of member:
 * **Callbacks into the compiler** (methods): :meth:`CompiledModel.system`
   compiles a discrete state on its first visit; the others turn symbolic
   expressions into numbers or functions once per run or translation.
-* **Data** (attributes): names, kinds, relations and parameters read by the
-  runtime.  ``flat``, ``partitioned`` and ``cache`` are still the compiler's
-  own objects (the runtime reads them, never changes or compiles them):
-  turning them into plain data is what a compiled model that loads without
-  sympy needs next (``docs/architecture.md``).
+* **Data** (attributes): :attr:`CompiledModel.data`, the names, kinds,
+  relations and parameters the runtime reads, as plain values
+  (:class:`~acausal.compiler.compiled.ModelData`, which pickles and loads
+  without sympy); the compiled systems; bookkeeping (notes, timings).  The
+  compiled functions themselves still come from the compiler's generated
+  code: a compiled model saved whole and loaded without sympy (the warm
+  command) is what comes next (``docs/architecture.md``).
 
 ``tests/runtime/test_contract.py`` checks that the compiler's objects
 satisfy these Protocols and that importing the runtime loads neither sympy
@@ -30,6 +32,8 @@ nor networkx.
 from __future__ import annotations
 
 from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+
+from ..compiler.compiled import ModelData
 
 __all__ = ["CompiledModel", "CompiledSystem", "is_compiled_model"]
 
@@ -73,13 +77,10 @@ class CompiledSystem(Protocol):
 class CompiledModel(Protocol):
     """A model compiled for the runtime (the compiler's ``Translation``)."""
 
-    #: the flat model: name, experiment, variable kinds (``variable_map``), delays,
-    #: hybrid constructs, parameter values, hints for messages
-    flat: Any
-    #: relations, clocks, discrete and held variables of the partitioned model
-    partitioned: Any
-    #: the parameter table (``cache.parameters``: symbols and values) and identifiers
-    cache: Any
+    #: names, kinds and starts of the variables, parameters and their vector, relations,
+    #: clocks, delays, selectors, hints: plain values
+    #: (:class:`~acausal.compiler.compiled.ModelData`)
+    data: ModelData
     #: the outputs asked for (None: every variable)
     demand: frozenset[str] | None
     #: the engine's switches (:class:`~acausal.options.EngineOptions`)
@@ -101,16 +102,8 @@ class CompiledModel(Protocol):
     def compiled_systems(self) -> int:
         """How many systems were compiled."""
 
-    @property
-    def selectors(self) -> tuple:
-        """The discrete symbols whose values select a system (a discrete state's key)."""
-
-    @property
-    def parameter_values(self) -> Mapping[str, float]:
-        """Parameter values by name."""
-
     def system(self, key: tuple) -> CompiledSystem:
-        """The system of the discrete state ``key`` (the values of :attr:`selectors`),
+        """The system of the discrete state ``key`` (the values of ``data.selectors``),
         compiled on its first visit: the one callback that compiles."""
 
     def initial_system(self, key: tuple) -> Any:

@@ -38,8 +38,8 @@ import numpy as np
 
 from ..errors import ModelDefinitionError, SolverError
 
-if TYPE_CHECKING:  # the runtime reads the compiler's delays, it does not import the compiler
-    from ..compiler.delays import FlatDelay
+if TYPE_CHECKING:
+    from ..compiler.compiled import DelayData
 
 __all__ = ["DelayHistory", "BREAK_DEPTH"]
 
@@ -54,14 +54,14 @@ class DelayHistory:
 
     Parameters
     ----------
-    delays : sequence of FlatDelay
+    delays : sequence of DelayData
     numbers : mapping
         Delay index -> its delay time (a fixed delay) or its ``delayMax``
         (a variable one), as numbers (the translation's
         :meth:`~acausal.runtime.contract.CompiledModel.delay_numbers`).
     """
 
-    def __init__(self, delays: "tuple[FlatDelay, ...]", numbers: Mapping[int, float]) -> None:
+    def __init__(self, delays: "tuple[DelayData, ...]", numbers: Mapping[int, float]) -> None:
         self.delays = tuple(delays)
         self.fixed_times: dict[int, float] = {}
         for d in self.delays:

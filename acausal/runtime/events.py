@@ -143,13 +143,14 @@ class DiscreteEvaluator:
         #: where something changed (:attr:`acausal.options.EngineOptions.incremental_events`);
         #: False evaluates everything, with the same results
         self.incremental = incremental
-        self.partitioned = translation.partitioned
-        self.relations = self.partitioned.relations
+        #: the model's data (names, kinds, relations, clocks: plain values)
+        self.data = data = translation.data
+        self.relations = data.relations
         self.epsilon = relation_epsilon
         self.max_iterations = max_iterations
-        variables = translation.flat.variable_map
-        self.held = self.partitioned.held_variables
-        self.kinds = {n: variables[n].kind for n in (*self.partitioned.discrete_variables, *self.held)}
+        variables = data.variable_map
+        self.held = data.held_variables
+        self.kinds = {n: variables[n].kind for n in (*data.discrete_variables, *self.held)}
         #: the run's impure functions (their state, the values of this event's call sites)
         self.impure = ImpureCalls()
         # compiled by the translation (the one callback into the compiler); the call
@@ -165,7 +166,7 @@ class DiscreteEvaluator:
             for a in args:
                 self._readers.setdefault(a, []).append(i)
         self._downstream = self._downstream_equations()
-        self._selector_names = tuple(parse(s.name) for s in translation.selectors)
+        self._selector_names = tuple(parse(name) for name in data.selectors)
         self._vector_plan = None
         #: which relations the last pass of event iteration decided beyond their
         #: margin, and the relation values it produced (see :meth:`_pass`)
@@ -181,7 +182,7 @@ class DiscreteEvaluator:
             *[r.margin_parameters(relation_epsilon) for r in self.relations])) if self.relations else ((), ())
         self._relation_names = [relation_name(k) for k in range(len(self.relations))]
         self._pre_names: dict[str, str] = {}
-        self._selector_set = frozenset(s.name for s in translation.selectors)
+        self._selector_set = frozenset(data.selectors)
         #: the last pass: (pre, initial, relations, the values it started from, result)
         self._last: tuple | None = None
         self._relation_free = [eq for eq in self.equations if not any(is_relation(a) for a in eq[1])]
@@ -218,9 +219,9 @@ class DiscreteEvaluator:
         """What the discrete equations read besides discrete values and relations
         (continuous values, their left limits, sample clocks, terminal()), and the
         reinits, terminations and assertions of ``program``."""
-        self.clocks = self.partitioned.clocks
+        self.clocks = self.data.clocks
         own = {*self.kinds, INITIAL_NAME, TERMINAL_NAME}
-        parameters = translation.cache.parameters.values
+        parameters = self.data.parameter_table
         #: the parameters the discrete equations, reinits and assertions read
         self._constants: dict[str, float] = {}
 
@@ -307,7 +308,7 @@ class DiscreteEvaluator:
     def prepare(self, system: CompiledSystem | None, t: float, x) -> None:
         """Set the continuous values the discrete equations read (outside event iteration:
         during initialization, where ``pre(u)`` of a continuous ``u`` is ``u``); None clears."""
-        self._extra = {clock.symbol.name: False for clock in self.clocks} if self._hybrid else {}
+        self._extra = {clock.name: False for clock in self.clocks} if self._hybrid else {}
         if system is not None and self._continuous_args:
             values = mode_values(system, t, x)
             self._extra.update(self._continuous_env(system, t, x, values))
@@ -347,7 +348,7 @@ class DiscreteEvaluator:
         readers = self._readers
         out = {}
         for k, rel in enumerate(self.relations):
-            reached, frontier = set(), [rel.symbol.name]
+            reached, frontier = set(), [rel.name]
             while frontier:
                 name = frontier.pop()
                 for i in readers.get(name, ()):
@@ -705,7 +706,7 @@ class DiscreteEvaluator:
         if self._hybrid:
             env[TERMINAL_NAME] = False
             for clock in self.clocks:
-                env[clock.symbol.name] = False
+                env[clock.name] = False
             env.update(self._constants)
             env.update(self._extra)
         return env
@@ -733,7 +734,7 @@ class DiscreteEvaluator:
         if checked is None:
             checked = {k: True for k in always}
             again = [k for k, rel in enumerate(self.relations)
-                     if not rel.is_time_event and rel.symbol.name not in selector_names and k not in always]
+                     if not rel.is_time_event and rel.name not in selector_names and k not in always]
         else:
             again = checked.pop(None)
         if again:
@@ -747,7 +748,7 @@ class DiscreteEvaluator:
         for k, rel in enumerate(self.relations):
             if rel.is_time_event:
                 continue
-            if rel.symbol.name in selector_names or checked[k]:
+            if rel.name in selector_names or checked[k]:
                 out.append(k)
         return tuple(out)
 
@@ -875,7 +876,7 @@ class DiscreteEvaluator:
         done_reinits: dict[str, object] = {}
         outcome = None
         for _round in range(self.max_iterations):
-            self._extra = {clock.symbol.name: clock.index in ticks for clock in self.clocks} \
+            self._extra = {clock.name: clock.index in ticks for clock in self.clocks} \
                 if self._hybrid else {}
             if terminal:
                 self._extra[TERMINAL_NAME] = True
@@ -1050,8 +1051,8 @@ class DiscreteEvaluator:
         cycling = {n for (a, _), (b, _) in zip(cycle, cycle[1:] + cycle[:1])
                    for (n, va), (_, vb) in zip(a, b) if va != vb}
         owners = {n.rpartition(".")[0] for n in cycling}
-        selectors = [s.name for s in self.translation.selectors
-                     if s.name in self.kinds and s.name.rpartition(".")[0] in owners]
+        selectors = [name for name in self.data.selectors
+                     if name in self.kinds and name.rpartition(".")[0] in owners]
         booleans = [n for n in selectors if self.kinds[n] == "boolean"]
         if not booleans:  # no Boolean chooses the equations: the relations themselves may
             return self._search_relations(t, values, pre, relations_before, initial, fired, cycle, current)
@@ -1127,7 +1128,7 @@ class DiscreteEvaluator:
                 components=owners)
         hint = "the discrete variables named may flip each other back and forth; check the " \
                "conditions that set them"
-        own = self.translation.flat.hints_for("event_iteration", owners)
+        own = self.data.hints_for("event_iteration", owners)
         raise EventIterationError(
             f"{what} at t = {t:.12g} did not converge in {self.max_iterations} iterations; "
             f"still changing: {', '.join(changing) or 'unknown'}",

@@ -76,18 +76,19 @@ def start_guess(translation: CompiledModel) -> tuple[dict, tuple[bool, ...]]:
     With ``initial()`` true, ``evaluator.key(discrete, discrete, relations, True)``
     is the first discrete state :func:`initialize` tries.
     """
-    variables = translation.flat.variable_map
+    data = translation.data
+    variables = data.variable_map
     discrete = {n: (bool(variables[n].start) if variables[n].kind == "boolean" else int(variables[n].start))
-                for n in translation.partitioned.discrete_variables}
+                for n in data.discrete_variables}
     # discrete Reals: their start values, until a when-clause with initial() sets them
-    discrete.update({n: float(variables[n].start) for n in translation.partitioned.held_variables})
-    return discrete, tuple(False for _ in translation.partitioned.relations)
+    discrete.update({n: float(variables[n].start) for n in data.held_variables})
+    return discrete, tuple(False for _ in data.relations)
 
 
 def initialize(translation: CompiledModel, evaluator: DiscreteEvaluator, start_time: float) -> InitialState:
     """Solve the initialization problem at ``start_time``."""
-    flat = translation.flat
-    variables = flat.variable_map
+    data = translation.data
+    variables = data.variable_map
     # a run starts here: its impure functions start from empty states, and each of their
     # call sites computes one value in the iteration of the initialization problem
     evaluator.start_run()
@@ -96,15 +97,15 @@ def initialize(translation: CompiledModel, evaluator: DiscreteEvaluator, start_t
     fixed_pre = {n: discrete[n] for n in discrete if variables[n].fixed}
     # homotopy(): first solved with the simplified expressions, whose solution decides the
     # discrete state the actual ones are solved from (hybrid.homotopy)
-    simplified = flat.homotopy
+    simplified = data.homotopy
     if simplified is not None:
         discrete[simplified] = True
-    at_zero = tuple(rel.holds(0.0) for rel in translation.partitioned.relations)
+    at_zero = tuple(rel.holds(0.0) for rel in data.relations)
     notes: list[str] = []
     values = None
     history = [dict(discrete)]
     guessed = False
-    held = set(translation.partitioned.held_variables)
+    held = set(data.held_variables)
     assigned: dict[str, float] = {}  # discrete Reals a when-clause with initial() sets
     for _ in range(evaluator.max_iterations):
         pre = {**discrete, **fixed_pre}
@@ -129,7 +130,7 @@ def initialize(translation: CompiledModel, evaluator: DiscreteEvaluator, start_t
             relations = translation.start_value_relations(start_time)
             continue
         system = translation.system(key)
-        delays = active_history() if flat.delays else None
+        delays = active_history() if data.delays else None
         if delays is not None and not delays.started:
             # the delayed values at the start time: their expressions' values now
             delays.set_start(start_time, with_aliases(dict(values), system))
@@ -155,9 +156,9 @@ def initialize(translation: CompiledModel, evaluator: DiscreteEvaluator, start_t
     else:
         changing = sorted({n for a, b in zip(history, history[1:]) for n in a if a[n] != b[n]})
         owners = tuple(dict.fromkeys(n.rpartition(".")[0] for n in changing))
-        own = flat.hints_for("event_iteration", owners)
+        own = data.hints_for("event_iteration", owners)
         raise InitializationError(
-            f"initialization of {flat.name}: the discrete variables did not settle in "
+            f"initialization of {data.name}: the discrete variables did not settle in "
             f"{evaluator.max_iterations} iterations; still changing: {', '.join(changing) or 'unknown'}",
             hint="; ".join(("check the start values of the Boolean and Integer variables named and "
                             "the conditions that set them", *own)), components=owners)
@@ -169,12 +170,12 @@ def initialize(translation: CompiledModel, evaluator: DiscreteEvaluator, start_t
         actual = values[name]
         if abs(actual - start) > 1e-8 * max(1.0, abs(start), abs(actual)):
             raise InitializationError(
-                f"initialization of {flat.name}: conflicting initial values: {name} has fixed "
+                f"initialization of {data.name}: conflicting initial values: {name} has fixed "
                 f"start {start:g}, but the other fixed values make it {actual:.9g}",
                 hint=f"remove fixed=True from {name} (it is determined by the rest of the model)")
         notes.append(f"fixed start of {name} = {start:g} is implied by the others; not imposed again")
     if problem.from_start:
-        message = start_value_message(flat.name, problem.from_start,
+        message = start_value_message(data.name, problem.from_start,
                                       declared_aliases(system, variables, [n for n, _ in problem.from_start]))
         notes.append(message)
         warnings.warn(message, StartValueWarning, stacklevel=2)
@@ -191,10 +192,9 @@ def _held_from_start(translation: CompiledModel, problem, held: set[str]) -> lis
     assigns it) not implied by the rest, or a start taken because nothing determines it."""
     if not held:
         return []
-    parameters = translation.cache.parameters
-    start_of = dict(zip(parameters.names, parameters.vector))
+    start_of = translation.data.parameter_table
     relaxed = {name for name, _ in problem.relaxed}
-    variables = translation.flat.variable_map
+    variables = translation.data.variable_map
     found = [(name, start_of.get(f"{name}.start", float(variables[name].start))) for name in sorted(held)
              if variables[name].fixed and name not in relaxed]
     taken = {name for name, _ in found}
@@ -209,9 +209,9 @@ def _with_held_values(translation: CompiledModel, problem, assigned: Mapping[str
     code = getattr(problem, "code", None)
     if not assigned or code is None:
         return problem.outputs
-    parameters = translation.cache.parameters
-    index = {name: k for k, name in enumerate(parameters.names)}
-    vector = list(parameters.vector)
+    data = translation.data
+    index = {name: k for k, name in enumerate(data.parameter_names)}
+    vector = list(data.parameter_vector)
     for name, value in assigned.items():
         k = index.get(f"{name}.start")
         if k is None:
@@ -274,5 +274,5 @@ def start_system(translation: CompiledModel) -> CompiledSystem:
     Convenient for inspecting a model: it runs the initialization (and its
     event iteration) to find the discrete state.
     """
-    state = initialize(translation, DiscreteEvaluator(translation), translation.flat.experiment.start_time)
+    state = initialize(translation, DiscreteEvaluator(translation), translation.data.experiment.start_time)
     return state.outcome.system

@@ -141,9 +141,9 @@ class Recorder:
         of the system in force could not be computed or is not finite (None
         if there is none).
         """
-        flat = translation.flat
-        continuous = [v.name for v in flat.variables if not v.is_discrete]
-        discrete_names = list(translation.partitioned.discrete_variables)
+        model = translation.data
+        continuous = [v.name for v in model.variables if not v.is_discrete]
+        discrete_names = list(model.discrete_variables)
         derivative_names = []
         for system in translation.systems.values():
             for d in system.derivative_names:
@@ -163,7 +163,7 @@ class Recorder:
         discretes = np.fromiter(map(id, map(itemgetter(3), rows)), np.uint64, n)
         starts = np.flatnonzero((systems[1:] != systems[:-1]) | (discretes[1:] != discretes[:-1])) + 1
         plans, bad, part_plans = {}, None, {}
-        names_of = {ident: name for name, ident in translation.cache.identifiers.items()}
+        names_of = {ident: name for name, ident in model.identifiers.items()}
         for start, stop in zip([0, *starts.tolist()], [*starts.tolist(), n]):
             if start >= stop:
                 continue
@@ -175,7 +175,7 @@ class Recorder:
             if found is not None and bad is None:
                 bad = (start + found[0], found[1], found[2])
         columns = {n: data[:, k] for n, k in index.items()}
-        for p in flat.parameters:
+        for p in model.parameters:
             if translation.demand is None or p.name in translation.demand:
                 columns[p.name] = np.full(len(times), p.value)
         return times, columns, bad

@@ -63,6 +63,7 @@ from ..names import parse
 if TYPE_CHECKING:  # only for annotations: the result does not need the compiler or pandas
     import pandas
 
+    from ..compiler.compiled import ModelData
     from ..compiler.flatten import FlatModel
 
 __all__ = ["ColumnInfo", "Event", "SimulationResult", "convert_unit", "describe_columns", "read_csv",
@@ -204,7 +205,7 @@ class _ColumnTable(Mapping):
     """:func:`describe_columns`' mapping, built on first use (most runs never ask
     what a column is); the kind of a column is found without building it."""
 
-    def __init__(self, flat: "FlatModel", names: list[str]) -> None:
+    def __init__(self, flat: "FlatModel | ModelData", names: list[str]) -> None:
         self._source: tuple | None = (flat, names)
         self._table: dict[str, ColumnInfo] | None = None
         self._discrete = {v.name: v.kind for v in flat.variables if v.is_discrete}
@@ -235,7 +236,7 @@ class _ColumnTable(Mapping):
         return dict, (dict(self._get()),)
 
 
-def describe_columns(flat: "FlatModel", names: Sequence[str]) -> Mapping[str, ColumnInfo]:
+def describe_columns(flat: "FlatModel | ModelData", names: Sequence[str]) -> Mapping[str, ColumnInfo]:
     """What each of the result columns ``names`` is, as a mapping computed on first use.
 
     Units, descriptions, kinds and the names of Integer values come from the
@@ -243,14 +244,15 @@ def describe_columns(flat: "FlatModel", names: Sequence[str]) -> Mapping[str, Co
 
     Parameters
     ----------
-    flat : FlatModel
+    flat : FlatModel or ModelData
+        What declares the variables and parameters (``variables``, ``parameters``).
     names : sequence of str
         The result's columns.
     """
     return _ColumnTable(flat, list(names))
 
 
-def _describe(flat: "FlatModel", names: list[str]) -> dict[str, ColumnInfo]:
+def _describe(flat: "FlatModel | ModelData", names: list[str]) -> dict[str, ColumnInfo]:
     variables = {v.name: v for v in flat.variables}
     parameters = {p.name: p for p in flat.parameters}
     info = {}

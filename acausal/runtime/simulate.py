@@ -259,7 +259,7 @@ def simulate(model: "Component | CompiledModel", *, start_time: float | None = N
                                    hint=f"simulate(model, {what}={{...}}) reuses the compiled systems")
         translation = model
         if options is not None and options.compiler_key != translation.options.compiler_key:
-            raise SettingError(f"options {options} differ from those {model.flat.name} was translated with "
+            raise SettingError(f"options {options} differ from those {model.data.name} was translated with "
                                f"({translation.options}) in the compiler's fields",
                                hint="translate(model, options=...) with these options, or simulate(model, "
                                     "options=...)")
@@ -273,7 +273,7 @@ def simulate(model: "Component | CompiledModel", *, start_time: float | None = N
         # a cached translation may have been made for other runtime options: these are the run's
         options = DEFAULT_OPTIONS if options is None else options
     flatten_seconds = _time.perf_counter() - t_setup
-    experiment = translation.flat.experiment
+    experiment = translation.data.experiment
     t0 = experiment.start_time if start_time is None else start_time
     t1 = experiment.stop_time if stop_time is None else stop_time
     t0, t1 = _finite_time("start time", t0), _finite_time("stop time", t1)
@@ -294,7 +294,7 @@ def simulate(model: "Component | CompiledModel", *, start_time: float | None = N
                chattering_events, options)
     run.notes.extend(_structural_notes(translation, parameters))
     run.max_steps, run.timeout = max_steps, timeout
-    run.progress = progress_reporter(progress, translation.flat.name)
+    run.progress = progress_reporter(progress, translation.data.name)
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
     run.compile_seconds_before = translation.translation_seconds - flatten_seconds
@@ -332,15 +332,15 @@ def _finish(model: Component, parameters: Mapping[str, float] | None,
 def _structural_notes(translation: CompiledModel, parameters: Mapping[str, float] | None) -> list[str]:
     """Which of the parameters given change the equations, so that the model was translated for them."""
     notes = []
-    structural = translation.flat.structural_parameters
+    structural = translation.data.structural_parameters
     for name in sorted(parameters or ()):
-        value = translation.parameter_values.get(name)
-        if name not in structural and name not in translation.flat.parameter_values:
+        value = translation.data.parameter_table.get(name)
+        if name not in structural and name not in translation.data.parameter_values:
             continue  # a start value: it decides no equation
         if name in structural:
             notes.append(f"{name} = {structural[name]!r} is a structural parameter: the model was built "
                          f"and translated anew for this value")
-        elif name in translation.partitioned.evaluated_parameters:
+        elif name in translation.data.evaluated_parameters:
             notes.append(f"{name} = {value:g} decides a relation of parameters alone: it is structural, "
                          f"and the model was translated for this value")
         elif value == 0:
@@ -427,14 +427,14 @@ class _Run:
         #: whether the flip instant of a single relation is searched with regula falsi
         #: (Illinois) rather than by halving alone (:func:`~acausal.runtime.crossings.bisect_flip`)
         self.secant = options.secant
-        self.relations = translation.partitioned.relations
+        self.relations = translation.data.relations
         self.method = method
         self.rtol = rtol
         self.atol = atol
         self.max_step = np.inf if max_step is None else max_step
         #: the run's history for delay() (None: the model has none, and pays nothing)
-        self.delays = (DelayHistory(translation.flat.delays, translation.delay_numbers())
-                       if translation.flat.delays else None)
+        self.delays = (DelayHistory(translation.data.delays, translation.delay_numbers())
+                       if translation.data.delays else None)
         if self.delays is not None:
             # t - T never lies in the step being taken (fixed delays)
             self.max_step = min(self.max_step, self.delays.max_step)
@@ -461,7 +461,7 @@ class _Run:
         except ValueError as exc:
             raise ModelDefinitionError(str(exc), hint="sample(start, interval) needs an interval > 0") \
                 from exc
-        self._clock_texts = [c.text for c in translation.partitioned.clocks]
+        self._clock_texts = [c.text for c in translation.data.clocks]
         #: state events per relation and direction: their last times (Zeno detection)
         self._state_event_times: dict[tuple, list[float]] = {}
         self._relation_of_text = {rel.text: rel.index for rel in self.relations}
@@ -559,14 +559,14 @@ class _Run:
         translation = self.translation
         sources = [source for s in translation.initial_systems.values() for source in s.sources]
         sources += [source for s in translation.systems.values() for source in s.sources]
-        variable, line = generated_line(exc, sources, translation.cache.identifiers)
+        variable, line = generated_line(exc, sources, translation.data.identifiers)
         what = exc.message if isinstance(exc, AcausalError) else f"{type(exc).__name__}: {exc}"
         where = (f" computing {variable} ({line})" if line and variable != "a value"
                  else f" in: {line}" if line else "")
         if len(where) > 300:  # a long generated line (a Newton call with its equations)
             where = where[:297] + "..."
         return InitializationError(
-            f"initialization of {translation.flat.name} failed{where}: {what}",
+            f"initialization of {translation.data.name} failed{where}: {what}",
             hint=(exc.hint if isinstance(exc, AcausalError) and exc.hint else
                   "the initial values make an equation leave its domain (a division by a zero "
                   "parameter or value, a root of a negative number); check the start values and "
@@ -580,7 +580,7 @@ class _Run:
             if relaxed is not None:
                 # said by the run, not by the compiler: a system loaded from the
                 # disk cache (or compiled by an earlier run) warns as a new one does
-                message = relaxed.message(self.translation.flat.name, system.description)
+                message = relaxed.message(self.translation.data.name, system.description)
                 self.notes.append(message)
                 warnings.warn(message, RedundantConstraintWarning, stacklevel=4)
 
@@ -830,7 +830,7 @@ class _Run:
         fired = {text for _, names, _ in recent for text in names}
         owners = tuple(dict.fromkeys([*(c for r in self.relations if r.text in fired for c in r.components),
                                       *(n.rpartition(".")[0] for n in changing)]))
-        own = self.translation.flat.hints_for("chattering", owners)
+        own = self.translation.data.hints_for("chattering", owners)
         raise ChatteringError(
             f"chattering: {len(recent)} events between t = {recent[0][0]:.12g} "
             f"and {recent[-1][0]:.12g}; the crossing firing most is {worst}",
@@ -845,7 +845,7 @@ class _Run:
         """
         recorder = self.recorder
         states = system.states
-        nominal = np.array([self.translation.continuous[base_name(s)].nominal for s in states])
+        nominal = np.array([self.translation.data.variable_map[base_name(s)].nominal for s in states])
         atol = self.rtol * nominal if self.atol is None else self.atol
         # A derivative that is not finite at the start would give the solver a
         # NaN first step, and some of scipy's solvers then never return.
@@ -1015,8 +1015,8 @@ class _Run:
                                 tuple(self.modes), translation.compiled_systems, stats,
                                 # and what the translation noted while this run compiled its systems
                                 (*self.notes, *translation.notes[self.translation_notes_before:]),
-                                error, translation.flat.name,
-                                describe_columns(translation.flat, list(columns)))
+                                error, translation.data.name,
+                                describe_columns(translation.data, list(columns)))
 
 
 def _check_finite(t: float, names, values, what: str) -> None:

@@ -99,3 +99,39 @@ def test_the_numbers_the_runtime_asks_for_are_plain_numbers(what):
 
     walk(answer if what != "time_events" else answer[0])
     assert all(isinstance(v, (int, float)) for v in flat), flat
+
+
+def test_the_runtime_reads_the_model_through_its_data_only():
+    """No runtime module reaches for the compiler's flat or partitioned model or its cache."""
+    found = []
+    for path in sorted(RUNTIME.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Attribute) and node.attr in ("flat", "partitioned", "cache", "continuous"):
+                found.append(f"{path.name}:{node.lineno} .{node.attr}")
+    assert not found
+
+
+def test_the_model_data_loads_where_sympy_cannot_be_imported(tmp_path):
+    import pickle
+
+    translation = translate(CoupledClutches())
+    data = translation.data
+    path = tmp_path / "data.pickle"
+    path.write_bytes(pickle.dumps(data))
+    code = ("import pickle, sys\n"
+            "sys.modules['sympy'] = None\nsys.modules['networkx'] = None\n"
+            f"data = pickle.loads(open({str(path)!r}, 'rb').read())\n"
+            "print(data.name, len(data.relations), len(data.variables), data.selectors[:1])\n"
+            "print([r.holds(1.0) for r in data.relations[:3]])\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                          cwd=RUNTIME.parents[1])
+    assert done.returncode == 0, done.stderr
+    first, second = done.stdout.splitlines()
+    assert first == f"{data.name} {len(data.relations)} {len(data.variables)} {data.selectors[:1]}"
+    assert second == str([r.holds(1.0) for r in data.relations[:3]])
+    # the data is the translation's: every relation decided as the compiler's own
+    for mine, theirs in zip(data.relations, translation.partitioned.relations):
+        assert (mine.index, mine.name, mine.op, mine.text) == (theirs.index, theirs.symbol.name, theirs.op,
+                                                              theirs.text)
+        for g in (-1.0, 0.0, 1e-12, 1.0):
+            assert mine.holds_with_hysteresis(g, True, 1e-10) == theirs.holds_with_hysteresis(g, True, 1e-10)
