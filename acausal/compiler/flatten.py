@@ -1060,17 +1060,19 @@ class _Flattener:
                 state_select=StateSelect(2), unit="", component=component)
             return name
 
-        elsewhere = [(f"{d.origin}", d.rhs) for d in self.discrete_equations]
-        elsewhere += [(f"{a.origin}", a.condition) for a in self.asserts]
-        elsewhere += [(f"{r.origin}", r.value) for r in self.reinits]
-        elsewhere += [(f"{e.origin}", e.residual) for e in self.initial_equations]
+        # (origin, expression) of the equations delay() may not appear in; an origin is
+        # printed only for a model that has a delay (printing one costs a sympy printout)
+        elsewhere = [(d.origin, d.rhs) for d in self.discrete_equations]
+        elsewhere += [(a.origin, a.condition) for a in self.asserts]
+        elsewhere += [(r.origin, r.value) for r in self.reinits]
+        elsewhere += [(e.origin, e.residual) for e in self.initial_equations]
         parameters = {n for n in self.parameters if n not in self.unknown_parameters}
         if not any(e.residual.has(Delay) for e in self.equations) and not any(
                 isinstance(x, sp.Basic) and x.has(Delay) for _, x in elsewhere):
             self.delays = []
             return
         equations, self.delays = extract_delays(self.equations, self.variables, parameters, hidden,
-                                                elsewhere, FlatEquation)
+                                                [(f"{origin}", x) for origin, x in elsewhere], FlatEquation)
         self.equations[:] = equations
 
     def _homotopy_switch(self) -> sp.Symbol:

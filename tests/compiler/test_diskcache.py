@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import acausal.compiler.diskcache as diskcache
+import acausal.compiler.persist as persist
 import acausal.compiler.translate as translate_module
 from acausal import Model, simulate
 from acausal.compiler.diskcache import DiskCache
@@ -293,7 +294,7 @@ def test_an_entry_that_calls_a_table_it_does_not_name_is_not_used(folder):
     forget_translations()
     translation, warm = run(_TableUnit, stop_time=1.0)
     assert_same(cold, warm)
-    calls_a_table = translate_module._CALLED_TABLE.search
+    calls_a_table = persist._CALLED_TABLE.search
     assert not [s for s in loaded(translation) if calls_a_table(s.code.source)]
 
 

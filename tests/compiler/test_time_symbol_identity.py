@@ -14,7 +14,7 @@ from sympy.core.cache import clear_cache
 
 from acausal import Model
 from acausal.compiler.flatten import flatten
-from acausal.compiler.translate import _BundlePickler, _expression
+from acausal.compiler.persist import _BundlePickler, _expression
 from acausal.language import real_symbol, time
 from acausal.library.blocks import Step
 
