@@ -12,13 +12,22 @@ the examples folder on ``sys.path``.  The suite provides ``cases()`` (the
 work-precision cases as :class:`Case`, in table order), ``QUICK_CASES``,
 ``EXACT_ERROR_TEXT``, ``effects_cases(n_units)``, ``scaling_model(n,
 stop_time)`` with ``SCALING_DESCRIPTION`` and ``SCALING_SIZE_LABEL``,
-``COMMAND_TARGETS``, ``soak_case()``, ``parameter_case()``,
+``COMMAND_TARGETS`` and ``SIMULATE_COMMAND_TARGETS``, ``soak_case()``, ``parameter_case()``,
 ``storm_model(n)`` with ``STORM_DESCRIPTION``, ``STORM_SIZE_LABEL``,
 ``STORM_EVENTS_GROWTH``, ``STORM_WATCHED``, ``STORM_STOP_TIME`` and
 ``STORM_INTERVAL``, and ``floor_case()`` (a :class:`FloorCase`: one of its
 cases written by hand without the engine); optionally ``array_scaling_case()``
 (an :class:`ArrayScalingCase`; without it, ``scaling_case()`` of
-``examples/heat_rod.py``).
+``examples/heat_rod.py``).  The suite also sets the targets
+(``TARGETS_SOURCE`` says where they come from): ``WARM_COMMAND_FILES`` with
+``WARM_COMMAND_MAX_X_IMPORT_NUMPY``, the floor case's ``target_ratio``,
+``STORM_PER_EVENT_TARGET``, ``STORM_WALL_TARGETS``, ``SCALING_TIME_TARGETS``
+and ``SCALING_MEMORY_TARGET``.  The sections ``commands``, ``floors``,
+``storm`` and ``scaling`` open their Markdown with a ``## Targets`` table
+(:class:`TargetCheck`): each target, the measured figure, *met*, *not met*
+or *not measured* (a size not run, whatever an extrapolation predicts), and
+for the others why, and what meeting it would take, from the measured
+figures where they tell.
 
 Eight sections (``--only`` picks some: ``work-precision``, ``effects``,
 ``commands``, ``scaling``, ``soak``, ``parameters``, ``storm``,
@@ -57,14 +66,22 @@ printed at the end:
 2. **Effects on demand** (``effects.md``, ``effects.csv``): full simulation
    against ``outputs=[one variable]`` on the suite's ``effects_cases``.
 
-3. **Fresh-process commands** (``commands.md``, ``commands.csv``): the wall
-   time of ``acausal compare EXAMPLE`` in a new Python process for the
-   suite's ``COMMAND_TARGETS``.
+3. **Fresh-process commands** (``commands.md``, ``commands.csv``;
+   :func:`run_commands_with_floors`): the wall time of ``acausal compare
+   EXAMPLE`` (the suite's ``COMMAND_TARGETS``) and ``acausal simulate
+   EXAMPLE`` (``SIMULATE_COMMAND_TARGETS``) in a new Python process, with
+   the persistent compile cache off (*cold*) and filled (*warm*), each a
+   multiple of ``python -c "import numpy"`` timed in alternation with them;
+   each warm target command again under ``python -X importtime``
+   (:func:`import_breakdown`: the import seconds per top-level package,
+   median of :data:`IMPORT_BREAKDOWN_RUNS` runs).
 
 4. **Scaling** (``scaling.md``, ``scaling.csv``, ``scaling.png``): the
    suite's ``scaling_model`` for growing ``N``; translation stage times and
-   a short simulation; the growth exponent ``b`` of ``time = a N^b``.
-   Then the *array case* (:class:`ArrayScalingCase`, :func:`array_scaling_case`:
+   a short simulation; the growth exponent ``b`` of ``time = a N^b``; the
+   full sizes include the targets' (:func:`full_scaling_sizes`, each point
+   stopped after :data:`SCALING_BUDGET_SECONDS`).  Then the *array case*
+   (:class:`ArrayScalingCase`, :func:`array_scaling_case`:
    the heat rod of ``examples/heat_rod.py``, built with arrays of
    components; :func:`run_array_scaling`, ``scaling_arrays.csv`` and a
    section of ``scaling.md``): translated for N = 10, 30, 100, 300, 1000
@@ -88,22 +105,24 @@ printed at the end:
 
 7. **Storm** (``storm.md``, ``storm.csv``, ``storm.png``; :func:`run_storm`):
    the suite's ``storm_model(N)`` -- N independent units, each a part of
-   its own with its own events -- for N = 5 ... 200 (3, 6 with
-   ``--quick``), each point in a fresh process stopped after 240 s (60 s
-   quick); every N with clusters (one system per independent part and part
+   its own with its own events -- for N = 5 ... 200 and the targets' sizes
+   (:func:`full_storm_sizes`; 3, 6 with ``--quick``), each point in a fresh
+   process stopped after 240 s (60 s quick), the sizes after one that did
+   not finish skipped; every N with clusters (one system per independent part and part
    mode, the default) and, for N <= 20 (6 quick), with
    ``EngineOptions(clusters=False)`` (the whole model
    compiled per discrete state).  Wall and translation seconds, compiled
-   systems, events, peak RSS; the growth exponent ``b`` of ``wall = a N^b``
-   per mode and the goals "N = 200 under 10 s, N = 1000 under a minute".
+   systems, events, the cost per event, peak RSS; the growth exponent ``b``
+   of ``wall = a N^b`` per mode and the targets (the cost per event, the
+   wall at N = 200 and 1000).
    Each point records the final value of the suite's ``STORM_WATCHED``
    (the same with and without clusters).
 
 8. **Floors** (``floors.md``, ``floors.csv``; :func:`run_floors`): ``python
    -c "import numpy"`` and ``python -c "import numpy, scipy.integrate"`` in
-   fresh processes (as many runs as the commands), each ``acausal compare``
-   command's median as a multiple of both (the commands section's runs when
-   it ran too, else timed here); and the warm case of the suite's
+   fresh processes, each command's median as a multiple of both (the
+   commands section's runs and floors, timed in alternation, when it ran
+   too, else both timed here likewise); and the warm case of the suite's
    ``floor_case()`` (its method, rtol 1e-6, best of 5) against the same
    model written by hand (the floor case's ``floor``;
    :func:`run_hand_coded_floor`), whose final value of the floor case's
@@ -123,6 +142,7 @@ import json
 import math
 import os
 import platform
+import re
 import subprocess
 import sys
 import tempfile
@@ -143,7 +163,9 @@ __all__ = [
     "storm_point", "run_storm", "storm_fits", "write_storm", "run_import_floors", "command_floor_ratios",
     "FloorCase", "HAND_CODED_FLOOR_REPEATS", "run_hand_coded_floor", "run_floors", "write_floors",
     "FULL_ARRAY_SCALING", "QUICK_ARRAY_SCALING", "ArrayScalingCase", "array_scaling_case", "array_scaling_point",
-    "run_array_scaling", "array_scaling_fits",
+    "run_array_scaling", "array_scaling_fits", "TargetCheck", "run_commands", "run_commands_with_floors",
+    "import_breakdown", "IMPORT_BREAKDOWN_PACKAGES", "command_target_checks", "floor_target_check",
+    "storm_target_checks", "scaling_target_checks", "full_scaling_sizes", "full_storm_sizes",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -154,6 +176,7 @@ ADAPTIVE_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 QUICK_RTOLS = (1e-3, 1e-6, 1e-9)
 FULL_RTOLS = tuple(10.0 ** -k for k in range(3, 11))
 QUICK_SCALING = (10, 40)
+#: The full scaling sizes; the sizes of the suite's scaling targets are run too (:func:`full_scaling_sizes`).
 FULL_SCALING = (10, 30, 100, 300, 1000)
 #: Wall-time budget of one scaling point in full mode (translation + two short runs).
 SCALING_BUDGET_SECONDS = 180.0
@@ -559,9 +582,11 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     Phases, each timed: flatten+partition; building the discrete evaluator;
     initialization (which compiles the first discrete states and the
     initialization systems); the first simulation (compiling what is left);
-    a second, warm simulation.  ``progress`` receives the point measured so
-    far after each phase, so a point stopped by a time budget keeps what it
-    finished.
+    a second, warm simulation.  ``translated_initialized`` is the sum of the
+    first three, what a user waits for before the first step is integrated
+    (the scaling targets' measure).  ``progress`` receives the point
+    measured so far after each phase, so a point stopped by a time budget
+    keeps what it finished.
     """
     from ..runtime.initialization import initialize
 
@@ -599,6 +624,7 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     compiled = translation.translation_seconds - translation.flatten_seconds
     point["initial_systems"] = translation.initial_seconds
     point["initialization"] = max(init_wall - compiled, 0.0)
+    point["translated_initialized"] = point["flatten"] + point["evaluator_setup"] + init_wall
     report("simulating (first run)")
     first, point["first_simulate"] = _timed_simulate(translation, method=method, rtol=rtol)
     point["translation_all_modes"] = translation.translation_seconds
@@ -675,90 +701,340 @@ def _last_report(output) -> dict | None:
 
 #: The target of a fresh-process command (the suite's ``COMMAND_TARGETS``), wall seconds.
 COMMAND_TARGET_SECONDS = 1.0
+#: Wall-time limit of one fresh-process command.
+COMMAND_TIMEOUT_SECONDS = 60.0
+#: ``python -X importtime`` output is broken down by these top-level packages (the rest is ``other``).
+IMPORT_BREAKDOWN_PACKAGES = ("acausal", "sympy", "mpmath", "networkx", "scipy", "pandas", "matplotlib", "numpy")
+#: Packages a warm run needs only to compile (sympy with its mpmath, networkx): a cache hit could do without.
+COMPILER_PACKAGES = ("sympy", "mpmath", "networkx")
+#: Packages a run of an explicit method needs only when used (implicit methods, data frames, plots).
+ON_DEMAND_PACKAGES = ("scipy", "pandas", "matplotlib")
+#: Runs under ``python -X importtime`` per command broken down (the median counts).
+IMPORT_BREAKDOWN_RUNS = 3
+_IMPORTTIME_LINE = re.compile(r"^import time:\s+(\d+)\s+\|\s+(\d+)\s+\|\s*(\S+)\s*$")
 
 
-def run_commands(repeats: int = 5, log: Callable[[str], None] | None = None,
-                 disk_caches: Sequence[str] = ("cold", "warm")) -> list[dict]:
-    """Wall time of ``acausal compare EXAMPLE`` in a new Python process, ``repeats`` times each.
+def _repository_env() -> dict:
+    """This process's environment with the repository first on ``PYTHONPATH`` (as a fresh command needs)."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    return env
+
+
+def _timed_process(argv: Sequence[str], env: dict,
+                   timeout: float = COMMAND_TIMEOUT_SECONDS) -> tuple[float, int | str, str]:
+    """``(wall seconds, exit status or "timeout", stderr)`` of ``argv`` run in the repository's folder."""
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(list(argv), cwd=str(ROOT), env=env, capture_output=True, text=True, timeout=timeout)
+        status, stderr = proc.returncode, proc.stderr
+    except subprocess.TimeoutExpired:
+        status, stderr = "timeout", f"no result within {timeout:g} s"
+    return time.perf_counter() - t0, status, stderr
+
+
+def import_breakdown(argv: Sequence[str], env: dict | None = None, runs: int = IMPORT_BREAKDOWN_RUNS,
+                     timeout: float = COMMAND_TIMEOUT_SECONDS) -> dict:
+    """Where a fresh-process command's imports go: ``runs`` runs under ``python -X importtime``.
+
+    Parameters
+    ----------
+    argv : sequence of str
+        The command, ``[python, arg, ...]``; run as ``[python, "-X", "importtime", arg, ...]`` in
+        the repository's folder.
+    env : dict, optional
+        Its environment (default: this process's, the repository on ``PYTHONPATH``).
+    runs : int
+        Runs; every figure is the median over them (one run on a shared machine is noisy).
+    timeout : float
+        Seconds after which a run is stopped.
+
+    Returns
+    -------
+    dict
+        ``import_wall``: a run's wall seconds (the instrumentation slows the imports a little);
+        ``import_<package>_seconds`` for each of :data:`IMPORT_BREAKDOWN_PACKAGES` and ``other``:
+        the own times of the modules of that top-level package, whoever imported them;
+        ``import_seconds``: their sum; ``import_runs``; ``import_status``: the first nonzero exit
+        status of the runs (0 when none).
+    """
+    env = env if env is not None else _repository_env()
+    packages = (*IMPORT_BREAKDOWN_PACKAGES, "other")
+    walls, statuses, measured = [], [], []
+    for _ in range(max(1, runs)):
+        wall, status, stderr = _timed_process([argv[0], "-X", "importtime", *argv[1:]], env, timeout)
+        by_package = dict.fromkeys(packages, 0.0)
+        for line in stderr.splitlines():
+            match = _IMPORTTIME_LINE.match(line)
+            if match is None:  # the header line, or the command's own messages
+                continue
+            package = match.group(3).split(".")[0]
+            by_package[package if package in by_package else "other"] += int(match.group(1)) * 1e-6
+        walls.append(wall)
+        statuses.append(status)
+        measured.append(by_package)
+    record = {f"import_{package}_seconds": float(np.median([m[package] for m in measured])) for package in packages}
+    record = {"import_wall": float(np.median(walls)), "import_seconds": sum(record.values()),
+              "import_runs": len(walls), "import_status": next((s for s in statuses if s != 0), 0), **record}
+    return record
+
+
+def _import_floor_record(label: str, code: str, walls: Sequence[float], statuses: Sequence) -> dict:
+    return {"kind": "import floor", "what": f'python -c "{code}"', "label": label, "runs": len(walls),
+            "min_wall": min(walls), "median_wall": float(np.median(walls)), "max_wall": max(walls),
+            "exit_statuses": " ".join(map(str, statuses))}
+
+
+def _command_lines(result_folder: str) -> list[tuple[str, str, list[str]]]:
+    """``(case, example, argv)`` of the suite's commands: every ``acausal compare``, then every
+    ``acausal simulate`` (its CSV written into ``result_folder``)."""
+    benchmarks = suite()
+    lines = [(name, example, [sys.executable, "-m", "acausal", "compare", example])
+             for name, example in benchmarks.COMMAND_TARGETS]
+    for name, example in getattr(benchmarks, "SIMULATE_COMMAND_TARGETS", ()):
+        out = os.path.join(result_folder, f"{name}.csv")
+        lines.append((name, example, [sys.executable, "-m", "acausal", "simulate", example, "--out", out]))
+    return lines
+
+
+def _is_warm_target(record: dict) -> bool:
+    """Whether ``record`` is a warm command the suite's warm-command target applies to."""
+    return record.get("disk_cache") == "warm" and record.get("example") in suite().WARM_COMMAND_FILES
+
+
+def run_commands_with_floors(repeats: int = 5, log: Callable[[str], None] | None = None,
+                             disk_caches: Sequence[str] = ("cold", "warm"),
+                             breakdown: bool = True) -> tuple[list[dict], list[dict]]:
+    """The fresh-process commands and the import floors, timed in alternation.
 
     The whole command as a user runs it: interpreter start, imports,
-    translation, simulation, reading the reference and the tube test.  Each
-    record has the smallest and the median wall time and the exit status
-    (0 = the comparison passed; without reference data it cannot).
-    ``disk_caches``: ``"cold"`` runs with the persistent compile cache off
-    (every run compiles), ``"warm"`` with a cache folder of its own, filled
-    by one run that is not timed (every timed run loads its systems).  The
-    runs of the kinds alternate, so that a machine getting busier or quieter
-    meanwhile weighs on all alike.
+    translation, simulation and, for ``acausal compare``, reading the
+    reference and the tube test.  The commands are the suite's
+    ``COMMAND_TARGETS`` (``acausal compare EXAMPLE``) and
+    ``SIMULATE_COMMAND_TARGETS`` (``acausal simulate EXAMPLE --out FILE``,
+    the file in a folder of the bench's own), each run ``repeats`` times per
+    disk cache; after each round every import floor of :data:`IMPORT_FLOORS`
+    runs once, so that a machine getting busier or quieter meanwhile weighs
+    on commands and floors alike.
+
+    Parameters
+    ----------
+    repeats : int
+        Timed runs of each command and disk cache.
+    log : callable, optional
+        Receives a line per command.
+    disk_caches : sequence of str
+        ``"cold"``: the persistent compile cache off (every run compiles);
+        ``"warm"``: a cache folder of its own, filled by one run that is not
+        timed (every timed run loads its systems).
+    breakdown : bool
+        Run each warm command the suite's warm-command target applies to
+        again under ``python -X importtime`` (:func:`import_breakdown`;
+        its keys join the command's record).
+
+    Returns
+    -------
+    tuple of list of dict
+        The commands' records -- ``model``, ``example``, ``command``,
+        ``disk_cache``, ``runs``, ``min_wall``, ``median_wall``,
+        ``max_wall``, ``exit_statuses``, ``passed`` (every run exited with
+        0: the comparison passed, the simulation succeeded), ``failure``,
+        ``target`` and ``met`` (passed, median under
+        :data:`COMMAND_TARGET_SECONDS`), ``import_numpy_wall`` and
+        ``numpy_scipy_wall`` (the median of each import floor over the runs
+        in this command's rounds: the machine's load when it ran),
+        ``x_import_numpy`` (the median over ``import_numpy_wall``); on the
+        warm target rows also
+        ``warm_target_x_import_numpy`` and ``warm_target_met`` -- and the
+        import floors' records (:func:`run_import_floors`' keys).
     """
     log = log or (lambda _s: None)
-    base = dict(os.environ)
-    base["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([base["PYTHONPATH"]] if base.get("PYTHONPATH") else []))
-    folder = tempfile.TemporaryDirectory(prefix="acausal-bench-cache-")
+    base = _repository_env()
+    cache_folder = tempfile.TemporaryDirectory(prefix="acausal-bench-cache-")
+    result_folder = tempfile.TemporaryDirectory(prefix="acausal-bench-results-")
     envs = {}
     for kind in disk_caches:
         env = dict(base)
         env["ACAUSAL_DISK_CACHE"] = "off" if kind == "cold" else "on"
         if kind != "cold":
-            env["ACAUSAL_CACHE_DIR"] = folder.name
+            env["ACAUSAL_CACHE_DIR"] = cache_folder.name
         envs[kind] = env
+    floor_walls: dict[str, list[float]] = {label: [] for label, _ in IMPORT_FLOORS}
+    floor_statuses: dict[str, list] = {label: [] for label, _ in IMPORT_FLOORS}
     records = []
     try:
-        for name, example in suite().COMMAND_TARGETS:
-            command = [sys.executable, "-m", "acausal", "compare", example]
+        for name, example, argv in _command_lines(result_folder.name):
+            command = "acausal " + " ".join(argv[3:5])
             if "warm" in envs:  # fill the cache
-                subprocess.run(command, cwd=str(ROOT), env=envs["warm"], capture_output=True, text=True,
-                               timeout=60)
+                _timed_process(argv, envs["warm"])
             walls = {kind: [] for kind in envs}
             statuses = {kind: [] for kind in envs}
             failures = {kind: "" for kind in envs}
+            round_floors: dict[str, list[float]] = {label: [] for label, _ in IMPORT_FLOORS}
             for _ in range(repeats):
                 for kind, env in envs.items():
-                    t0 = time.perf_counter()
-                    try:
-                        proc = subprocess.run(command, cwd=str(ROOT), env=env, capture_output=True, text=True,
-                                              timeout=60)
-                        status, stderr = proc.returncode, proc.stderr
-                    except subprocess.TimeoutExpired:
-                        status, stderr = "timeout", "no result within 60 s"
-                    walls[kind].append(time.perf_counter() - t0)
+                    wall, status, stderr = _timed_process(argv, env)
+                    walls[kind].append(wall)
                     statuses[kind].append(status)
                     if status != 0 and not failures[kind]:
                         lines = stderr.strip().splitlines() or [f"exit status {status}"]
                         # the command's own error line, or the last line of a traceback
                         failures[kind] = next((line for line in lines if line.startswith("acausal")), lines[-1])
+                for label, code in IMPORT_FLOORS:
+                    wall, status, _ = _timed_process([sys.executable, "-c", code], base)
+                    floor_walls[label].append(wall)
+                    floor_statuses[label].append(status)
+                    round_floors[label].append(wall)
             for kind in envs:
                 w = walls[kind]
                 ok = all(status == 0 for status in statuses[kind])
-                record = {"model": name, "command": f"acausal compare {example}", "disk_cache": kind,
+                record = {"model": name, "command": command, "disk_cache": kind,
                           "runs": repeats, "min_wall": min(w), "median_wall": float(np.median(w)),
                           "max_wall": max(w), "exit_statuses": " ".join(map(str, statuses[kind])),
                           "passed": ok, "failure": failures[kind], "target": COMMAND_TARGET_SECONDS,
-                          "met": ok and float(np.median(w)) < COMMAND_TARGET_SECONDS}
+                          "met": ok and float(np.median(w)) < COMMAND_TARGET_SECONDS, "example": example}
+                # the floors of this command's own rounds: the load of the machine when it ran
+                for (label, _), key in zip(IMPORT_FLOORS, FLOOR_WALL_KEYS):
+                    record[key] = float(np.median(round_floors[label])) if round_floors[label] else math.nan
+                if breakdown and _is_warm_target(record):
+                    record.update(import_breakdown(argv, envs[kind]))
                 records.append(record)
                 log(f"  {record['command']} ({kind} disk cache): min {record['min_wall']:.2f} s, "
                     f"median {record['median_wall']:.2f} s, " + ("passed" if ok else f"FAILED: {failures[kind]}"))
     finally:
-        folder.cleanup()
-    return records
+        cache_folder.cleanup()
+        result_folder.cleanup()
+    imports = [_import_floor_record(label, code, floor_walls[label], floor_statuses[label])
+               for label, code in IMPORT_FLOORS if floor_walls[label]]
+    limit = suite().WARM_COMMAND_MAX_X_IMPORT_NUMPY
+    for record in records:
+        numpy_floor = record[FLOOR_WALL_KEYS[0]]
+        record["x_import_numpy"] = record["median_wall"] / numpy_floor if numpy_floor > 0 else math.nan
+        if _is_warm_target(record):
+            record["warm_target_x_import_numpy"] = limit
+            record["warm_target_met"] = bool(record["passed"] and record["x_import_numpy"] <= limit)
+    for r in imports:
+        log(f"  {r['what']} (between the commands): median {r['median_wall']:.3f} s over {r['runs']} runs")
+    return records, imports
+
+
+def run_commands(repeats: int = 5, log: Callable[[str], None] | None = None,
+                 disk_caches: Sequence[str] = ("cold", "warm"), breakdown: bool = True) -> list[dict]:
+    """The commands' records of :func:`run_commands_with_floors` (the import floors timed between them
+    give their ``x_import_numpy``)."""
+    return run_commands_with_floors(repeats, log, disk_caches, breakdown)[0]
+
+
+def _command_text(row: dict) -> str:
+    """The command of a commands record or of a floors section's command row."""
+    return row.get("command") or row.get("what", "")
+
+
+def _package_seconds(row: dict, packages: Sequence[str]) -> float:
+    return sum(float(row.get(f"import_{package}_seconds", 0.0) or 0.0) for package in packages)
+
+
+def _warm_command_why(row: dict, limit: float) -> str:
+    """Why a warm command misses ``limit`` × ``import numpy``, and what meeting it would take, from
+    its import breakdown (:func:`import_breakdown`) when the row has one."""
+    if not row.get("passed"):
+        return f"the command failed: {row.get('failure', '')}"
+    floor = row["median_wall"] / row["x_import_numpy"]
+    parts = [f"{limit:g}× the floor is {limit * floor:.2f} s, {row['median_wall'] - limit * floor:.2f} s "
+             "less than the median"]
+    imports, wall = row.get("import_seconds"), row.get("import_wall")
+    if _finite(imports) and _finite(wall) and wall > 0:
+        listed = sorted(((package, float(row.get(f"import_{package}_seconds", 0.0) or 0.0))
+                         for package in (*IMPORT_BREAKDOWN_PACKAGES, "other")), key=lambda item: -item[1])
+        parts.append(f"imports are {imports / wall:.0%} of a run under `python -X importtime` ({imports:.2f} of "
+                     f"{wall:.2f} s: " + ", ".join(f"{package} {seconds:.2f}" for package, seconds in listed
+                                                     if seconds >= 0.005) + ")")
+        # the instrumented seconds scaled to the median run
+        scale = row["median_wall"] / wall
+        compiler = _package_seconds(row, COMPILER_PACKAGES) * scale
+        on_demand = _package_seconds(row, ON_DEMAND_PACKAGES) * scale
+        if compiler + on_demand >= 0.005:
+            left = row["median_wall"] - compiler - on_demand
+            parts.append("a cache hit that loads neither " + "/".join(COMPILER_PACKAGES)
+                         + (" nor " + "/".join(p for p in ON_DEMAND_PACKAGES
+                                               if row.get(f"import_{p}_seconds", 0.0)) if on_demand >= 0.005 else "")
+                         + f" would save about {compiler + on_demand:.2f} s, leaving about {left:.2f} s "
+                         f"({left / floor:.1f}× the floor), of which acausal's own import is about "
+                         f"{_package_seconds(row, ('acausal',)) * scale:.2f} s")
+        else:
+            parts.append("the compiler's packages are no longer loaded: what is left is acausal's own import "
+                         f"({float(row.get('import_acausal_seconds', 0.0)) * scale:.2f} s) and its work")
+    return "; ".join(parts) + "."
+
+
+def command_target_checks(rows: Sequence[dict]) -> list[TargetCheck]:
+    """The suite's warm-command target (``WARM_COMMAND_FILES``, ``WARM_COMMAND_MAX_X_IMPORT_NUMPY``)
+    against ``rows``: the records of :func:`run_commands_with_floors` or the floors section's
+    command rows.  One check per example and command (``simulate``, ``compare``)."""
+    benchmarks = suite()
+    limit = benchmarks.WARM_COMMAND_MAX_X_IMPORT_NUMPY
+    checks = []
+    for example in benchmarks.WARM_COMMAND_FILES:
+        for verb in ("simulate", "compare"):
+            command = f"acausal {verb} {example}"
+            target = f'warm `{command}` ≤ {limit:g}× `python -c "import numpy"`'
+            row = next((r for r in rows if r.get("disk_cache") == "warm" and _command_text(r) == command), None)
+            if row is None or not _finite(row.get("x_import_numpy")):
+                checks.append(TargetCheck(target, "-", None, "not timed warm beside `import numpy` in this run"))
+                continue
+            floor = row["median_wall"] / row["x_import_numpy"]
+            same_rounds = " in the same rounds" if _finite(row.get("import_numpy_wall")) else ""
+            measured = (f"{row['median_wall']:.2f} s = {row['x_import_numpy']:.1f}× ({floor:.3f} s), medians of "
+                        f"{row['runs']} runs{same_rounds}")
+            met = bool(row.get("passed")) and row["x_import_numpy"] <= limit
+            checks.append(TargetCheck(target, measured, met, "" if met else _warm_command_why(row, limit)))
+    return checks
+
+
+def _import_breakdown_table(rows: Sequence[dict]) -> str:
+    """A row per command broken down by :func:`import_breakdown` (empty when none was)."""
+    measured = [r for r in rows if _finite(r.get("import_seconds"))]
+    if not measured:
+        return ""
+    packages = (*IMPORT_BREAKDOWN_PACKAGES, "other")
+    table = _md_table(("command", "disk cache", "wall under -X importtime [s]", "imports [s]", "imports / wall",
+                       *(f"{p} [s]" for p in packages)),
+                      [(_command_text(r), r.get("disk_cache", ""), r["import_wall"], r["import_seconds"],
+                        f"{r['import_seconds'] / r['import_wall']:.0%}",
+                        *(float(r.get(f"import_{p}_seconds", 0.0) or 0.0) for p in packages)) for r in measured])
+    return "\n".join([
+        "## Where a warm command's time goes", "",
+        "Each warm target command run again under `python -X importtime`: every module's own import "
+        "time, counted for its top-level package whoever imported it (sympy's mpmath apart); the median "
+        f"of {measured[0].get('import_runs', 1)} runs per column. The instrumentation slows the imports, so "
+        "read the shares.", "", table, ""])
 
 
 def _commands_markdown(records: Sequence[dict]) -> str:
     rows = [(r["command"], r.get("disk_cache", "warm"), r["runs"], f"{r['min_wall']:.2f}",
-             f"{r['median_wall']:.2f}", f"{r['max_wall']:.2f}", "yes" if r["passed"] else f"**no**: {r['failure']}",
+             f"{r['median_wall']:.2f}", f"{r['max_wall']:.2f}", _fmt(r.get("import_numpy_wall", math.nan), 3),
+             _fmt(r.get("x_import_numpy", math.nan), 2),
+             "yes" if r["passed"] else f"**no**: {r['failure']}",
              "met" if r["met"] else "**not met**") for r in records]
     table = _md_table(("command", "disk cache", "runs", "min wall [s]", "median wall [s]", "max wall [s]",
-                       "comparison passed (every run)", f"target: passed, median < {COMMAND_TARGET_SECONDS:g} s"),
-                      rows)
+                       "import numpy in its rounds [s]", "× import numpy", "passed (exit status 0, every run)",
+                       f"passed, median < {COMMAND_TARGET_SECONDS:g} s"), rows)
+    floors = [r["import_numpy_wall"] for r in records if _finite(r.get("import_numpy_wall"))]
+    floor_text = (f"`python -c \"import numpy\"` in the command's own rounds (timed once after each round; "
+                  f"its medians {min(floors):.3f}–{max(floors):.3f} s over the commands)" if floors
+                  else "`python -c \"import numpy\"` (not timed)")
     return "\n".join([
         "# Fresh-process commands", "",
-        "Each command in a new Python process (`python -m acausal compare ...`), timed from outside: "
-        "interpreter start, imports, translation, simulation, reference reading and the tube test. "
-        "A target is met when every run passed its comparison (exit status 0) and the median wall "
-        "time is under the target. *cold*: the persistent compile cache off, every run compiles; "
-        "*warm*: a cache folder filled by one untimed run, every timed run loads its compiled "
-        "systems from it.",
-        "", table, ""])
+        "Each command in a new Python process (`python -m acausal ...`), timed from outside: "
+        "interpreter start, imports, translation, simulation and, for `compare`, reference reading and "
+        "the tube test; `simulate` writes its CSV into a folder of the bench's own. A command passes when "
+        "every run exited with status 0 (the comparison passed; the simulation succeeded). *cold*: the "
+        "persistent compile cache off, every run compiles; *warm*: a cache folder filled by one untimed "
+        "run, every timed run loads its compiled systems from it. *× import numpy*: the median over the "
+        f"median of {floor_text}.", "",
+        _targets_markdown(command_target_checks(records)),
+        "## Commands", "", table, "",
+        _import_breakdown_table(records)])
 
 
 def fit_power_law(ns: Sequence[float], seconds: Sequence[float]) -> tuple[float, float]:
@@ -770,6 +1046,14 @@ def fit_power_law(ns: Sequence[float], seconds: Sequence[float]) -> tuple[float,
     y = np.log([p[1] for p in pts])
     b, log_a = np.polyfit(x, y, 1)
     return float(math.exp(log_a)), float(b)
+
+
+def full_scaling_sizes() -> tuple[int, ...]:
+    """The full bench's scaling sizes: :data:`FULL_SCALING` and the sizes of the suite's scaling targets
+    (``SCALING_TIME_TARGETS``, ``SCALING_MEMORY_TARGET``), in order."""
+    benchmarks = suite()
+    targets = {n for n, _ in benchmarks.SCALING_TIME_TARGETS} | {benchmarks.SCALING_MEMORY_TARGET[0]}
+    return tuple(sorted(set(FULL_SCALING) | targets))
 
 
 def run_scaling(sizes: Sequence[int], stop_time: float = 0.2, isolate: bool = False,
@@ -1071,6 +1355,65 @@ def _md_table(header: Sequence[str], rows: Sequence[Sequence]) -> str:
     return "\n".join(lines)
 
 
+@dataclass(frozen=True)
+class TargetCheck:
+    """One of a section's targets (the suite's) against what the bench measured.
+
+    Attributes
+    ----------
+    target : str
+        The target in words (Markdown).
+    measured : str
+        The measured figure in words (Markdown); ``"-"`` when nothing was measured.
+    met : bool or None
+        Whether the measurement meets the target; None when it was not measured
+        (a prediction is never a measurement).
+    why : str
+        For a target not met or not measured: why, and what meeting it would
+        take, from the measured figures where they tell.
+    """
+
+    target: str
+    measured: str
+    met: bool | None
+    why: str = ""
+
+    @property
+    def verdict(self) -> str:
+        """``met``, ``not met`` or ``not measured``."""
+        return "not measured" if self.met is None else "met" if self.met else "not met"
+
+
+def _cell(text: str) -> str:
+    """``text`` as one Markdown table cell (its pipes escaped, on one line)."""
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def _targets_markdown(checks: Sequence[TargetCheck]) -> str:
+    """The ``## Targets`` part of a section's Markdown: a row per check ("" for none)."""
+    if not checks:
+        return ""
+    verdicts = {"met": "met", "not met": "**not met**", "not measured": "not measured"}
+    rows = [(_cell(c.target), _cell(c.measured), verdicts[c.verdict], _cell(c.why) or "-") for c in checks]
+    return "\n".join([
+        "## Targets", "",
+        f"The targets of {suite().TARGETS_SOURCE} (`examples/benchmarks.py`) against this run. Met only when "
+        "measured so; a size not run is *not measured*, whatever an extrapolation says. " + _machine_load(), "",
+        _md_table(("target", "measured", "verdict", "why / what it would take"), rows), ""])
+
+
+def _machine_load() -> str:
+    """The machine's CPUs and load averages now, in words: the targets are wall times, which other
+    work on a shared machine stretches."""
+    try:
+        one, five, fifteen = os.getloadavg()
+    except (AttributeError, OSError):  # pragma: no cover - not on this platform
+        return f"Machine: {os.cpu_count()} CPUs."
+    return (f"Machine: {os.cpu_count()} CPUs, load average {one:.1f} / {five:.1f} / {fifteen:.1f} over the last "
+            "1 / 5 / 15 minutes when this was written (the bench's own processes included); a load above the "
+            "CPUs stretches every wall time.")
+
+
 def _status_text(record: RunRecord) -> str:
     if record.status == 0:
         return "ok"
@@ -1367,7 +1710,113 @@ def _per_equation_kb(point: dict) -> float:
         return math.nan
 
 
-def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True) -> str:
+#: The phases of a scaling point that make up its ``translated_initialized`` seconds, as the table names them.
+SCALING_PHASES = (("flatten", "flatten+partition"), ("specialise", "specialise"), ("alias", "alias"),
+                  ("structure", "structure"),
+                  ("blt", "blt"), ("algebraic", "algebraic"), ("codegen", "codegen"),
+                  ("evaluator_setup", "event setup"), ("initial_systems", "initialization systems"),
+                  ("initialization", "initialization"))
+
+
+def _local_power_law(finished: Sequence[dict], key: str) -> tuple[float, float, str]:
+    """``(a, b, basis)``: the power law of ``key`` through the two largest of ``finished`` (NaN, NaN, "" when
+    fewer than two), ``basis`` saying so in words."""
+    measured = [p for p in finished if _finite(p.get(key))]
+    if len(measured) < 2:
+        return math.nan, math.nan, ""
+    p, q = measured[-2:]
+    a, b = fit_power_law([p["n"], q["n"]], [p[key], q[key]])
+    return a, b, f"the power law through N = {p['n']} and {q['n']} (b = {b:.2f})"
+
+
+def _scaling_time_why(point: dict, limit: float, finished: Sequence[dict]) -> str:
+    """Why ``point`` took longer than ``limit`` to translate and initialize, and what it would take."""
+    seconds, equations = point["translated_initialized"], point.get("equations", math.nan)
+    phases = sorted(((label, point[key]) for key, label in SCALING_PHASES if _finite(point.get(key))),
+                    key=lambda item: -item[1])
+    parts = [f"{seconds - limit:.3g} s over"]
+    if _finite(equations) and equations > 0:
+        parts[0] += (f": {1e3 * limit / equations:.2f} ms per equation needed, {1e3 * seconds / equations:.2f} "
+                     f"measured ({seconds / limit:.1f}× too slow)")
+    # initialization compiles every discrete state its event iteration visits, not only the first
+    rest = seconds - sum(value for _, value in phases)
+    if rest > 0.05 * seconds:
+        phases = sorted(phases + [("the other discrete states compiled at initialization", rest)],
+                        key=lambda item: -item[1])
+    if phases:
+        parts.append("largest phases " + ", ".join(f"{label} {value:.2g} s" for label, value in phases[:4]))
+    smaller = [p for p in finished if p["n"] < point["n"]]
+    _, b, _ = _local_power_law(smaller + [point], "translated_initialized")
+    if math.isfinite(b):
+        parts.append(f"growth b = {b:.2f} up to N = {point['n']}" + (
+            ": already about linear, so it takes less work per equation (the same structure "
+            "compiled once per class, not once per instance), not a better growth" if b < LINEAR_SLOPE_LIMIT
+            else ": faster than linear, so the growth itself has to come down first"))
+    return "; ".join(parts) + "."
+
+
+def scaling_target_checks(points: Sequence[dict], budget: float | None = SCALING_BUDGET_SECONDS) -> list[TargetCheck]:
+    """The suite's ``SCALING_TIME_TARGETS`` and ``SCALING_MEMORY_TARGET`` against the scaling points.
+
+    A point stopped by the time ``budget`` (a fresh process's; None: no
+    budget) has not met a time target no larger than the budget; a size
+    not run is not measured, with the local power law's prediction as the
+    reason.
+    """
+    benchmarks = suite()
+    by_n = {p["n"]: p for p in points}
+    finished = [p for p in points if p.get("status") == "ok"]
+    checks = []
+    for n, limit in benchmarks.SCALING_TIME_TARGETS:
+        target = f"N = {n}: translated and initialized ≤ {limit:g} s"
+        point = by_n.get(n)
+        a, b, basis = _local_power_law([p for p in finished if p["n"] < n], "translated_initialized")
+        predicted = a * n ** b if math.isfinite(b) else math.nan
+        prediction = f"{basis} predicts {predicted:.3g} s" if math.isfinite(predicted) else ""
+        if point is not None and point.get("status") == "ok" and _finite(point.get("translated_initialized")):
+            seconds, equations = point["translated_initialized"], point.get("equations", math.nan)
+            measured = f"{seconds:.3g} s ({_fmt(equations)} equations)"
+            met = seconds <= limit
+            checks.append(TargetCheck(target, measured, met, "" if met else _scaling_time_why(point, limit, finished)))
+        elif (point is not None and str(point.get("status", "")).startswith("stopped") and budget is not None
+              and budget >= limit):
+            done = [label for key, label in SCALING_PHASES if _finite(point.get(key))]
+            why = (f"stopped after the budget of {budget:g} s" + (f", having finished {', '.join(done)}" if done
+                                                                  else " before flattening finished")
+                   + (f"; {prediction}" if prediction else "") + ".")
+            checks.append(TargetCheck(target, f"not finished: {point['status']}", False, why))
+        else:
+            reason = (f"N = {n} {point['status']}" if point is not None else f"N = {n} not run")
+            checks.append(TargetCheck(target, "-", None, reason + (f"; {prediction}" if prediction else "") + "."))
+    n, kb_limit = benchmarks.SCALING_MEMORY_TARGET
+    target = f"N = {n}: peak memory ≤ {kb_limit:g} kB per equation"
+    point = by_n.get(n)
+    kb = _per_equation_kb(point) if point is not None and point.get("status") == "ok" else math.nan
+    if not math.isfinite(kb):
+        reason = f"N = {n} {point['status']}" if point is not None else f"N = {n} not run"
+        checks.append(TargetCheck(target, "-", None, reason + "."))
+    else:
+        measured = f"{kb:.3g} kB ({point['max_rss_mb']:.0f} MB peak RSS, {_fmt(point['equations'])} equations)"
+        met = kb <= kb_limit
+        why = ""
+        smaller = [p for p in finished if p["n"] < n and _finite(_per_equation_kb(p))]
+        if not met and smaller:
+            first, previous = smaller[0], smaller[-1]
+            marginal = (1000.0 * (point["max_rss_mb"] - previous["max_rss_mb"])
+                        / (point["equations"] - previous["equations"]))
+            why = (f"the process holds {first['max_rss_mb']:.0f} MB at N = {first['n']} (interpreter, libraries); "
+                   f"from N = {previous['n']} to {n} the peak grows by {marginal:.3g} kB per added equation")
+            why += (f": {kb_limit:g} kB needs the memory held per equation cut {marginal / kb_limit:.1f}×."
+                    if marginal > kb_limit else
+                    ", within the target: the fixed part is what weighs at this size.")
+        elif not met:
+            why = "no smaller size to tell the fixed part from the part per equation."
+        checks.append(TargetCheck(target, measured, met, why))
+    return checks
+
+
+def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True,
+                      budget: float | None = SCALING_BUDGET_SECONDS) -> str:
     rows = []
     for p in points:
         rows.append((p["n"], p.get("states", math.nan), p.get("equations", math.nan),
@@ -1375,13 +1824,14 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True)
                      p.get("structure", math.nan), p.get("blt", math.nan), p.get("algebraic", math.nan),
                      p.get("codegen", math.nan), p.get("translation", math.nan),
                      p.get("translation_all_modes", math.nan), p.get("evaluator_setup", math.nan),
-                     p.get("initial_systems", math.nan), p.get("initialization", math.nan), p.get("first_simulate", math.nan),
+                     p.get("initial_systems", math.nan), p.get("initialization", math.nan),
+                     p.get("translated_initialized", math.nan), p.get("first_simulate", math.nan),
                      p.get("simulate", math.nan), p.get("wall", math.nan), p.get("predicted_wall", math.nan),
                      p.get("max_rss_mb", math.nan), _per_equation_kb(p), p.get("status", "")))
     table = _md_table(("N", "states", "equations", "modes", "flatten+partition [s]", "alias [s]",
                        "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "translation (1 mode) [s]",
                        "translation (all modes) [s]", "event setup [s]", "initialization systems [s]",
-                       "initialization [s]",
+                       "initialization [s]", "translated + initialized [s]",
                        "first simulate [s]", "simulate 0.2 s [s]", "wall [s]", "predicted wall [s]",
                        "max RSS [MB]", "RSS per equation [kB]", "status"),
                       rows)
@@ -1407,16 +1857,22 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True)
          "garbage collector set as in an `acausal` command). " if isolated else
          "in the bench's own process (sympy's caches warm from earlier translations, so faster than a "
          "first translation). ") +
-        "Translation (1 mode) = flatten+partition + the stages (alias, structure, blt, "
+        "Translation (1 mode) = flatten+partition (in a fresh process with it the compiler's import, "
+        "which `import acausal` leaves to the first translation) + the stages (alias, structure, blt, "
         "algebraic, codegen) of the first compiled system; all modes: flatten+partition + every discrete "
         "state compiled by the first simulation. Event setup: building the discrete evaluator (once per "
         "translation). Initialization systems: compiling the initialization problems (matching, BLT, "
         "solving, code; their modes' systems are in the stage columns). Initialization: solving them "
-        "and the event iteration at the start time, nothing compiled. First simulate: wall time of the first run after initialization (it repeats the "
+        "and the event iteration at the start time, nothing compiled. Translated + initialized: "
+        "flatten+partition, event setup and the initialization with everything it compiles, what a user "
+        "waits for before the first step (the targets' measure). First simulate: wall time of the first "
+        "run after initialization (it repeats the "
         "initialization with everything compiled). Simulate: a second 0.2 s run "
         "with the translation reused (RK45, rtol 1e-6, 500 output points). Predicted wall: the power "
-        "law through the two previous sizes.", "", limit, "", table, "",
-        fit_table, ""])
+        "law through the two previous sizes. RSS per equation: the peak resident memory of the process "
+        "over the equations (the interpreter and libraries included, which the small sizes overstate).",
+        "", limit, "", _targets_markdown(scaling_target_checks(points, budget if isolated else None)),
+        "## Sizes", "", table, "", fit_table, ""])
 
 
 def _size_axis(ax, sizes, label: str) -> None:
@@ -1448,6 +1904,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
               ("evaluator_setup", "event setup", "tab:brown", "^"),
               ("initial_systems", "initialization systems", "tab:green", "X"),
               ("initialization", "initialization (solve only)", "tab:orange", "P"),
+              ("translated_initialized", "translated + initialized", "darkgreen", "h"),
               ("simulate", "simulate 0.2 s (warm)", "tab:blue", "*")]
     for key, label, color, marker in series:
         ys = np.array([p.get(key, math.nan) for p in done], dtype=float)
@@ -1455,7 +1912,7 @@ def _plot_scaling(points: Sequence[dict], fits: dict, path: Path) -> Path | None
             continue
         if key in fits and math.isfinite(fits[key][1]):
             label += f" (b={fits[key][1]:.2f})"
-        lw = 2.2 if key in ("translation", "simulate") else 1.2
+        lw = 2.2 if key in ("translation", "translated_initialized", "simulate") else 1.2
         ax.plot(ns, ys, "-", marker=marker, color=color, label=label, lw=lw)
     for key in ("translation", "structure"):
         a, b = fits.get(key, (math.nan, math.nan))
@@ -1842,8 +2299,15 @@ STORM_TIMEOUT_SECONDS = 240.0
 QUICK_STORM_TIMEOUT_SECONDS = 60.0
 #: The two ways a storm point is compiled.
 STORM_MODES = ("clusters", "whole model")
-#: ``(N, wall seconds)``: the goals of the storm model with clusters (the issue's).
-STORM_GOALS = ((200, 10.0), (1000, 60.0))
+
+
+def full_storm_sizes() -> tuple[int, ...]:
+    """The full bench's storm sizes: :data:`FULL_STORM` and the sizes of the suite's storm targets
+    (``STORM_PER_EVENT_TARGET``, ``STORM_WALL_TARGETS``), in order; a size after one that did not
+    finish is skipped, so a target size out of reach costs nothing."""
+    benchmarks = suite()
+    small, large, _ = benchmarks.STORM_PER_EVENT_TARGET
+    return tuple(sorted(set(FULL_STORM) | {small, large} | {n for n, _ in benchmarks.STORM_WALL_TARGETS}))
 
 
 def storm_point(n: int, clusters: bool = True, progress: Callable[[dict], None] | None = None) -> dict:
@@ -1963,37 +2427,98 @@ def _local_exponents(done: Sequence[dict], key: str = "wall") -> list[tuple[int,
     return [(p["n"], q["n"], fit_power_law([p["n"], q["n"]], [p[key], q[key]])[1]) for p, q in zip(done, done[1:])]
 
 
-def _storm_goal_lines(points: Sequence[dict]) -> list[str]:
-    """The goals (:data:`STORM_GOALS`) against the clustered points: met, not met, or a prediction.
+def _storm_per_event_ms(point: dict) -> float:
+    """A storm point's integration+events milliseconds per event (NaN without events)."""
+    events, simulate = point.get("events"), point.get("simulate")
+    return 1e3 * simulate / events if _finite(events) and events > 0 and _finite(simulate) else math.nan
 
-    A size not run is predicted by the power law through the two largest
-    finished sizes (the local growth, steeper than the fit over all sizes
-    when the growth accelerates).
+
+def _storm_wall_per_event_ms(point: dict) -> float:
+    """A storm point's wall milliseconds per event, translation included (NaN without events)."""
+    events, wall = point.get("events"), point.get("wall")
+    return 1e3 * wall / events if _finite(events) and events > 0 and _finite(wall) else math.nan
+
+
+def _storm_per_event_check(points: Sequence[dict]) -> TargetCheck:
+    """The suite's ``STORM_PER_EVENT_TARGET`` against the points with clusters."""
+    small, large, limit = suite().STORM_PER_EVENT_TARGET
+    target = f"integration+events per event at N = {large} ≤ {limit:g}× that at N = {small}"
+    done = {p["n"]: p for p in _storm_finished(points, STORM_MODES[0])}
+    missing = [n for n in (small, large) if n not in done]
+    if missing:
+        statuses = {p["n"]: p["status"] for p in points if p.get("mode") == STORM_MODES[0]}
+        return TargetCheck(target, "-", None, "; ".join(
+            f"N = {n} {statuses[n]}" if n in statuses else f"N = {n} not run" for n in missing) + ".")
+    first, last = done[small], done[large]
+    ratio = _storm_per_event_ms(last) / _storm_per_event_ms(first)
+    wall_ratio = _storm_wall_per_event_ms(last) / _storm_wall_per_event_ms(first)
+    measured = (f"{_storm_per_event_ms(last):.3g} ms against {_storm_per_event_ms(first):.3g} ms: {ratio:.2f}× "
+                f"(wall per event, translation included: {_storm_wall_per_event_ms(last):.3g} against "
+                f"{_storm_wall_per_event_ms(first):.3g} ms, {wall_ratio:.2f}×)")
+    if ratio <= limit:
+        return TargetCheck(target, measured, True)
+    span = math.log(large / small)
+    b_cost = math.log(ratio) / span
+    b_events = math.log(last["events"] / first["events"]) / span
+    why = (f"the cost of an event grows as N^{b_cost:.2f} (N^{math.log(limit) / span:.2f} at most for "
+           f"{limit:g}×) and the events as N^{b_events:.2f}, so the integration+events time grows as "
+           f"N^{b_cost + b_events:.2f}; it takes an event whose cost does not depend on the parts it does not "
+           "involve: each independent part on its own solver, restarted only at its own events, its rows at "
+           "the others' events from its dense output")
+    return TargetCheck(target, measured, False, why + ".")
+
+
+def _storm_wall_checks(points: Sequence[dict], timeout: float) -> list[TargetCheck]:
+    """The suite's ``STORM_WALL_TARGETS`` against the points with clusters.
+
+    A point not finished within ``timeout`` (no smaller than the target's
+    limit) or failed has not met it; a size not run (or skipped) is not
+    measured, the power law through the two largest finished sizes
+    predicting its wall and events as the reason, with the cost per event
+    that would meet the limit.
     """
-    lines = []
     finished = _storm_finished(points, STORM_MODES[0])
     done = {p["n"]: p for p in finished}
-    unfinished = {p["n"]: p for p in points if p.get("mode") == STORM_MODES[0] and p.get("status") != 0}
+    others = {p["n"]: p for p in points if p.get("mode") == STORM_MODES[0] and p.get("status") != 0}
     a, b = (fit_power_law([p["n"] for p in finished[-2:]], [p["wall"] for p in finished[-2:]])
             if len(finished) >= 2 else (math.nan, math.nan))
-    basis = (f"the power law through N = {finished[-2]['n']} and {finished[-1]['n']} (b = {b:.2f})"
-             if math.isfinite(b) else "")
-    for n, limit in STORM_GOALS:
-        goal = f"N = {n} under {limit:g} s"
-        predicted = a * n ** b if math.isfinite(b) else math.nan
-        prediction = (f"; {basis} predicts {predicted:.3g} s" if math.isfinite(predicted) and n not in done else "")
+    a_events, b_events = (fit_power_law([p["n"] for p in finished[-2:]], [p["events"] for p in finished[-2:]])
+                          if len(finished) >= 2 else (math.nan, math.nan))
+    basis = (f"the power law through N = {finished[-2]['n']} and {finished[-1]['n']}" if len(finished) >= 2 else "")
+    checks = []
+    for n, limit in suite().STORM_WALL_TARGETS:
+        target = f"storm N = {n} ≤ {limit:g} s (translated and simulated, fresh process)"
+        predicted, events = a * n ** b, a_events * n ** b_events
+        estimate = ""
+        if math.isfinite(predicted) and n not in done:
+            largest = finished[-1]
+            estimate = (f"{basis} predicts {predicted:.3g} s (b = {b:.2f}) and {events:.3g} events (b = "
+                        f"{b_events:.2f}): {limit:g} s allows {1e3 * limit / events:.2g} ms per event, translation "
+                        f"included, against {_storm_wall_per_event_ms(largest):.3g} ms at N = {largest['n']}")
         if n in done:
             wall = done[n]["wall"]
-            lines.append(f"- {goal}: {'met' if wall < limit else '**not met**'} (with clusters: {wall:.3g} s).")
-        elif n in unfinished:
-            lines.append(f"- {goal}: **not met** (with clusters: {unfinished[n]['status']}{prediction}).")
-        elif math.isfinite(predicted):
-            lines.append(f"- {goal}: not measured (N = {n} not run){prediction}: "
-                         + ("it would be met if that growth held (an extrapolation, not a measurement)."
-                            if predicted < limit else "**not met** by that estimate."))
+            why = "" if wall <= limit else (
+                f"{done[n]['events']} events at {_storm_wall_per_event_ms(done[n]):.3g} ms each (translation "
+                f"included): {limit:g} s allows {1e3 * limit / done[n]['events']:.2g} ms per event.")
+            checks.append(TargetCheck(target, f"{wall:.3g} s", wall <= limit, why))
+            continue
+        point = others.get(n)
+        status = str(point["status"]) if point is not None else ""
+        not_finished = status.startswith("not finished") and timeout >= limit
+        failed = point is not None and not status.startswith(("not finished", "skipped"))
+        if not_finished or failed:
+            measured = f"not finished in {timeout:.0f} s" if not_finished else f"failed: {status}"
+            checks.append(TargetCheck(target, measured, False, (estimate + ".") if estimate else ""))
         else:
-            lines.append(f"- {goal}: not measured.")
-    return lines
+            reason = f"N = {n} {status}" if point is not None else f"N = {n} not run"
+            checks.append(TargetCheck(target, "-", None, reason + (f"; {estimate}." if estimate else ".")))
+    return checks
+
+
+def storm_target_checks(points: Sequence[dict], timeout: float = STORM_TIMEOUT_SECONDS) -> list[TargetCheck]:
+    """The suite's storm targets (``STORM_PER_EVENT_TARGET``, ``STORM_WALL_TARGETS``) against the points
+    with clusters; ``timeout`` is the limit a point that did not finish ran into."""
+    return [_storm_per_event_check(points)] + _storm_wall_checks(points, timeout)
 
 
 def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
@@ -2002,15 +2527,14 @@ def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
         status = p.get("status", "")
         status_text = ("ok" if status == 0 else f"status {status}: {p.get('message', '')}"
                        if isinstance(status, int) else status)
-        per_event = (1e3 * p["simulate"] / p["events"] if p.get("events") and isinstance(p.get("simulate"), float)
-                     else math.nan)
         rows.append((p["n"], p["mode"], p.get("parts", math.nan), p.get("states_visited", math.nan),
                      p.get("events", math.nan), p.get("compiled_systems", math.nan),
-                     p.get("translation", math.nan), p.get("simulate", math.nan), per_event, p.get("wall", math.nan),
-                     p.get("max_rss_mb", math.nan), status_text))
+                     p.get("translation", math.nan), p.get("simulate", math.nan), _storm_per_event_ms(p),
+                     p.get("wall", math.nan), _storm_wall_per_event_ms(p), p.get("max_rss_mb", math.nan),
+                     status_text))
     table = _md_table(("N", "mode", "parts", "discrete states visited", "events", "compiled systems",
-                       "translation [s]", "integration+events [s]", "per event [ms]", "wall [s]", "max RSS [MB]",
-                       "status"), rows)
+                       "translation [s]", "integration+events [s]", "per event [ms]", "wall [s]",
+                       "wall per event [ms]", "max RSS [MB]", "status"), rows)
     fit_rows = []
     for mode in STORM_MODES:
         a, b = fits.get(mode, (math.nan, math.nan))
@@ -2044,7 +2568,6 @@ def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
                        f"{1e3 * done[0]['simulate'] / done[0]['events']:.3g} ms (N = {done[0]['n']}) to "
                        f"{1e3 * done[-1]['simulate'] / done[-1]['events']:.3g} ms (N = {done[-1]['n']}), and "
                        f"the peak RSS from {done[0]['max_rss_mb']:.0f} MB to {done[-1]['max_rss_mb']:.0f} MB.")
-    reading += _storm_goal_lines(points)
     return "\n".join([
         "# Storm: many independent parts with events", "",
         benchmarks.STORM_DESCRIPTION + ". "
@@ -2057,8 +2580,11 @@ def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
         "`simulate(model)` does; translation: the translation's `translation_seconds` at the end "
         "(flattening, every system compiled, the initialization systems); integration+events: the rest. "
         "Parts: the independent parts the translation found (1: none used). Compiled systems: "
-        "`result.compiled_modes` (with clusters, every part's systems count). Max RSS: the process's peak.",
-        "", table, "", fit_table, "", "## Reading", ""] + reading + [""])
+        "`result.compiled_modes` (with clusters, every part's systems count). Per event: integration+events "
+        "over the events (the cost of an event); wall per event: the wall over the events, translation "
+        "included. Max RSS: the process's peak.",
+        "", _targets_markdown(storm_target_checks(points, timeout)), "## Sizes", "", table, "", fit_table, "",
+        "## Reading", ""] + reading + [""])
 
 
 def _plot_storm(points: Sequence[dict], fits: dict, path: Path, timeout: float) -> Path | None:
@@ -2090,13 +2616,14 @@ def _plot_storm(points: Sequence[dict], fits: dict, path: Path, timeout: float) 
         if stopped:
             ax.plot([p["n"] for p in stopped], [timeout] * len(stopped), "^", color=color, ms=10,
                     label=f"{mode}: not finished in {timeout:.0f} s")
-    for n, limit in STORM_GOALS:
+    wall_targets = suite().STORM_WALL_TARGETS
+    for n, limit in wall_targets:
         ax.plot([n], [limit], "*", color="tab:green", ms=12)
-        ax.annotate(f"goal N={n}: {limit:g} s", (n, limit), textcoords="offset points", xytext=(-10, 8),
+        ax.annotate(f"target N={n}: {limit:g} s", (n, limit), textcoords="offset points", xytext=(-10, 8),
                     ha="right", fontsize=8, color="tab:green")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    _size_axis(ax, sorted({p["n"] for p in points} | {n for n, _ in STORM_GOALS}), suite().STORM_SIZE_LABEL)
+    _size_axis(ax, sorted({p["n"] for p in points} | {n for n, _ in wall_targets}), suite().STORM_SIZE_LABEL)
     ax.set_ylabel("seconds (fresh process)")
     ax.set_title("Storm: translation + simulation with and without clusters (dotted: power-law fits)")
     ax.grid(True, which="major", alpha=0.4)
@@ -2130,6 +2657,10 @@ def write_storm(points: Sequence[dict], out_dir: Path, timeout: float = STORM_TI
 #: ``(label, code)``: the fresh-process floors the commands are divided by.
 IMPORT_FLOORS = (("import numpy", "import numpy"),
                  ("import numpy, scipy.integrate", "import numpy, scipy.integrate"))
+#: A command record's keys of the import floors (in :data:`IMPORT_FLOORS`' order) timed in its own rounds,
+#: and of its ratios to them.
+FLOOR_WALL_KEYS = ("import_numpy_wall", "numpy_scipy_wall")
+FLOOR_RATIO_KEYS = ("x_import_numpy", "x_numpy_scipy")
 #: Warm runs of the hand-coded floor's case (acausal and the floor); the best counts.
 HAND_CODED_FLOOR_REPEATS = 5
 
@@ -2148,7 +2679,8 @@ class FloorCase:
     ``agreement``.  ``description`` (Markdown) says what the model is and how
     the floor is written; ``events_note`` how acausal's events and the
     floor's switches correspond.  Both run with ``method``, the same rtol and
-    atol.
+    atol.  ``target_ratio``: the warm run's target, at most this multiple of
+    the floor's time (None: no target).
     """
 
     case: str
@@ -2159,12 +2691,7 @@ class FloorCase:
     description: str
     events_note: str = ""
     method: str = "RK45"
-
-
-def _fresh_process_env() -> dict:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-    return env
+    target_ratio: float | None = None
 
 
 def run_import_floors(repeats: int = 5, log: Callable[[str], None] | None = None) -> list[dict]:
@@ -2175,19 +2702,15 @@ def run_import_floors(repeats: int = 5, log: Callable[[str], None] | None = None
     doing anything.
     """
     log = log or (lambda _s: None)
-    env = _fresh_process_env()
+    env = _repository_env()
     records = []
     for label, code in IMPORT_FLOORS:
         walls, statuses = [], []
         for _ in range(repeats):
-            t0 = time.perf_counter()
-            proc = subprocess.run([sys.executable, "-c", code], cwd=str(ROOT), env=env, capture_output=True,
-                                  text=True, timeout=60)
-            walls.append(time.perf_counter() - t0)
-            statuses.append(proc.returncode)
-        record = {"kind": "import floor", "what": f'python -c "{code}"', "label": label, "runs": repeats,
-                  "min_wall": min(walls), "median_wall": float(np.median(walls)), "max_wall": max(walls),
-                  "exit_statuses": " ".join(map(str, statuses))}
+            wall, status, _ = _timed_process([sys.executable, "-c", code], env)
+            walls.append(wall)
+            statuses.append(status)
+        record = _import_floor_record(label, code, walls, statuses)
         records.append(record)
         log(f"  {record['what']}: min {record['min_wall']:.3f} s, median {record['median_wall']:.3f} s")
     return records
@@ -2197,14 +2720,17 @@ def command_floor_ratios(command_records: Sequence[dict], import_records: Sequen
     """The commands' rows with their median wall time as a multiple of each import floor's median.
 
     Keys ``x_import_numpy`` and ``x_numpy_scipy`` (the columns "× import
-    numpy", "× numpy+scipy.integrate").
+    numpy", "× numpy+scipy.integrate").  A record with the floors of its own
+    rounds (:data:`FLOOR_WALL_KEYS`, from :func:`run_commands_with_floors`)
+    is divided by those; otherwise by ``import_records``' medians.
     """
     floors = {r["label"]: r["median_wall"] for r in import_records}
     rows = []
     for record in command_records:
         row = {"kind": "command", "what": record["command"], **{k: v for k, v in record.items() if k != "command"}}
-        for key, label in (("x_import_numpy", IMPORT_FLOORS[0][0]), ("x_numpy_scipy", IMPORT_FLOORS[1][0])):
-            floor = floors.get(label, math.nan)
+        for (label, _), wall_key, key in zip(IMPORT_FLOORS, FLOOR_WALL_KEYS, FLOOR_RATIO_KEYS):
+            floor = record.get(wall_key)
+            floor = floor if _finite(floor) else floors.get(label, math.nan)
             row[key] = record["median_wall"] / floor if floor and math.isfinite(floor) else math.nan
         rows.append(row)
     return rows
@@ -2250,7 +2776,9 @@ def run_hand_coded_floor(repeats: int = HAND_CODED_FLOOR_REPEATS, rtol: float = 
            "floor_switch_times": " ".join(f"{event[0]:.9g}" for event in floor["events"]),
            "acausal_steps": int(result.stats.get("steps", 0)), "floor_steps": floor["steps"],
            "acausal_rhs_evaluations": int(result.stats.get("rhs_evaluations", 0)),
-           "floor_rhs_evaluations": floor["rhs_evaluations"]}
+           "floor_rhs_evaluations": floor["rhs_evaluations"],
+           "target_ratio": fc.target_ratio if fc.target_ratio is not None else math.nan}
+    row["target_met"] = bool(row["agree"] and row["ratio"] <= fc.target_ratio) if fc.target_ratio is not None else None
     log(f"  {fc.case} warm: acausal {row['acausal_seconds'] * 1e3:.2f} ms, hand-coded floor "
         f"{row['floor_seconds'] * 1e3:.2f} ms (x{row['ratio']:.1f}); final {fc.output} {final_acausal:.9g} "
         f"vs {final_floor:.9g}")
@@ -2259,23 +2787,58 @@ def run_hand_coded_floor(repeats: int = HAND_CODED_FLOOR_REPEATS, rtol: float = 
 
 def run_floors(repeats: int = 5, command_records: Sequence[dict] | None = None, commands: bool = True,
                log: Callable[[str], None] | None = None,
-               floor_repeats: int = HAND_CODED_FLOOR_REPEATS) -> list[dict]:
+               floor_repeats: int = HAND_CODED_FLOOR_REPEATS,
+               import_records: Sequence[dict] | None = None) -> list[dict]:
     """The floors section: import floors, the commands against them, and the hand-coded floor.
 
-    ``repeats`` runs of each import floor; ``command_records`` (from
-    :func:`run_commands`) are reused when given, otherwise the commands are
-    timed here with ``repeats`` (unless not ``commands``); the suite's
-    hand-coded floor (:func:`run_hand_coded_floor`) is the best of
+    ``command_records`` and ``import_records`` (from
+    :func:`run_commands_with_floors`: the commands and the floors timed in
+    alternation) are reused when given.  Otherwise, with ``commands``, both
+    are timed here in alternation (``repeats`` runs of each command), or
+    without commands the import floors alone (``repeats`` runs each).  The
+    suite's hand-coded floor (:func:`run_hand_coded_floor`) is the best of
     ``floor_repeats``.  Rows with a ``kind``: ``import floor``, ``command``,
     ``in-process``.
     """
     log = log or (lambda _s: None)
-    imports = run_import_floors(repeats, log=log)
     if command_records is None and commands:
-        command_records = run_commands(repeats, log=log)
+        command_records, imports = run_commands_with_floors(repeats, log=log)
+        imports = import_records if import_records is not None else imports
+    else:
+        imports = import_records if import_records is not None else run_import_floors(repeats, log=log)
     rows = list(imports) + command_floor_ratios(command_records or [], imports)
     rows.append(run_hand_coded_floor(floor_repeats, log=log))
     return rows
+
+
+def floor_target_check(row: dict) -> TargetCheck | None:
+    """The hand-coded floor's target (its floor case's ``target_ratio``) against the floors section's
+    in-process row (:func:`run_hand_coded_floor`); None when the floor case sets no target."""
+    limit = row.get("target_ratio")
+    if not _finite(limit):
+        return None
+    target = f"warm {row['case']} ≤ {limit:g}× the hand-coded floor"
+    acausal_ms, floor_ms = 1e3 * row["acausal_seconds"], 1e3 * row["floor_seconds"]
+    measured = f"{acausal_ms:.2f} ms against {floor_ms:.2f} ms: {row['ratio']:.1f}× (best of {row['repeats']})"
+    if not row["agree"]:
+        return TargetCheck(target, measured, False,
+                           f"the final {row['output']} differ by {_fmt(row['final_difference'])} {row['unit']}, more "
+                           f"than {row['agreement']:g}: not the same result.")
+    if row["ratio"] <= limit:
+        return TargetCheck(target, measured, True)
+    rhs_ratio = row["acausal_rhs_evaluations"] / max(row["floor_rhs_evaluations"], 1)
+    at_floor_cost = floor_ms * rhs_ratio  # acausal's evaluations at the floor's cost per evaluation
+    beyond = acausal_ms - at_floor_cost
+    why = (f"{limit:g}× is {limit * floor_ms:.2f} ms, {acausal_ms - limit * floor_ms:.2f} ms less than measured; "
+           f"acausal makes {rhs_ratio:.2f}× the floor's right-hand side evaluations ({row['acausal_rhs_evaluations']} "
+           f"/ {row['floor_rhs_evaluations']}) in {row['acausal_steps']} steps against {row['floor_steps']}, "
+           f"{at_floor_cost:.2f} ms at the floor's cost per evaluation: the other {beyond:.2f} ms "
+           f"({beyond / acausal_ms:.0%}) are work the floor does not do ({row['acausal_events']} events against "
+           f"{row['floor_switches']} switches, the event evaluator and initialization, columns for every variable)"
+           if beyond > 0 else
+           f"{limit:g}× is {limit * floor_ms:.2f} ms; acausal makes {rhs_ratio:.2f}× the floor's right-hand side "
+           "evaluations: the integration itself costs more per evaluation")
+    return TargetCheck(target, measured, False, why + ".")
 
 
 def _floors_markdown(rows: Sequence[dict], floor_case: FloorCase | None = None) -> str:
@@ -2283,10 +2846,12 @@ def _floors_markdown(rows: Sequence[dict], floor_case: FloorCase | None = None) 
     imports = [r for r in rows if r["kind"] == "import floor"]
     commands = [r for r in rows if r["kind"] == "command"]
     in_process = [r for r in rows if r["kind"] == "in-process"]
+    checks = command_target_checks(commands) if commands else []
+    checks += [check for check in map(floor_target_check, in_process) if check is not None]
     parts = ["# Floors", "",
              "What the same work costs without the engine: the commands against a bare interpreter that "
              "imports numpy (and scipy's integrators), and a warm simulation against the same model written "
-             "by hand (the suite's `floor_case()`).", ""]
+             "by hand (the suite's `floor_case()`).", "", _targets_markdown(checks)]
     if imports:
         parts += ["## Fresh-process floors", "",
                   "Each in a new Python process (same interpreter, folder and environment as the commands), "
@@ -2296,11 +2861,13 @@ def _floors_markdown(rows: Sequence[dict], floor_case: FloorCase | None = None) 
                               f"{r['median_wall']:.3f}", f"{r['max_wall']:.3f}") for r in imports]), ""]
     if commands:
         parts += ["## Commands against the floors", "",
-                  "Median wall time of each `acausal compare` command (as in the commands section) divided by "
-                  "each floor's median. *cold*: the persistent compile cache off (every run compiles); "
-                  "*warm*: every run loads its compiled systems from a cache filled by an untimed run.", "",
+                  "Median wall time of each command (as in the commands section) divided by each floor's median: "
+                  "when the commands ran in the same bench, the floor runs of the command's own rounds (timed in "
+                  "alternation with it), else the table above. *cold*: "
+                  "the persistent compile cache off (every run compiles); *warm*: every run loads its compiled "
+                  "systems from a cache filled by an untimed run.", "",
                   _md_table(("command", "disk cache", "runs", "median wall [s]", "× import numpy",
-                             "× numpy+scipy.integrate", "comparison passed"),
+                             "× numpy+scipy.integrate", "passed"),
                             [(r["what"], r.get("disk_cache", "warm"), r["runs"], f"{r['median_wall']:.2f}",
                               f"{r['x_import_numpy']:.1f}", f"{r['x_numpy_scipy']:.1f}",
                               "yes" if r["passed"] else f"**no**: {r['failure']}")
@@ -2501,7 +3068,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
         names = tuple(case_names)
     else:
         names = suite().QUICK_CASES if quick else tuple(all_cases)
-    sizes = tuple(scaling_sizes) if scaling_sizes is not None else (QUICK_SCALING if quick else FULL_SCALING)
+    sizes = tuple(scaling_sizes) if scaling_sizes is not None else (QUICK_SCALING if quick else full_scaling_sizes())
     if array_sizes is None:
         array_sizes = (QUICK_ARRAY_SCALING if quick else FULL_ARRAY_SCALING) if sizes else ()
     array_sizes = tuple(array_sizes)
@@ -2545,12 +3112,13 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
                 log(f"fresh-process commands skipped: {missing}")
                 commands = False
                 break
-    command_records = []
+    command_records: list[dict] = []
+    command_import_floors: list[dict] = []
     command_repeats = 3 if quick else 7
     if commands:
         log("fresh-process commands")
         start = (time.perf_counter(), cpu())
-        command_records = run_commands(command_repeats, log=log)
+        command_records, command_import_floors = run_commands_with_floors(command_repeats, log=log)
         section("commands", start)
     if sizes or array_sizes:
         log("scaling")
@@ -2574,7 +3142,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
                       if parameters else [])
     storm_timeout = QUICK_STORM_TIMEOUT_SECONDS if quick else STORM_TIMEOUT_SECONDS
     if storm_sizes is None:
-        storm_sizes = QUICK_STORM if quick else FULL_STORM
+        storm_sizes = QUICK_STORM if quick else full_storm_sizes()
     storm_points = (timed("storm", lambda: run_storm(
         tuple(storm_sizes), QUICK_STORM_WHOLE_UP_TO if quick else FULL_STORM_WHOLE_UP_TO, storm_timeout, log=log))
         if storm and storm_sizes else [])
@@ -2590,7 +3158,8 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
                     floor_commands = False
                     break
         floor_rows = timed("floors", lambda: run_floors(command_repeats, command_records or None,
-                                                        commands=floor_commands, log=log))
+                                                        commands=floor_commands, log=log,
+                                                        import_records=command_import_floors or None))
     table_rows: list[dict] = []
     if table_sizes:
         from .table_bench import FULL_ROWS, QUICK_ROWS, run_tables
@@ -2599,7 +3168,7 @@ def run_bench(quick: bool, out_dir: Path, methods: Sequence[str] | None = None,
                                                         2 if quick else 3, log=log))
     fits = {}
     for key in ("translation", "structure", "flatten", "alias", "blt", "algebraic", "codegen",
-                "evaluator_setup", "initial_systems", "initialization", "simulate"):
+                "evaluator_setup", "initial_systems", "initialization", "translated_initialized", "simulate"):
         # a point stopped by the budget still counts for the phases it finished
         measured = [p for p in points if isinstance(p.get(key), (int, float)) and math.isfinite(p[key])]
         if len(measured) >= 2:

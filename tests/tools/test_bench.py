@@ -90,13 +90,36 @@ def test_fresh_process_commands_pass_their_comparison():
     if not (reference_dir() / "Modelica.Mechanics.Rotational.Examples.First").is_dir():
         pytest.skip(f"MSL reference results not found at {reference_dir()}; set ACAUSAL_REFERENCE_DIR "
                     f"(modelica/MAP-LIB_ReferenceResults, branch v4.1.0)")
-    records = bench.run_commands(repeats=1)
-    assert [(r["model"], r["disk_cache"]) for r in records] == [
-        (m, kind) for m in ("First", "TwoMasses", "CoupledClutches") for kind in ("cold", "warm")]
+    records, imports = bench.run_commands_with_floors(repeats=1)
+    assert [(r["command"].split()[1], r["model"], r["disk_cache"]) for r in records] == [
+        (verb, m, kind) for verb, m in (("compare", "First"), ("compare", "TwoMasses"),
+                                        ("compare", "CoupledClutches"), ("simulate", "First"))
+        for kind in ("cold", "warm")]
     assert all(r["passed"] for r in records)
     assert all(r["exit_statuses"] == "0" for r in records)
+    # the import floors ran once after each round: one round per command
+    assert [(r["label"], r["runs"]) for r in imports] == [("import numpy", 4), ("import numpy, scipy.integrate", 4)]
+    walls = {r["command"]: r["import_numpy_wall"] for r in records}  # the floor of each command's own round
+    for r in records:
+        assert r["import_numpy_wall"] > 0 and r["numpy_scipy_wall"] > r["import_numpy_wall"] / 10
+        assert r["x_import_numpy"] == pytest.approx(r["median_wall"] / r["import_numpy_wall"])
+    assert imports[0]["min_wall"] <= min(walls.values()) and max(walls.values()) <= imports[0]["max_wall"]
+    (ratio_row, *_) = bench.command_floor_ratios(records, imports)
+    assert ratio_row["x_import_numpy"] == records[0]["x_import_numpy"]  # the floors section divides alike
+    # the warm target commands are broken down by -X importtime; acausal's own import is in it
+    broken_down = [r["command"] for r in records if "import_seconds" in r]
+    assert broken_down == ["acausal compare examples/first.py", "acausal simulate examples/first.py"]
+    for r in records:
+        if "import_seconds" in r:
+            assert r["import_status"] == 0 and r["import_acausal_seconds"] > 0
+            assert r["warm_target_met"] == (r["x_import_numpy"] <= benchmarks.WARM_COMMAND_MAX_X_IMPORT_NUMPY)
     text = bench._commands_markdown(records)
     assert all(r["command"] in text for r in records)
+    assert "## Targets" in text and "## Where a warm command's time goes" in text
+    checks = bench.command_target_checks(records)
+    assert [c.target.split("`")[1] for c in checks] == ["acausal simulate examples/first.py",
+                                                       "acausal compare examples/first.py"]
+    assert all(c.met is not None for c in checks)
 
 
 def test_bench_without_reference_data_measures_the_exact_cases(tmp_path, monkeypatch):
@@ -117,10 +140,14 @@ def test_a_failing_command_never_meets_the_target(tmp_path, monkeypatch):
     """Without reference data the commands fail at once, fast: that must not count as met."""
     monkeypatch.setenv("ACAUSAL_REFERENCE_DIR", str(tmp_path / "no-reference"))
     records = bench.run_commands(repeats=1, disk_caches=("cold",))
-    assert [r["passed"] for r in records] == [False, False, False]
-    assert [r["met"] for r in records] == [False, False, False]
-    assert all("no-reference" in r["failure"] for r in records)
-    assert bench._commands_markdown(records).count("**not met**") == 3
+    compares = [r for r in records if r["command"].startswith("acausal compare")]
+    assert [r["passed"] for r in compares] == [False, False, False]
+    assert [r["met"] for r in compares] == [False, False, False]
+    assert all("no-reference" in r["failure"] for r in compares)
+    table = bench._commands_markdown(records).split("## Commands")[1]
+    assert sum("**not met**" in line for line in table.splitlines() if "acausal compare" in line) == 3
+    # simulate needs no reference results
+    assert [r["passed"] for r in records if r["command"].startswith("acausal simulate")] == [True]
 
 
 class _Spin(Model):
@@ -216,7 +243,8 @@ def test_storm_clusters_and_whole_model_agree(tmp_path):
     assert set(files) == {"storm.md", "storm.csv", "storm.png"}
     assert all(path.stat().st_size > 0 for path in files.values())
     text = (tmp_path / "storm.md").read_text()
-    assert "| 3 | whole model |" in text and "## Reading" in text and "N = 200 under 10 s" in text
+    assert "| 3 | whole model |" in text and "## Reading" in text and "## Targets" in text
+    assert "storm N = 200 ≤ 10 s" in text and "integration+events per event at N = 100" in text
     with (tmp_path / "storm.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) == 4 and {"n", "mode", "status", "wall", "translation", "compiled_systems",
@@ -231,7 +259,9 @@ def test_storm_point_that_does_not_finish_is_recorded(monkeypatch):
     points = bench.run_storm((4, 8), whole_up_to=0, timeout=7)
     assert [p["status"] for p in points] == ["not finished in 7 s", "skipped (N=4 not finished in 7 s)"]
     text = bench._storm_markdown(points, bench.storm_fits(points), 7)
-    assert "N = 200 under 10 s: not measured" in text
+    checks = bench.storm_target_checks(points, 7)
+    assert [c.met for c in checks] == [None, None, None]  # none of the targets' sizes ran
+    assert "not measured" in text and "N = 200 not run" in text
 
 
 def test_bench_only_storm_writes_only_the_storm(tmp_path, monkeypatch):
@@ -306,6 +336,13 @@ def test_floors_rows_and_files(tmp_path):
     assert set(files) == {"floors.md", "floors.csv"}
     text = (tmp_path / "floors.md").read_text()
     assert "× import numpy" in text and "× numpy+scipy.integrate" in text and "| agree |" in text
+    # the hand-coded floor's target is measured; the warm command's is not (this command is not warm)
+    assert "## Targets" in text and "warm StickSlip ≤ 2× the hand-coded floor" in text
+    assert rows[-1]["target_ratio"] == benchmarks.floor_case().target_ratio
+    assert rows[-1]["target_met"] == (rows[-1]["agree"] and rows[-1]["ratio"] <= rows[-1]["target_ratio"])
+    with (tmp_path / "floors.csv").open() as handle:
+        assert {"kind", "what", "median_wall", "x_import_numpy", "ratio", "agree", "target_ratio",
+                "target_met"} <= set(next(csv.DictReader(handle)))
 
 
 def test_the_tables_section_measures_every_size(tmp_path, capsys):
@@ -363,3 +400,122 @@ def test_heat_rod_scaling_rows_keep_the_energy_balance():
     text = bench._array_scaling_markdown(points, fits, case, isolated=False)
     assert "## HeatRod: a model built with arrays" in text and "| 5 |" in text and "| 10 |" in text
     assert "N (cells)" in text and "heat stored [J]" in text and "slope b (time ≈ a·N^b)" in text
+
+
+# -- the targets each section states ------------------------------------------------------------
+
+
+def test_the_suite_sets_the_targets_and_the_full_sizes_reach_them():
+    """The targets live in the suite; the full storm and scaling sizes include the targets' sizes."""
+    assert benchmarks.TARGETS_SOURCE and benchmarks.WARM_COMMAND_MAX_X_IMPORT_NUMPY == 2.0
+    assert set(benchmarks.WARM_COMMAND_FILES) <= {example for _, example in benchmarks.COMMAND_TARGETS}
+    assert benchmarks.floor_case().target_ratio == 2.0
+    small, large, _ = benchmarks.STORM_PER_EVENT_TARGET
+    assert {small, large} | {n for n, _ in benchmarks.STORM_WALL_TARGETS} <= set(bench.full_storm_sizes())
+    assert set(bench.FULL_STORM) <= set(bench.full_storm_sizes())
+    assert {n for n, _ in benchmarks.SCALING_TIME_TARGETS} <= set(bench.full_scaling_sizes())
+    assert benchmarks.SCALING_MEMORY_TARGET[0] in bench.full_scaling_sizes()
+    assert list(bench.full_scaling_sizes()) == sorted(bench.full_scaling_sizes())
+
+
+def test_targets_markdown_says_met_not_met_and_not_measured():
+    checks = [bench.TargetCheck("a ≤ 1 s", "0.5 s", True), bench.TargetCheck("b | c ≤ 1 s", "2 s", False, "why"),
+              bench.TargetCheck("d ≤ 1 s", "-", None, "not run")]
+    assert [c.verdict for c in checks] == ["met", "not met", "not measured"]
+    text = bench._targets_markdown(checks)
+    assert "| a ≤ 1 s | 0.5 s | met | - |" in text
+    assert "| b \\| c ≤ 1 s | 2 s | **not met** | why |" in text
+    assert "| d ≤ 1 s | - | not measured | not run |" in text
+    assert bench._targets_markdown([]) == ""
+
+
+def test_import_breakdown_counts_each_package_once():
+    import sys
+
+    record = bench.import_breakdown([sys.executable, "-c", "import numpy, json"], runs=2)
+    assert record["import_status"] == 0 and record["import_wall"] > 0 and record["import_runs"] == 2
+    assert record["import_numpy_seconds"] > 0 and record["import_sympy_seconds"] == 0
+    assert record["import_other_seconds"] > 0  # json, encodings, site ...
+    parts = sum(record[f"import_{p}_seconds"] for p in (*bench.IMPORT_BREAKDOWN_PACKAGES, "other"))
+    assert record["import_seconds"] == pytest.approx(parts)
+
+
+def _command_row(verb: str, median: float, passed: bool = True, **extra) -> dict:
+    return {"model": "First", "command": f"acausal {verb} examples/first.py", "example": "examples/first.py",
+            "disk_cache": "warm", "runs": 3, "median_wall": median, "passed": passed, "failure": "",
+            "x_import_numpy": median / 0.1, "import_numpy_wall": 0.1, **extra}
+
+
+def test_warm_command_target_is_met_only_when_measured_so():
+    breakdown = {"import_wall": 1.0, "import_seconds": 0.8, "import_acausal_seconds": 0.2,
+                 "import_sympy_seconds": 0.3, "import_networkx_seconds": 0.1, "import_numpy_seconds": 0.1,
+                 "import_scipy_seconds": 0.1}
+    met, slow = bench.command_target_checks([_command_row("simulate", 0.15), _command_row("compare", 1.0, **breakdown)])
+    assert met.met is True and met.why == "" and "1.5×" in met.measured
+    assert slow.met is False and "10.0×" in slow.measured
+    # the reason comes from the breakdown: 2x the floor, the imports' share, what a hit without sympy saves
+    assert "0.20 s, 0.80 s less" in slow.why and "80%" in slow.why and "sympy 0.30" in slow.why
+    assert "save about 0.50 s, leaving about 0.50 s (5.0× the floor), of which acausal's own import is about 0.20 s" \
+        in slow.why
+    (failed,) = [c for c in bench.command_target_checks([_command_row("simulate", 0.15, passed=False)])
+                 if "simulate" in c.target]
+    assert failed.met is False and "failed" in failed.why
+    cold = dict(_command_row("simulate", 0.15), disk_cache="cold")
+    assert [c.met for c in bench.command_target_checks([cold])] == [None, None]
+
+
+def _storm(n: int, events: int, simulate: float, translation: float = 0.5, mode: str = "clusters") -> dict:
+    return {"n": n, "mode": mode, "status": 0, "events": events, "simulate": simulate, "translation": translation,
+            "wall": simulate + translation, "max_rss_mb": 100.0, "compiled_systems": 4 * n}
+
+
+def test_storm_targets_from_the_points():
+    flat = [_storm(10, 50, 0.25), _storm(100, 1000, 6.0), _storm(200, 2000, 9.0), _storm(1000, 10000, 55.0)]
+    per_event, n200, n1000 = bench.storm_target_checks(flat, 240)
+    assert per_event.met is True and "1.20×" in per_event.measured  # 6 ms against 5 ms
+    assert n200.met is True and n1000.met is True
+    growing = [_storm(10, 50, 0.25), _storm(100, 1000, 20.0), {"n": 200, "mode": "clusters",
+                                                                 "status": "not finished in 240 s"},
+               {"n": 1000, "mode": "clusters", "status": "skipped (N=200 not finished in 240 s)"}]
+    per_event, n200, n1000 = bench.storm_target_checks(growing, 240)
+    assert per_event.met is False and "N^0.60" in per_event.why  # 20 ms against 5 ms: 4x over a decade
+    assert n200.met is False and n200.measured == "not finished in 240 s" and "predicts" in n200.why
+    assert n1000.met is None and "skipped" in n1000.why
+    # a timeout shorter than the limit proves nothing
+    _, n200, _ = bench.storm_target_checks(growing, 5)
+    assert n200.met is None
+
+
+def _scaling(n: int, seconds: float, rss: float, status: str = "ok") -> dict:
+    return {"n": n, "status": status, "equations": 33 * n, "translated_initialized": seconds, "max_rss_mb": rss,
+            "flatten": seconds / 4, "codegen": seconds / 3}
+
+
+def test_scaling_targets_from_the_points():
+    points = [_scaling(100, 1.0, 150.0), _scaling(300, 3.0, 300.0), _scaling(1000, 9.0, 600.0)]
+    n1000, n10000, memory = bench.scaling_target_checks(points)
+    assert n1000.met is True and n1000.measured.startswith("9 s")
+    assert n10000.met is None and "not run" in n10000.why and "predicts" in n10000.why
+    assert memory.met is True  # 600 MB / 33000 equations = 18 kB
+    points[-1].update(translated_initialized=14.0, max_rss_mb=1400.0)
+    points.append({"n": 10000, "status": "stopped after 180 s (flattened; building the event evaluator)",
+                   "flatten": 40.0})
+    n1000, n10000, memory = bench.scaling_target_checks(points, budget=180)
+    assert n1000.met is False and "4 s over" in n1000.why and "codegen" in n1000.why
+    assert n10000.met is False and "flatten+partition" in n10000.why
+    assert memory.met is False and "per added equation" in memory.why
+    # without a budget (points in this process) a stopped point proves nothing
+    assert bench.scaling_target_checks(points, budget=None)[1].met is None
+
+
+def test_floor_target_check():
+    row = {"case": "StickSlip", "output": "inertia.w", "unit": "rad/s", "repeats": 5, "agree": True,
+           "agreement": 1e-4, "final_difference": 1e-8, "acausal_seconds": 0.006, "floor_seconds": 0.002,
+           "ratio": 3.0, "acausal_rhs_evaluations": 150, "floor_rhs_evaluations": 125, "acausal_steps": 23,
+           "floor_steps": 20, "acausal_events": 4, "floor_switches": 2, "target_ratio": 2.0}
+    check = bench.floor_target_check(row)
+    assert check.met is False and "2 ms less" not in check.why and "2.00 ms less" in check.why
+    assert "1.20× the floor's right-hand side evaluations" in check.why
+    assert bench.floor_target_check(dict(row, acausal_seconds=0.003, ratio=1.5)).met is True
+    assert bench.floor_target_check(dict(row, agree=False, ratio=1.5)).met is False
+    assert bench.floor_target_check(dict(row, target_ratio=math.nan)) is None
