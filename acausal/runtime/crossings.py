@@ -171,8 +171,8 @@ def locate_flip(t_old: float, samples: np.ndarray, dense: Callable, y_new: np.nd
         step, ``y_new`` at its end).
     narrow : callable, optional
         ``narrow(indices)`` -> ``(flipped, distance)``: a ``flipped`` that looks
-        at those relations only, and for one relation its signed distance to
-        flipping (else None, see :func:`bisect_flip`): the bisection then
+        at those relations only, and the signed distance of the first of them
+        to flip (None: halving only, see :func:`bisect_flip`): the bisection then
         follows the relations that flipped at the sample
         (a relation that flips and flips back between two samples is not seen
         by the sampling either), and a model of many independent parts
@@ -220,8 +220,9 @@ def bisect_flip(lo: float, hi: float, dense: Callable, flipped: Callable, x_hi,
     """Narrow ``[lo, hi]`` (not flipped at lo, flipped at hi with state ``x_hi``) to the flip instant.
 
     The bracket shrinks until it is 4 ulp wide; ``flipped`` decides every trial
-    point.  With ``distance`` (``distance(t, x)``: negative where the one
-    relation watched has not flipped, positive where it has) the trial points
+    point.  With ``distance`` (``distance(t, x)``: negative where no relation
+    watched has flipped, positive where one has: the largest of their signed
+    distances) the trial points
     come from the Illinois variant of regula falsi [1]_, with a plain halving
     every third step, so that a smooth crossing takes about ten trials instead
     of fifty; without it, every step halves.

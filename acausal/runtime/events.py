@@ -27,6 +27,7 @@ from __future__ import annotations
 import copy
 import heapq
 import itertools
+import math
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
@@ -470,6 +471,37 @@ class DiscreteEvaluator:
             if timed:
                 return sign * (d * (lhs - rhs))
             return sign * (d * ((lhs - rhs) + toward * (epsilon * max(floor, abs(lhs), abs(rhs)))))
+
+        return distance
+
+    def distance_to_first_flip(self, system: CompiledSystem, relations, candidates) -> Callable:
+        """``distance(t, x)`` for the first of ``candidates`` to flip: the largest of their
+        :meth:`distance_to_flip` values, from one evaluation of their crossing functions.
+
+        It is positive exactly where one of them has flipped, so that the search of
+        the flip instant takes its trial points from it when several relations flip in
+        one step (twins of one component, or several parts of a storm) instead of
+        halving alone."""
+        if len(candidates) == 1:
+            return self.distance_to_flip(system, relations, candidates[0])
+        few = getattr(system, "crossings_for", None)
+        crossings = few(tuple(sorted(candidates))) if few is not None else system.crossings
+        terms = []
+        for k in candidates:
+            d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])
+            terms.append((2 * k, -1.0 if previous else 1.0, d, 0.0 if timed else toward * self._margins[k],
+                          self._floors[k]))
+
+        def distance(t, x) -> float:
+            raw = crossings(t, x)
+            best = -math.inf
+            for i, sign, d, shift, floor in terms:
+                lhs, rhs = raw[i], raw[i + 1]
+                value = sign * (d * ((lhs - rhs) + shift * max(floor, abs(lhs), abs(rhs)))) if shift \
+                    else sign * (d * (lhs - rhs))
+                if value > best:
+                    best = value
+            return best
 
         return distance
 

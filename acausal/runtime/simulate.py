@@ -872,8 +872,8 @@ class _Run:
         def narrow(candidates):
             def flipped_among(tt, xx):
                 return evaluator.flipped_relations(system, tt, xx, relations, candidates)
-            one = len(candidates) == 1 and self.secant
-            return flipped_among, evaluator.distance_to_flip(system, relations, candidates[0]) if one else None
+            return flipped_among, (evaluator.distance_to_first_flip(system, relations, candidates)
+                                   if self.secant else None)
 
         try:
             while True:

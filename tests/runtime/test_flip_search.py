@@ -66,3 +66,46 @@ def test_a_distance_without_a_clean_sign_change_falls_back_to_halving():
     t, _, hit = bisect_flip(0.0, 1.0, dense, lambda t, x: (0,) if x[0] >= 0.25 else (),
                             np.array([1.0]), lambda t, x: 1.0)
     assert hit == (0,) and abs(t - 0.25) <= 8 * np.finfo(float).eps
+
+
+def test_two_relations_in_one_step_are_searched_on_the_first_to_flip():
+    """Several relations flip in one step: the search follows the largest signed distance
+    (``DiscreteEvaluator.distance_to_first_flip``) to the first flip, with fewer trials than
+    halving and the same bracket."""
+    roots = (0.7, math.log(2.0))  # the second flips first
+
+    def g(k, t):
+        return t - roots[0] if k == 0 else math.exp(t) - 2.0
+
+    def flipped(t, x):
+        return tuple(k for k in (0, 1) if g(k, x[0]) >= 0.0)
+
+    def first_distance(t, x):
+        return max(g(0, x[0]), g(1, x[0]))
+
+    found = {}
+    for name, distance in (("halving", None), ("secant", first_distance)):
+        dense = Counted()
+        t, _, hit = bisect_flip(0.0, 1.0, dense, flipped, np.array([1.0]), distance)
+        found[name] = (t, hit, dense.calls)
+    tol = 4 * np.finfo(float).eps
+    for t, hit, _ in found.values():
+        assert hit == (1,) and min(roots) - tol <= t <= min(roots) + 2 * tol
+    assert found["secant"][2] <= 25 <= 50 <= found["halving"][2]
+
+
+def test_the_first_flip_distance_of_a_model_is_the_largest_of_its_relations():
+    from acausal import simulate, translate
+    from acausal.runtime.events import evaluator_for
+    from examples.coupled_clutches import CoupledClutches
+
+    translation = translate(CoupledClutches())
+    simulate(translation)
+    evaluator = evaluator_for(translation)
+    system = next(iter(translation.systems.values()))
+    relations = tuple(False for _ in evaluator.relations)
+    candidates = tuple(k for k, r in enumerate(evaluator.relations) if not r.is_time_event)[:3]
+    x = np.full(len(system.states), 0.3)
+    for t in (0.0, 0.25, 0.5):
+        each = [evaluator.distance_to_flip(system, relations, k)(t, x) for k in candidates]
+        assert evaluator.distance_to_first_flip(system, relations, candidates)(t, x) == max(each)
