@@ -30,7 +30,8 @@ from .algebraic import AlgebraicResult, solve_blocks
 from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .cache import ModelCache
-from .codegen import GeneratedCode, generate, needed_steps, vectorised_of
+from .codegen import GeneratedCode, generate, needed_steps
+from .generated import vectorised_of
 from .flatten import FlatEquation, FlatVariable
 from .partition import PartitionedModel
 from .structure import StructuralResult, _incidence, analyse, check_balance

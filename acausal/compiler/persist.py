@@ -37,7 +37,8 @@ from ..language import real_symbol
 from ..tables import TableFunction, _table_class
 from .algebraic import NewtonSolve
 from .cache import ModelCache
-from .codegen import GeneratedCode, load_make
+from .codegen import GeneratedCode
+from .generated import load_make
 from .diskcache import DiskCache, MemoryCache, cache_folder, disk_cache_enabled, model_key
 from .clusters import Clustering
 from .flatten import FlatModel, Origin

@@ -26,7 +26,8 @@ from hypothesis import strategies as st
 from acausal import simulate, translate
 from acausal.compiler.algebraic import Assign, LinearSolve
 from acausal.compiler.clusters import ComposedSystem
-from acausal.compiler.codegen import generate, vectorised, vectorised_of
+from acausal.compiler.codegen import generate
+from acausal.compiler.generated import vectorised, vectorised_of
 from acausal.compiler.modes import ModeSystem
 from acausal.compiler.timing import time_event_roots
 from acausal.language import real_symbol, time

@@ -1,0 +1,582 @@
+"""What generated code calls, and loading it: the part of code generation a run needs.
+
+The code :mod:`~acausal.compiler.codegen` prints calls a few helpers: the
+guarded versions of the functions that overflow (:data:`FLOAT_FUNCTIONS`),
+Newton's method for torn algebraic loops (:func:`newton_solve`) and the
+dense linear solve (``_solve``).  :func:`load_make` executes a generated
+source with them; :func:`vectorised` derives the numpy version of a
+generated function from its text.  None of this needs sympy: a compiled
+model loaded from its generated source (the persistent cache, a sweep's
+bundle) runs with this module and numpy alone.
+"""
+
+from __future__ import annotations
+
+import ast
+import itertools
+import math
+import weakref
+from typing import Callable
+
+import numpy as np
+
+from ..errors import SolverError
+
+__all__ = ["FLOAT_FUNCTIONS", "newton_solve", "load_make", "vectorised", "vectorised_of"]
+
+
+# -- floating-point semantics for the functions that overflow --------------------------------------
+#
+# Python's ``math.exp(1000.0)`` and ``1e200 ** 2`` raise OverflowError where IEEE 754 arithmetic
+# (and ``1e200 * 1e200``) gives an infinity.  The generated code calls these wrappers instead:
+# the same ``math`` function, bit for bit, whenever it returns, and the infinity of the right
+# sign when it overflows.  Other errors (``math.log(0.0)``, ``0.0 ** -1``) are left as they are.
+
+def _exp(x):
+    try:
+        return math.exp(x)
+    except OverflowError:
+        return math.inf
+
+
+def _expm1(x):
+    try:
+        return math.expm1(x)
+    except OverflowError:
+        return math.inf
+
+
+def _sinh(x):
+    try:
+        return math.sinh(x)
+    except OverflowError:
+        return math.copysign(math.inf, x)
+
+
+def _cosh(x):
+    try:
+        return math.cosh(x)
+    except OverflowError:
+        return math.inf
+
+
+def _gamma(x):
+    try:
+        return math.gamma(x)
+    except OverflowError:  # large x, or x next to zero (gamma ~ 1/x)
+        return math.copysign(math.inf, x)
+
+
+def _lgamma(x):
+    try:
+        return math.lgamma(x)
+    except OverflowError:
+        return math.inf
+
+
+def _pow(a, b):
+    """``a ** b``, an infinity where it overflows (negative for a negative base and an odd
+    integer exponent, as IEEE's pow)."""
+    try:
+        return a ** b
+    except OverflowError:
+        b = float(b)
+        return -math.inf if a < 0 and b.is_integer() and b % 2 == 1 else math.inf
+
+
+#: The names the generated code calls for these functions -> their implementations (bound in
+#: the namespace of every generated source).
+FLOAT_FUNCTIONS = {"_exp": _exp, "_expm1": _expm1, "_sinh": _sinh, "_cosh": _cosh, "_gamma": _gamma,
+                   "_lgamma": _lgamma, "_pow": _pow}
+
+
+def newton_solve(residual: Callable, guess: np.ndarray, what: str, tol: float = 1e-10,
+                 max_iter: int = 50, memo: dict | None = None) -> np.ndarray:
+    """Newton's method with a finite-difference Jacobian and step halving.
+
+    Converged where the residual is within ``tol`` of the unknowns' scale
+    and so is the step the last Jacobian would take from there. ``memo``
+    (one per torn block, kept by the generated code) holds the last
+    Jacobian between calls, so that a guess whose residual is already small
+    is judged by its step too: an integrator's finite-difference Jacobian
+    perturbs a state by 1e-12 and must see the unknowns follow.
+
+    A single unknown that Newton cannot bring to a root (a piecewise-linear
+    residual whose branch through the guess has ended, as in an amplifier
+    with positive feedback at its switching threshold) is found by bracketing
+    instead: :func:`_bracketed_root`, the root nearest to the guess.
+    """
+    z = np.array(guess, dtype=float)
+    r = np.asarray(residual(z), dtype=float)
+    start = (z.copy(), r.copy())
+    J = memo.get("J") if memo is not None else None
+    if J is not None and J.shape != (z.size, z.size):
+        J = None
+    polished = 0
+    for _ in range(max_iter):
+        norm = np.max(np.abs(r)) if r.size else 0.0
+        scale = 1.0 + np.max(np.abs(z), initial=0.0)
+        if norm <= tol * scale:
+            # A small residual is not yet a small error where the residual changes
+            # little with the unknowns (a blocking semiconductor: 1 uS, so 1e-10 A is
+            # 0.1 mV): the Newton step the last Jacobian gives must be small too. A few
+            # more iterations at most: beyond them it is round-off of the residual.
+            if J is None or norm == 0.0 or polished >= 3:
+                return z
+            try:
+                estimate = np.linalg.solve(J, -r)
+            except np.linalg.LinAlgError:
+                return z
+            if np.max(np.abs(estimate)) <= tol * scale:
+                return z
+            polished += 1
+        n = z.size
+        J = np.empty((n, n))
+        for k in range(n):
+            h = 1e-7 * max(1.0, abs(z[k]))
+            dz = z.copy()
+            dz[k] += h
+            J[:, k] = (np.asarray(residual(dz), dtype=float) - r) / h
+        if memo is not None:
+            memo["J"] = J
+        try:
+            step = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError as exc:
+            raise SolverError(f"Newton iteration for {what}: singular Jacobian",
+                              hint="the equations may not determine these unknowns here") from exc
+        if np.max(np.abs(step)) <= max(1e-3 * tol * scale, 4.0 * np.spacing(np.max(np.abs(z)))):
+            # a step a thousand times below the tolerance (or below the unknowns' round-off):
+            # z is a root to working precision, and what is left of the residual is the
+            # round-off of its terms (a conducting thyristor's 1e9 S times the ulp of its voltage)
+            return z
+        lam = 1.0
+        for _ in range(30):
+            trial = z + lam * step
+            r_trial = np.asarray(residual(trial), dtype=float)
+            if np.all(np.isfinite(r_trial)) and np.max(np.abs(r_trial)) < norm:
+                break
+            lam *= 0.5
+        z, r = trial, r_trial
+    if z.size == 1:
+        root = _bracketed_root(residual, start[0], start[1], tol)
+        if root is not None:
+            return root
+    raise SolverError(f"Newton iteration for {what} did not converge in {max_iter} iterations "
+                      f"(residual {np.max(np.abs(r)):.3g})",
+                      hint="check start values (they are the initial guesses) of the unknowns named")
+
+
+def _bracketed_root(residual: Callable, z0: np.ndarray, r0: np.ndarray, tol: float) -> np.ndarray | None:
+    """The root of a one-unknown ``residual`` nearest to ``z0``, or None.
+
+    Steps of doubling length go out from ``z0`` in both directions, the same
+    distance each way, until the residual changes sign between two points on
+    one side; bisection then narrows that bracket to a point that meets
+    Newton's tolerance (a sign change across a jump that is not a root is
+    passed over). Slower than Newton, but certain for a continuous residual
+    once a sign change is found.
+    """
+    x0 = float(z0[0])
+    f0 = float(r0[0])
+    if not math.isfinite(f0):
+        return None
+    scale = max(1.0, abs(x0))
+    near = {+1: (x0, f0), -1: (x0, f0)}
+    distance = 1e-6 * scale
+    while distance <= 1e12 * scale:
+        for direction in (+1, -1):
+            a, fa = near[direction]
+            b = x0 + direction * distance
+            fb = float(residual(np.array([b]))[0])
+            if not math.isfinite(fb):
+                continue
+            near[direction] = (b, fb)
+            if fa == 0.0:
+                return np.array([a])
+            if (fa < 0.0) != (fb < 0.0):
+                root = _bisect(residual, a, fa, b, fb, tol)
+                if root is not None:
+                    return np.array([root])
+        distance *= 2.0
+    return None
+
+
+def _bisect(residual: Callable, a: float, fa: float, b: float, fb: float, tol: float) -> float | None:
+    """A root in the bracket ``[a, b]`` (``fa``, ``fb`` of opposite signs) to Newton's
+    tolerance, or None where the sign change is a jump."""
+    for _ in range(200):
+        m = 0.5 * (a + b)
+        fm = float(residual(np.array([m]))[0])
+        if abs(fm) <= tol * (1.0 + abs(m)):
+            return m
+        if m in (a, b) or not math.isfinite(fm):
+            return None
+        if (fm < 0.0) == (fa < 0.0):
+            a, fa = m, fm
+        else:
+            b, fb = m, fm
+    return None
+
+
+def _linalg_error(what: str):
+    return SolverError(f"singular linear system in {what}",
+                       hint="the equations do not determine these unknowns at these values (in this "
+                            "discrete state): a constraint may be imposed twice, e.g. a closed loop "
+                            "of rigid connections, or two elements fix the same quantity")
+
+
+def _dense_solve(A, b, what):
+    try:
+        return np.linalg.solve(A, b)
+    except np.linalg.LinAlgError:
+        raise _linalg_error(what) from None
+
+
+def load_make(source: str, functions: dict, name: str) -> Callable:
+    """The ``make(p)`` factory of generated ``source`` (which names its system ``name``),
+    with the table functions it calls (``functions``: name in the code -> implementation)."""
+    namespace = {"math": math, "np": np, "_newton": newton_solve, "_linalg_error": _linalg_error,
+                 "_solve": _dense_solve, **FLOAT_FUNCTIONS}
+    namespace.update(functions)
+    exec(compile(source, f"<acausal {name}>", "exec"), namespace)
+    return namespace["make"]
+
+
+# -- numpy versions of the generated functions ----------------------------------------------------
+
+#: ``math`` functions that numpy computes with the same rounding for every argument (exact
+#: or correctly rounded in both).  Every other function is called element by element.
+_EXACT_NUMPY = {"copysign": "copysign", "fabs": "abs", "sqrt": "sqrt"}
+
+
+class _NotVectorisable(Exception):
+    """A construct :func:`vectorised` does not translate."""
+
+
+def vectorised(function: Callable, source: str) -> Callable | None:
+    """A numpy version of the generated function ``function`` (``crossings`` or ``outputs``).
+
+    ``f(t, X)`` takes ``m`` times and the states as the rows of ``X`` (``n x m``) and
+    returns a ``k x m`` array whose column ``j`` equals, bit for bit, the tuple
+    ``function(t[j], X[:, j])`` as floats.  It is derived from the function's own
+    generated text (``source``, the system's :attr:`GeneratedCode.source`, which stays
+    as it is) and bound to the same parameter values:
+
+    * ``+ - * /``, comparisons, ``abs``, ``copysign``, ``sqrt`` are numpy's: these round
+      the same on arrays as on scalars;
+    * ``a if c else b`` is ``np.where(c, a, b)`` (both branches are evaluated), ``min``
+      and ``max`` pick as Python's do;
+    * every other function (``math.sin``, ``_exp``, powers, tables) is called element by
+      element, on floats: numpy's own ``sin`` and ``**`` can differ from the C library's
+      in the last bit.
+
+    Where the scalar function raises, or gives a value that is not finite, ``f`` may
+    raise or give a non-finite value: callers evaluate such columns with ``function``
+    itself, and call ``f`` under ``np.errstate(divide="raise", invalid="raise")`` so
+    that an operation Python's floats could refuse (``x / 0.0``) makes it raise too.
+    None when the function holds a construct that is not translated (a Newton
+    iteration, a linear system of three or more unknowns).
+    """
+    name = function.__name__
+    key = (source, name)
+    translated = _VECTOR_CODE.get(key, _MISSING)
+    if translated is _MISSING:
+        # the translation depends on the text only: other parameter values (a sweep,
+        # a rebound translation) bind the same code to their own closure
+        translated = _VECTOR_CODE[key] = _vector_code(source, name, function.__code__.co_filename)
+        while len(_VECTOR_CODE) > _VECTOR_CODE_SIZE:
+            _VECTOR_CODE.pop(next(iter(_VECTOR_CODE)))
+    if translated is None:
+        return None
+    code, constants = translated
+    namespace = dict(function.__globals__)
+    cells = function.__closure__ or ()
+    namespace.update(zip(function.__code__.co_freevars, (cell.cell_contents for cell in cells)))
+    namespace.update(_VECTOR_HELPERS)
+    namespace.update(constants)
+    exec(code, namespace)
+    return namespace[f"{name}_many"]
+
+
+#: Translated numpy functions by (source, name): a code object and the constants it reads,
+#: or None where the function cannot be translated.  Bounded, oldest out first.
+_VECTOR_CODE: dict = {}
+_VECTOR_CODE_SIZE = 256
+_MISSING = object()
+
+
+#: generated function -> its numpy version (or False): made once per compiled function
+_VECTORISED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def vectorised_of(system, name: str) -> Callable | None:
+    """The numpy version (:func:`vectorised`) of ``system.<name>`` (``crossings``,
+    ``outputs``) of a system compiled from its own :class:`GeneratedCode`, made once
+    per function; None where the code does not allow one."""
+    function = getattr(system, name)
+    try:
+        found = _VECTORISED.get(function)
+    except TypeError:  # not weakly referable: not a generated function
+        return None
+    if found is None:
+        code = getattr(system, "code", None)
+        source = getattr(code, "source", None)
+        found = (vectorised(function, source) if isinstance(source, str) else None) or False
+        try:
+            _VECTORISED[function] = found
+        except TypeError:
+            pass
+    return found or None
+
+
+def _vector_code(source: str, name: str, filename: str):
+    """The compiled module defining ``<name>_many`` and its constants, or None (see
+    :func:`vectorised`)."""
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return None
+    make = next((node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"),
+                None)
+    found = None if make is None else next(
+        (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
+    if found is None or not found.body or not isinstance(found.body[-1], ast.Return):
+        return None
+    varying = _varying_names(found.body)
+    constants: dict = {}
+    try:
+        body = [_vector_statement(stmt, k, varying, constants) for k, stmt in enumerate(found.body)]
+    except _NotVectorisable:
+        return None
+    module = ast.parse(f"def {name}_many(t, x):\n    pass\n")
+    module.body[0].body = body
+    ast.fix_missing_locations(module)
+    return compile(module, filename.rstrip(">") + f" {name}_many>", "exec"), constants
+
+
+def _varying_names(body) -> set[str]:
+    """The names that vary from instant to instant: ``t``, the states, and what is
+    computed from them (the others are parameters and constants)."""
+    varying = {"t"}
+    for stmt in body:
+        if isinstance(stmt, ast.Assign):
+            reads = {n.id for n in ast.walk(stmt.value) if isinstance(n, ast.Name)}
+            if reads & varying or (isinstance(stmt.value, ast.Name) and stmt.value.id == "x"):
+                for target in stmt.targets:
+                    varying |= {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
+    return varying
+
+
+def _vector_statement(stmt, position: int, varying: set[str], constants: dict):
+    """One statement of a generated function, for arrays (``constants``: names it binds)."""
+    if isinstance(stmt, ast.Assign) and len(stmt.targets) == 1:
+        target = stmt.targets[0]
+        if isinstance(target, ast.Name):
+            return ast.Assign([target], _VectorExpression().visit(stmt.value))
+        # the states, ``a, b, = x``: the rows of X
+        if (position == 0 and isinstance(target, ast.Tuple) and isinstance(stmt.value, ast.Name)
+                and stmt.value.id == "x" and all(isinstance(e, ast.Name) for e in target.elts)):
+            return stmt
+        raise _NotVectorisable
+    if (isinstance(stmt, ast.If) and not stmt.orelse and len(stmt.body) == 1
+            and isinstance(stmt.body[0], ast.Raise)):
+        # a singular system: raise if any column is singular (the caller then evaluates
+        # column by column, and the scalar function raises where it does)
+        return ast.If(_call("_v_any", _VectorExpression().visit(stmt.test)), stmt.body, [])
+    if isinstance(stmt, ast.Return) and isinstance(stmt.value, ast.Tuple):
+        # the values that vary fill their rows at once, the constants theirs
+        items = [_VectorExpression().visit(e) for e in stmt.value.elts]
+        moving = [any(isinstance(n, ast.Name) and n.id in varying for n in ast.walk(e))
+                  for e in stmt.value.elts]
+        rows = [[k for k, m in enumerate(moving) if m], [k for k, m in enumerate(moving) if not m]]
+        constants["_v_varying_rows"] = np.array(rows[0], dtype=np.intp)
+        constants["_v_constant_rows"] = np.array(rows[1], dtype=np.intp)
+        return ast.Return(_call(
+            "_v_rows", *[ast.Tuple([items[k] for k in r], ast.Load()) for r in rows],
+            ast.Name("_v_varying_rows", ast.Load()), ast.Name("_v_constant_rows", ast.Load()),
+            ast.Name("t", ast.Load())))
+    raise _NotVectorisable
+
+
+def _call(name, *args) -> ast.Call:
+    func = ast.Name(name, ast.Load()) if isinstance(name, str) else name
+    return ast.Call(func, list(args), [])
+
+
+class _VectorExpression(ast.NodeTransformer):
+    """Rewrites one generated expression for arrays (see :func:`vectorised`)."""
+
+    _ALLOWED = (ast.Name, ast.Constant, ast.Load, ast.BinOp, ast.UnaryOp, ast.Compare, ast.IfExp,
+                ast.Call, ast.Attribute, ast.BoolOp, ast.Add, ast.Sub, ast.Mult, ast.Div, ast.USub,
+                ast.UAdd, ast.Not, ast.Eq, ast.NotEq, ast.Lt, ast.LtE, ast.Gt, ast.GtE, ast.And, ast.Or)
+
+    def generic_visit(self, node):
+        if not isinstance(node, self._ALLOWED):
+            raise _NotVectorisable
+        return super().generic_visit(node)
+
+    def visit_Attribute(self, node):  # noqa: N802 - ast API
+        # constants of math (math.pi); a function of math is handled in visit_Call
+        if (isinstance(node.value, ast.Name) and node.value.id == "math"
+                and node.attr in ("pi", "e", "tau", "inf")):
+            return node
+        raise _NotVectorisable
+
+    def visit_BinOp(self, node):  # noqa: N802
+        node.left, node.right = self.visit(node.left), self.visit(node.right)
+        if isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+            return node
+        if isinstance(node.op, ast.Pow):
+            return _call("_v_map", ast.Name("_v_pow", ast.Load()), node.left, node.right)
+        raise _NotVectorisable
+
+    def visit_Compare(self, node):  # noqa: N802
+        if len(node.ops) != 1:
+            raise _NotVectorisable
+        return self.generic_visit(node)
+
+    def visit_BoolOp(self, node):  # noqa: N802
+        for value in node.values:
+            if not isinstance(value, (ast.Compare, ast.BoolOp, ast.UnaryOp)):
+                raise _NotVectorisable  # ``a and b`` of numbers is one of them, not a Boolean
+        values = [self.visit(v) for v in node.values]
+        return _call("_v_and" if isinstance(node.op, ast.And) else "_v_or", *values)
+
+    def visit_UnaryOp(self, node):  # noqa: N802
+        node = self.generic_visit(node)
+        if isinstance(node.op, ast.Not):
+            return _call("_v_not", node.operand)
+        return node
+
+    def visit_IfExp(self, node):  # noqa: N802
+        return _call("_v_where", self.visit(node.test), self.visit(node.body), self.visit(node.orelse))
+
+    def visit_Call(self, node):  # noqa: N802
+        if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
+            raise _NotVectorisable
+        args = [self.visit(a) for a in node.args]
+        func = node.func
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "math":
+            exact = _EXACT_NUMPY.get(func.attr)
+            if exact is not None:
+                return _call(ast.Attribute(ast.Name("np", ast.Load()), exact, ast.Load()), *args)
+            return _call("_v_map", func, *args)
+        if isinstance(func, ast.Name):
+            if func.id == "abs" and len(args) == 1:
+                return _call("_v_abs", *args)
+            if func.id in ("min", "max") and len(args) >= 2:
+                return _call(f"_v_{func.id}", *args)
+            if func.id.startswith("_f_") or func.id in FLOAT_FUNCTIONS:  # a table function, _exp ...
+                return _call("_v_map", func, *args)
+        raise _NotVectorisable
+
+
+def _is_array(value) -> bool:
+    return isinstance(value, np.ndarray) and value.ndim > 0
+
+
+def _v_map(function, *args):
+    """``function`` element by element, on Python numbers (an element that fails gives NaN)."""
+    arrays = [a for a in args if isinstance(a, np.ndarray) and a.ndim]
+    if not arrays:
+        return function(*args)  # no array among the arguments: the scalar code itself
+    shape = arrays[0].shape
+    if len(shape) == 1 and all(a.shape == shape for a in arrays):
+        lists = [a.tolist() if isinstance(a, np.ndarray) and a.ndim
+                 else itertools.repeat(a.item() if isinstance(a, np.ndarray) else a) for a in args]
+    else:
+        broadcast = np.broadcast_arrays(*[np.asarray(a) for a in args])
+        shape = broadcast[0].shape
+        lists = [a.ravel().tolist() for a in broadcast]
+    try:
+        return np.fromiter(map(function, *lists), float, math.prod(shape)).reshape(shape)
+    except (ArithmeticError, ValueError, TypeError):
+        pass
+    lists = [list(itertools.islice(items, math.prod(shape))) for items in lists]
+    values = []
+    for items in zip(*lists):
+        try:
+            values.append(float(function(*items)))
+        except (ArithmeticError, ValueError, TypeError):
+            values.append(math.nan)
+    return np.array(values, dtype=float).reshape(shape)
+
+
+def _v_pow(a, b):
+    return a ** b
+
+
+def _v_where(test, a, b):
+    if not (_is_array(test) or _is_array(a) or _is_array(b)):
+        return a if test else b
+    return np.where(test, a, b)
+
+
+def _v_abs(a):
+    return np.abs(a) if _is_array(a) else abs(a)
+
+
+def _v_max(first, *rest):
+    """Python's ``max(a, b, ...)``: a later item replaces the current one only if greater."""
+    if not any(_is_array(a) for a in (first, *rest)):
+        return max(first, *rest)
+    out = first
+    for item in rest:
+        out = np.where(item > out, item, out)
+    return out
+
+
+def _v_min(first, *rest):
+    """Python's ``min(a, b, ...)``."""
+    if not any(_is_array(a) for a in (first, *rest)):
+        return min(first, *rest)
+    out = first
+    for item in rest:
+        out = np.where(item < out, item, out)
+    return out
+
+
+def _v_and(*values):
+    out = values[0]
+    for value in values[1:]:
+        out = np.logical_and(out, value)
+    return out
+
+
+def _v_or(*values):
+    out = values[0]
+    for value in values[1:]:
+        out = np.logical_or(out, value)
+    return out
+
+
+def _v_not(value):
+    return np.logical_not(value)
+
+
+def _v_any(value) -> bool:
+    return bool(np.any(value))
+
+
+def _v_rows(varying, constant, varying_rows, constant_rows, t) -> np.ndarray:
+    """The returned values as the rows of one float array: the values that vary with
+    the instant (arrays) and the constants (each filling its row)."""
+    m = np.shape(t)[0]
+    out = np.empty((len(varying) + len(constant), m))
+    try:
+        if varying:
+            block = np.array(varying, dtype=float)
+            if block.shape != (len(varying), m):
+                raise ValueError("a value expected to vary is a constant")
+            out[varying_rows] = block
+        if constant:
+            out[constant_rows] = np.array(constant, dtype=float)[:, None]
+    except (ValueError, TypeError):  # not the shapes expected: one row at a time
+        for k, item in zip((*varying_rows.tolist(), *constant_rows.tolist()), (*varying, *constant)):
+            out[k] = item
+    return out
+
+
+_VECTOR_HELPERS = {"_v_map": _v_map, "_v_pow": _v_pow, "_v_where": _v_where, "_v_abs": _v_abs,
+                   "_v_max": _v_max, "_v_min": _v_min, "_v_and": _v_and, "_v_or": _v_or, "_v_not": _v_not,
+                   "_v_any": _v_any, "_v_rows": _v_rows, "np": np, "math": math}
