@@ -19,7 +19,7 @@ import dataclasses
 import time as _time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterator, Mapping, Sequence
+from typing import Any, Callable, ClassVar, Iterator, Mapping, Sequence
 
 import sympy as sp
 
@@ -199,6 +199,15 @@ class ModeSystem:
         if self.structure is None:
             return tuple(self.loaded_derivatives or ())
         return tuple(self.structure.derivatives)
+
+    #: a system of the whole model has no independent parts (a
+    #: :class:`~acausal.compiler.clusters.ComposedSystem` has)
+    parts: ClassVar[None] = None
+
+    def crossings_for(self, relations: tuple[int, ...]) -> Callable:
+        """A ``crossings`` that computes at least the values of ``relations``: here
+        every relation's (the generated function is one)."""
+        return self.crossings
 
     def vectorised(self, name: str) -> Callable | None:
         """The numpy version of ``crossings`` or ``outputs``: ``f(t, X)`` for ``m``

@@ -68,6 +68,13 @@ class CompiledSystem(Protocol):
     def values(self, t: float, x) -> dict[str, float]:
         """Every state and unknown by name at ``(t, x)``."""
 
+    #: the independent parts' own systems (a model compiled part by part), or None
+    parts: tuple | None
+
+    def crossings_for(self, relations: tuple[int, ...]) -> Callable:
+        """A ``crossings`` that computes at least the values of ``relations`` (the
+        model's indices): a system of parts calls only the parts that own them."""
+
     def vectorised(self, name: str) -> Callable | None:
         """The numpy form of ``crossings`` or ``outputs`` (``f(t, X)`` for many
         times at once, bit for bit the scalar function's values), or None."""

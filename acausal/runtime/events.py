@@ -430,8 +430,7 @@ class DiscreteEvaluator:
         """
         if not watched:
             return ()
-        few = getattr(system, "crossings_for", None) if len(watched) <= _FEW_RELATIONS else None
-        raw = (few(watched) if few is not None else system.crossings)(t, x)
+        raw = (system.crossings_for(watched) if len(watched) <= _FEW_RELATIONS else system.crossings)(t, x)
         if len(watched) >= _VECTORISE_FROM:
             return self._flipped_vectorised(raw, relations, watched)
         # Relation.holds_with_hysteresis, inlined: g = lhs - rhs moved by the margin
@@ -460,8 +459,7 @@ class DiscreteEvaluator:
         relation keeps its value in ``relations`` and positive once it has
         flipped (for the search of the flip instant)."""
         d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])
-        few = getattr(system, "crossings_for", None)
-        crossings = few((k,)) if few is not None else system.crossings
+        crossings = system.crossings_for((k,))
         epsilon, floor, i = self._margins[k], self._floors[k], 2 * k
         sign = -1.0 if previous else 1.0
 
@@ -484,8 +482,7 @@ class DiscreteEvaluator:
         halving alone."""
         if len(candidates) == 1:
             return self.distance_to_flip(system, relations, candidates[0])
-        few = getattr(system, "crossings_for", None)
-        crossings = few(tuple(sorted(candidates))) if few is not None else system.crossings
+        crossings = system.crossings_for(tuple(sorted(candidates)))
         terms = []
         for k in candidates:
             d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])

@@ -289,9 +289,8 @@ def fill_plan(system: CompiledSystem, index: dict[str, int], memo: dict | None =
     composed system's plan is put together from its parts' (kept in ``memo``
     by part, with the part).
     """
-    parts = getattr(system, "parts", None)
-    if parts is not None:
-        return _composed_plan(parts, index, {} if memo is None else memo)
+    if system.parts is not None:
+        return _composed_plan(system.parts, index, {} if memo is None else memo)
     own = list(system.states) + list(system.unknowns)
     position = {n: k for k, n in enumerate(own)}
     pairs = [(index[n], k) for k, n in enumerate(own) if n in index]

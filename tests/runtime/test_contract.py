@@ -135,3 +135,16 @@ def test_the_model_data_loads_where_sympy_cannot_be_imported(tmp_path):
                                                               theirs.text)
         for g in (-1.0, 0.0, 1e-12, 1.0):
             assert mine.holds_with_hysteresis(g, True, 1e-10) == theirs.holds_with_hysteresis(g, True, 1e-10)
+
+
+def test_the_runtime_does_not_tell_system_kinds_apart_by_probing():
+    """Whole-model and composed systems answer the same contract: no getattr probing of
+    ``parts`` or ``crossings_for`` in the runtime."""
+    found = []
+    for path in sorted(RUNTIME.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (isinstance(node, ast.Call) and getattr(node.func, "id", None) in ("getattr", "hasattr")
+                    and len(node.args) >= 2 and isinstance(node.args[1], ast.Constant)
+                    and node.args[1].value in ("parts", "crossings_for", "vectorised")):
+                found.append(f"{path.name}:{node.lineno}")
+    assert not found

@@ -103,6 +103,11 @@ def _system(steps, crossings, unknowns, states=("x1", "x2"), parameters=("k",), 
 class _Compiled(types.SimpleNamespace):
     """The stand-in's numpy forms, as a ModeSystem gives them (from its generated text)."""
 
+    parts = None
+
+    def crossings_for(self, relations):
+        return self.crossings
+
     def vectorised(self, name):
         return vectorised_of(self, name)
 
@@ -224,6 +229,11 @@ class _Fixed:
     def crossings(self, t, x):
         return tuple(self.columns[:, int(t)].tolist())
 
+    def crossings_for(self, relations):
+        return self.crossings
+
+    parts = None
+
     def vectorised(self, name):
         return None  # the relations are decided from the scalar function's values, collected
 
@@ -334,6 +344,11 @@ def test_first_flip_raises_where_the_scalar_loop_does_and_only_there():
                 raise ZeroDivisionError("at the 5th sample")
             value = 1.0 if t >= self.flip_at else -1.0
             return tuple([value, 0.0] * len(_RELATIONS))
+
+        def crossings_for(self, relations):
+            return self.crossings
+
+        parts = None
 
         def vectorised(self, name):
             return None
