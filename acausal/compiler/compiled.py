@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 from ..attributes import Experiment, StateSelect
 
-__all__ = ["FlatVariable", "FlatParameter", "RelationData", "ClockData", "DelayData", "ModelData", "EXACT_MARGIN"]
+__all__ = ["FlatVariable", "FlatParameter", "RelationData", "ClockData", "DelayData", "ModelData", "DiscreteProgram",
+           "EXACT_MARGIN"]
 
 #: The relative margin of a relation free of integration noise (``RelationData.is_exact``):
 #: round-off of its sides, no more.
@@ -243,3 +244,30 @@ class ModelData:
             if hint is not None and hint not in out:
                 out.append(hint)
         return tuple(out)
+
+
+@dataclass(frozen=True)
+class DiscreteProgram:
+    """The compiled discrete part of a model.
+
+    Attributes
+    ----------
+    equations : tuple
+        ``(variable, argument names, function, origin)`` per discrete
+        equation, in evaluation order; ``function(*values of the arguments)``.
+    impure_sites : int
+        How many call sites of impure functions the equations have.
+    reinits : tuple
+        ``(reinit, fire arguments, fire function, value arguments, value
+        function)`` per ``reinit``.
+    terminations : tuple
+        ``(terminate, arguments, fire function)`` per ``terminate``.
+    asserts : tuple
+        ``(assert, arguments, condition function)`` per ``assert``.
+    """
+
+    equations: tuple[tuple[str, list[str], Callable, Any], ...]
+    impure_sites: int
+    reinits: tuple
+    terminations: tuple
+    asserts: tuple

@@ -13,40 +13,13 @@ state.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Callable
 
 from ..functions import ImpureFunction, impure_applications
+from .compiled import DiscreteProgram
 from .codegen import compile_functions
 
 __all__ = ["DiscreteProgram", "compile_discrete", "ImpureSite"]
-
-
-@dataclass(frozen=True)
-class DiscreteProgram:
-    """The compiled discrete part of a model.
-
-    Attributes
-    ----------
-    equations : tuple
-        ``(variable, argument names, function, origin)`` per discrete
-        equation, in evaluation order; ``function(*values of the arguments)``.
-    impure_sites : int
-        How many call sites of impure functions the equations have.
-    reinits : tuple
-        ``(reinit, fire arguments, fire function, value arguments, value
-        function)`` per ``reinit``.
-    terminations : tuple
-        ``(terminate, arguments, fire function)`` per ``terminate``.
-    asserts : tuple
-        ``(assert, arguments, condition function)`` per ``assert``.
-    """
-
-    equations: tuple[tuple[str, list[str], Callable, Any], ...]
-    impure_sites: int
-    reinits: tuple
-    terminations: tuple
-    asserts: tuple
 
 
 def _names(expr) -> list[str]:

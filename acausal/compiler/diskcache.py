@@ -72,7 +72,6 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-import sympy as sp
 
 __all__ = ["DiskCache", "MemoryCache", "cache_folder", "cache_key", "disk_cache_enabled", "engine_version",
            "key_file", "model_key", "MAX_ENTRY_BYTES", "MAX_EQUATIONS"]
@@ -274,12 +273,8 @@ def engine_version() -> str:
     """
     global _ENGINE
     if _ENGINE is None:
-        try:
-            from importlib.metadata import version
+        from .. import __version__  # the package's own (importlib.metadata costs a warm command 15 ms)
 
-            __version__ = version("acausal")
-        except Exception:  # not installed (run from a checkout): the sources decide alone
-            __version__ = "unknown"
         root = Path(__file__).resolve().parent.parent
         digest = hashlib.sha256(f"acausal {__version__} format {FORMAT}".encode())
         for path in sorted(root.rglob("*.py")):
@@ -309,6 +304,7 @@ def model_key(flat, demand, clustered: bool, redundant_constraints: str = "relax
 
     Returns None for models of more than :data:`MAX_EQUATIONS` equations.
     """
+    import sympy as sp  # here only: loading an entry needs no sympy (acausal.compiler.saved)
     if len(flat.equations) > MAX_EQUATIONS:
         return None
     digest = hashlib.sha256()

@@ -214,6 +214,53 @@ class PersistentSystems:
             return bind_start_values(system, cache.parameters.symbols)
         return self._load(entry, cache, build)
 
+    # -- a run saved whole (acausal.compiler.saved) ------------------------------
+
+    def saved(self) -> "SavedModel | str":
+        """What a warm command needs to run this model again without the compiler
+        (:class:`~acausal.compiler.saved.SavedModel`), or why it cannot be saved.
+
+        Saved are models whose run needs no more than continuous systems of the
+        whole model and time events; the others (discrete equations, when-clauses,
+        sample clocks, delays, tables, independent parts compiled apart, an
+        output demand, homotopy) are translated by every command, as before.
+        """
+        from .saved import SavedModel
+
+        flat, partitioned = self.flat, self.partitioned
+        reasons = [
+            (self.demand is not None, "an output demand"),
+            (bool(partitioned.discrete_equations), "discrete equations"),
+            (bool(flat.hybrid.reinits or flat.hybrid.asserts or flat.hybrid.terminations), "when-clauses"),
+            (bool(partitioned.clocks), "sample clocks"),
+            (bool(flat.delays), "delay()"),
+            (bool(partitioned.held_variables), "discrete Reals"),
+            (flat.homotopy is not None, "homotopy()"),
+            (bool(self.parts or self.initial_parts), "independent parts"),
+        ]
+        for found, what in reasons:
+            if found:
+                return f"the model has {what}"
+        roots, held = self.time_events()
+        if held:
+            return "the model has time events at held values"
+        systems, initial = [], []
+        for system in self.systems.values():
+            if not isinstance(system, ModeSystem) or system.relaxed is not None or system.code is None:
+                return "a discrete state's system is not a plain one"
+            payload = self._payload(system, _mode_fields(system))
+            if payload is None or payload["functions"]:
+                return "a system calls a table function"
+            systems.append(payload)
+        for system in self.initial_systems.values():
+            if not isinstance(system, InitialSystem) or system.code is None:
+                return "an initialization problem is not a plain one"
+            payload = self._payload(system, _initial_fields(system))
+            if payload is None or payload["functions"]:
+                return "an initialization problem calls a table function"
+            initial.append(payload)
+        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots))
+
     # -- to other processes -------------------------------------------------------
 
     def export(self) -> "TranslationBundle":

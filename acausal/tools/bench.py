@@ -481,7 +481,7 @@ def _first_system(translation):
 
 def _own_systems(system) -> tuple:
     """The compiled systems behind ``system``: its clusters' (composed) or itself."""
-    return getattr(system, "parts", (system,))
+    return system.parts or (system,)
 
 
 def _max_difference(t_full, y_full, t_pruned, y_pruned) -> float:

@@ -45,13 +45,15 @@ import threading
 import time
 import traceback
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 from ..errors import AcausalError, SolverError
-from ..language import Model
 from ..runtime.simulate import METHODS
 from .collector import GC_THRESHOLD
 from .modelfile import CommandError, load_model_class, reproducing_models
+
+if TYPE_CHECKING:
+    from ..language import Model
 
 __all__ = ["main", "run", "load_model_class"]
 
@@ -460,8 +462,9 @@ def _parser() -> argparse.ArgumentParser:
 # ---------------------------------------------------------------------------
 
 
-def _simulate(model, **options):
-    """Simulate after checking the times, which ``simulate`` would reject with a ValueError."""
+def _simulate(model, keep: list | None = None, **options):
+    """Simulate after checking the times, which ``simulate`` would reject with a ValueError
+    (``keep``: a list the translation is appended to)."""
     from ..language import Experiment
     from ..runtime.simulate import simulate
 
@@ -477,6 +480,8 @@ def _simulate(model, **options):
     translating = time.perf_counter()
     translation = _translate(model, options.pop("outputs", None), parameters=parameters)
     translating = time.perf_counter() - translating
+    if keep is not None:
+        keep.append(translation)
     from ..runtime.simulate import _structural_notes
 
     for note in _structural_notes(translation, parameters):
@@ -500,6 +505,10 @@ def _count_translation(result, seconds: float) -> None:
 def _cmd_simulate(args) -> int:
     if args.out:
         _check_writable(Path(args.out), "--out")
+    warm = _warm_simulate(args) if _warm_eligible(args) else None
+    if warm is not None:
+        return warm
+    modules_before = set(sys.modules)
     cls = load_model_class(args.model)
     out = Path(args.out) if args.out else Path(f"{cls.__name__}.csv")
     if not args.out:
@@ -529,8 +538,9 @@ def _cmd_simulate(args) -> int:
                 hints.append(f"{m}" + (f" (did you mean {', '.join(close)}?)" if close else ""))
             raise CommandError(f"not a variable of {cls.__name__}: {'; '.join(hints)}")
     # with --signals only what those signals need is computed (effects on demand)
+    kept: list = []
     try:
-        result = _simulate(_instantiate(cls), start_time=args.start_time, stop_time=args.stop_time,
+        result = _simulate(_instantiate(cls), keep=kept, start_time=args.start_time, stop_time=args.stop_time,
                            interval=args.interval, method=args.method, rtol=args.rtol,
                            atol=args.atol, outputs=signals, parameters=_parameters(args.param) or None,
                            start=_parameters(args.start, "--start") or None,
@@ -541,6 +551,13 @@ def _cmd_simulate(args) -> int:
         if result is None:
             print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
             return 130
+    if result.success and kept and _warm_eligible(args):
+        _save_run(args, cls.__name__, kept[0], modules_before)
+    return _write_simulation(args, result, out, cls.__name__, signals, display)
+
+
+def _write_simulation(args, result, out: Path, name: str, signals, display) -> int:
+    """Write the result of ``acausal simulate`` and print its summary; the exit status."""
     earlier = out.exists()
     try:
         if out.parent != Path(""):
@@ -560,14 +577,123 @@ def _cmd_simulate(args) -> int:
         return 130
     budget = _spent_budget(result, args)
     if budget is not None:
-        print(f"error: {budget} stopped the simulation of {cls.__name__} at {_end_time(result)}: "
+        print(f"error: {budget} stopped the simulation of {name} at {_end_time(result)}: "
               f"{result.message}\n  ({out} holds the result up to then)", file=sys.stderr)
         return 1
     if not result.success:
-        print(f"error: the simulation of {cls.__name__} failed: {result.message}\n"
+        print(f"error: the simulation of {name} failed: {result.message}\n"
               f"  (the CSV holds the result up to the failure)", file=sys.stderr)
         return 1
     return 0
+
+
+# -- the warm command: a run saved whole, run without the compiler (acausal.compiler.saved) --------
+
+#: The entry of a saved run in the persistent cache (under the key of its command, :func:`_run_key`).
+_SAVED_RUN = "saved run"
+
+
+def _warm_eligible(args) -> bool:
+    """Whether this ``acausal simulate`` may load a saved run or save one: a run of the model
+    as declared (no --signals, --display-unit, --param, --start) with the persistent cache on."""
+    from ..compiler.diskcache import disk_cache_enabled
+
+    return (args.signals is None and not args.display_unit and not args.param and not args.start
+            and not args.no_disk_cache and disk_cache_enabled())
+
+
+def _run_key(spec: str) -> str:
+    """The key of a saved run: the model file's resolved path and the class asked for (what
+    the file and the modules it imported hold is checked against their digests on load; the
+    engine's version is part of every entry of the cache)."""
+    import hashlib
+
+    filename, _, name = spec.partition(":")
+    text = f"acausal saved run 1\n{sys.version}\n{Path(filename).resolve()}\n{name}"
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _digest(path: str) -> str | None:
+    import hashlib
+
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def _warm_simulate(args) -> int | None:
+    """Run a saved run of this command's model without the compiler (the exit status), or None
+    when there is none, or the model's file or a module it imports has changed since."""
+    import base64
+    import pickle
+
+    from ..compiler.diskcache import DiskCache, cache_folder
+    from ..compiler.saved import LoadedModel
+    from ..runtime.simulate import simulate
+
+    payload = DiskCache(cache_folder(), _run_key(args.model)).load(_SAVED_RUN)
+    if payload is None or any(_digest(path) != digest for path, digest in payload["deps"]):
+        return None
+    # authenticated by the cache (an HMAC under the user's own key): trusted as its code is
+    saved = pickle.loads(base64.b64decode(payload["model"]))
+    name = payload["class"]
+    out = Path(args.out) if args.out else Path(f"{name}.csv")
+    if not args.out:
+        _check_writable(out, "the result")
+
+    def translate_model():
+        # a discrete state the saved run did not visit: the model, translated as a cold command does
+        cls = load_model_class(args.model)
+        return _translate(_instantiate(cls))
+
+    loaded = LoadedModel(saved, translate_model)
+    experiment = saved.data.experiment
+    start = experiment.start_time if args.start_time is None else args.start_time
+    stop = experiment.stop_time if args.stop_time is None else args.stop_time
+    if not stop > start:
+        raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
+    try:
+        result = simulate(loaded, start_time=args.start_time, stop_time=args.stop_time, interval=args.interval,
+                          method=args.method, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps,
+                          timeout=args.timeout)
+    except KeyboardInterrupt as exc:
+        result = getattr(exc, "result", None)
+        if result is None:
+            print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
+            return 130
+    return _write_simulation(args, result, out, name, None, {})
+
+
+def _save_run(args, name: str, translation, modules_before: set) -> None:
+    """Save the run of ``translation`` for the next ``acausal simulate`` of the same model
+    (:meth:`~acausal.compiler.persist.PersistentSystems.saved`), with the digests of the model's
+    file and of every module it imported outside acausal (acausal's own files are the
+    engine's version)."""
+    import base64
+    import pickle
+
+    from ..compiler.diskcache import DiskCache, cache_folder
+
+    saved = translation.saved()
+    if isinstance(saved, str):
+        return  # the model needs the compiler at run time: every command translates it
+    package = Path(__file__).resolve().parents[1]
+    outside = {Path(p).resolve() for p in {sys.prefix, sys.base_prefix, sys.exec_prefix}}
+    deps = []
+    for module in sorted(set(sys.modules) - modules_before):
+        filename = getattr(sys.modules.get(module), "__file__", None)
+        if not filename:
+            continue
+        path = Path(filename).resolve()
+        if package in path.parents or any(root in path.parents for root in outside):
+            continue
+        digest = _digest(str(path))
+        if digest is None:
+            return
+        deps.append([str(path), digest])
+    DiskCache(cache_folder(), _run_key(args.model)).store(_SAVED_RUN, {
+        "class": name, "deps": deps, "model": base64.b64encode(pickle.dumps(saved)).decode()})
 
 
 def _display_unit_pairs(pairs: Sequence[str]) -> dict[str, str]:

@@ -15,7 +15,6 @@ import traceback
 from pathlib import Path
 
 from ..errors import AcausalError
-from ..language import Model
 
 __all__ = ["CommandError", "load_model_class", "reproducing_models"]
 
@@ -80,6 +79,8 @@ def _exit_message(exc: SystemExit, path: Path, filename: str) -> str:
 
 def _models_defined(module) -> list[type]:
     """The Model subclasses a module defines (not those it imports), by name."""
+    from ..language import Model  # a model file imports the language anyway
+
     return sorted((obj for obj in vars(module).values()
                    if isinstance(obj, type) and issubclass(obj, Model) and obj is not Model
                    and obj.__module__ == module.__name__),
@@ -113,6 +114,8 @@ def load_model_class(spec: str) -> type:
         ``sys.exit()`` while it is imported), or the class is not there or
         not a Model; the message lists the models the file defines.
     """
+    from ..language import Model  # a model file imports the language anyway
+
     filename, wanted = _split_spec(spec)
     path = Path(filename)
     if path.suffix == ".mo" or (not path.exists() and _is_class_name(spec)):
