@@ -29,6 +29,18 @@ acausal[dask]``), or ``"serial"`` (in this process).  Runs travel in chunks,
 several parameter sets per task, so that the per-task overhead is paid once
 per chunk.
 
+The bundle reaches each worker once; a task carries only its digest and its
+runs' values (a few hundred bytes a run, where the bundle is hundreds of
+kilobytes).  A forked worker of a process pool made here inherits it (the
+pool's initializer: nothing is copied); any other worker process (of a pool
+of the user's, or started by spawn or a fork server) reads it once, from a
+file in the sweep's private temporary folder, and if its workers cannot
+(they run on another machine) it travels with every task instead; a Dask
+cluster holds it as the result of one task.  The runs' values are resolved here while the workers
+run the first chunks, so that this process's share of each run does not add
+to the sweep's wall time.  ``python -m acausal.tools.sweep_bench`` measures
+the overhead per task and how the speed-up follows from it.
+
 What survives: a worker process that dies (the OOM killer, a signal) breaks a
 process pool and fails every task on it; the pool is replaced and the runs
 that had not come back are sent again, and a run that kills its worker twice
@@ -48,7 +60,9 @@ import concurrent.futures
 import dataclasses
 import itertools
 import math
+import multiprocessing
 import os
+import pickle
 import shutil
 import signal
 import sys
@@ -61,6 +75,7 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
+from ..compiler.diskcache import MemoryCache
 from ..compiler.flatten import FlatModel, FlatParameter, _Flattener, tunable_starts_of
 from ..compiler.initial import InitialSystem
 from ..compiler.modes import ModeSystem
@@ -212,16 +227,87 @@ class RunOutcome:
     translated: bool = False
 
 
-#: the bundle a worker process reads, by digest: (base flat model, payload store)
-_WORKER_STATE: dict[str, tuple] = {}
+@dataclasses.dataclass(frozen=True)
+class _Shipped:
+    """What a task carries of the bundle: its digest, and where a worker that lacks it reads it.
+
+    Attributes
+    ----------
+    digest : str
+        The bundle's :attr:`~acausal.compiler.translate.TranslationBundle.digest`,
+        under which a worker process holds it.
+    path : str or None
+        A file holding the bundle pickled, which a worker that does not hold
+        it reads with its first task.
+    """
+
+    digest: str
+    path: str | None = None
 
 
-def _worker_state(bundle: TranslationBundle) -> tuple:
-    found = _WORKER_STATE.get(bundle.digest)
-    if found is None:
-        _WORKER_STATE.clear()  # one sweep at a time per process: the previous bundle goes
-        found = _WORKER_STATE[bundle.digest] = (bundle.unpacked()[0], bundle.store())
-    return found
+class _BundleMissing(Exception):
+    """A worker holds no bundle of the task's digest and cannot read its file (it runs elsewhere)."""
+
+
+@dataclasses.dataclass
+class _Held:
+    """A bundle as a process holds it: its flat model and payload store are made on first use
+    (a worker given the bundle at its start reads it with its first task, whose errors are the
+    task's, instead of breaking the pool)."""
+
+    bundle: TranslationBundle
+    base: FlatModel | None = None
+    store: MemoryCache | None = None
+
+
+#: the bundle this process holds, by digest (one sweep at a time per process)
+_WORKER_STATE: dict[str, _Held] = {}
+#: the threads of a pool of threads read a bundle once, not once each
+_STATE_LOCK = threading.Lock()
+
+
+def _hold(bundle: TranslationBundle) -> _Held:
+    """Hold ``bundle`` in this process, in place of the previous sweep's."""
+    _WORKER_STATE.clear()
+    held = _WORKER_STATE[bundle.digest] = _Held(bundle)
+    return held
+
+
+def _worker_state(bundle: TranslationBundle | _Shipped) -> tuple[TranslationBundle, FlatModel, MemoryCache]:
+    """The bundle of a task, its base flat model and its payload store, read once per process.
+
+    Raises
+    ------
+    _BundleMissing
+        ``bundle`` is a digest this process does not hold, and its file
+        cannot be read here.
+    """
+    held = _WORKER_STATE.get(bundle.digest)
+    if held is None or held.base is None:
+        with _STATE_LOCK:
+            held = _WORKER_STATE.get(bundle.digest)
+            if held is None:
+                held = _hold(bundle if isinstance(bundle, TranslationBundle) else _read_shipped(bundle))
+            if held.base is None:
+                # the store first: a thread that sees the base outside the lock finds both
+                if held.store is None:
+                    held.store = held.bundle.store()
+                held.base = held.bundle.unpacked()[0]
+    return held.bundle, held.base, held.store
+
+
+def _read_shipped(shipped: _Shipped) -> TranslationBundle:
+    """The bundle from the file a pool of the user's reads it from (once per worker process)."""
+    try:
+        if shipped.path is None:
+            raise OSError("the task carries no file of the bundle")
+        with open(shipped.path, "rb") as file:
+            bundle = pickle.load(file)
+    except (OSError, EOFError, pickle.UnpicklingError) as exc:
+        raise _BundleMissing(f"the sweep's bundle cannot be read in this worker: {exc}") from None
+    if not isinstance(bundle, TranslationBundle) or bundle.digest != shipped.digest:
+        raise _BundleMissing(f"{shipped.path} does not hold the sweep's bundle here")
+    return bundle
 
 
 def _compiled_systems(translation: Translation) -> int:
@@ -238,8 +324,8 @@ def _compact(result: SimulationResult, outputs: Sequence[str] | None) -> Simulat
                                column_info={n: i for n, i in result.column_info.items() if n in keep})
 
 
-def _run_one(bundle: TranslationBundle, spec: _RunSpec, outputs, options: dict) -> RunOutcome:
-    base, store = _worker_state(bundle)
+def _run_one(bundle: TranslationBundle | _Shipped, spec: _RunSpec, outputs, options: dict) -> RunOutcome:
+    bundle, base, store = _worker_state(bundle)
     t0 = _time.perf_counter()
     translation = None
     try:
@@ -261,13 +347,16 @@ def _run_one(bundle: TranslationBundle, spec: _RunSpec, outputs, options: dict) 
                       translation._disk is False)
 
 
-def _run_chunk(bundle: TranslationBundle, specs: Sequence[_RunSpec], outputs, options: dict,
+def _run_chunk(bundle: TranslationBundle | _Shipped, specs: Sequence[_RunSpec], outputs, options: dict,
                ledger: str | None = None) -> list[RunOutcome]:
     """A task: several runs in one worker (module level, so that spawned processes find it).
 
-    With a ``ledger`` folder (see :class:`_Ledger`), each run is noted there
-    while it is in progress.
+    ``bundle`` is the bundle itself (in this process, on Dask, or when the
+    workers cannot read its file) or, once the workers hold it, its digest
+    (:class:`_Shipped`).  With a ``ledger`` folder (see :class:`_Ledger`),
+    each run is noted there while it is in progress.
     """
+    _worker_state(bundle)  # before any run is noted: a bundle missing here is the task's error
     outcomes = []
     for spec in specs:
         if ledger is not None:
@@ -278,7 +367,7 @@ def _run_chunk(bundle: TranslationBundle, specs: Sequence[_RunSpec], outputs, op
     return outcomes
 
 
-def _worker_init() -> None:
+def _worker_init(bundle: TranslationBundle | None = None) -> None:
     """The start of every worker process of a pool made here.
 
     Ctrl-C in a terminal reaches every process of the foreground group, but
@@ -286,9 +375,16 @@ def _worker_init() -> None:
     finished): the workers ignore SIGINT.  A forked worker inherits the
     SIGTERM handler of ``acausal sweep``; it gets the default action back, so
     that terminating it ends it.
+
+    ``bundle``: the sweep's, for a forked process, which inherits it with
+    the pool's ``initargs`` (see :func:`_process_pool`); the tasks name it by
+    digest.  A forked process may hold it already, with the code the
+    parent's runs loaded (:func:`sweep`'s pilot runs): that is kept.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if bundle is not None and bundle.digest not in _WORKER_STATE:
+        _hold(bundle)
 
 
 # -- executors ------------------------------------------------------------------------------------
@@ -346,7 +442,11 @@ class _Ledger:
 
     #: in a worker: (folder, process, thread) -> descriptor of its file, for the current sweep's folder
     _files: dict[tuple[str, int, int], int] = {}
+    #: the threads of a pool of threads open their files, and close the previous sweep's, one at a time
+    _opening = threading.Lock()
     _WIDTH = 20
+    #: the file in the folder that holds the bundle, for workers that lack it (see :meth:`_Pool._shipped`)
+    BUNDLE = "bundle.pickle"
 
     def __init__(self) -> None:
         self.folder = tempfile.mkdtemp(prefix="acausal-sweep-")
@@ -358,10 +458,11 @@ class _Ledger:
         try:
             fd = cls._files.get(key)
             if fd is None:
-                for old in [k for k in cls._files if k[0] != folder]:  # one sweep at a time per process
-                    os.close(cls._files.pop(old))
-                fd = cls._files[key] = os.open(os.path.join(folder, f"{key[1]}-{key[2]}"),
-                                               os.O_WRONLY | os.O_CREAT, 0o600)
+                with cls._opening:
+                    for old in [k for k in cls._files if k[0] != folder]:  # one sweep at a time per process
+                        os.close(cls._files.pop(old))
+                    fd = cls._files[key] = os.open(os.path.join(folder, f"{key[1]}-{key[2]}"),
+                                                   os.O_WRONLY | os.O_CREAT, 0o600)
             os.pwrite(fd, (b"" if index is None else str(index).encode()).rjust(cls._WIDTH), 0)
         except OSError:  # the ledger only guides retries; the run goes on without it
             pass
@@ -374,6 +475,8 @@ class _Ledger:
         """
         found = set()
         for name in os.listdir(self.folder):
+            if name == self.BUNDLE:  # not a worker's file: a replacement pool's tasks may still read it
+                continue
             path = os.path.join(self.folder, name)
             try:
                 with open(path, "rb") as file:
@@ -389,10 +492,22 @@ class _Ledger:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-def _process_pool(workers: int, context=None) -> concurrent.futures.ProcessPoolExecutor:
-    """A process pool of ``workers`` made here (its workers leave Ctrl-C to the parent)."""
+def _process_pool(workers: int, context=None,
+                  bundle: TranslationBundle | None = None) -> concurrent.futures.ProcessPoolExecutor:
+    """A process pool of ``workers`` made here (its workers leave Ctrl-C to the parent).
+
+    A forked worker inherits ``bundle`` (see :func:`_worker_init`): nothing
+    is copied.  Any other is given nothing at its start and reads the bundle
+    from the sweep's file with its first task: a spawned process (or one a
+    fork server starts) gets its ``initargs`` through a pipe that the parent
+    writes whole before the child reads it, and should the child die while
+    starting (an import that fails), CPython (3.11 to 3.13) leaves the write
+    of a bundle, far larger than the pipe, blocked for ever.
+    """
+    context = context or multiprocessing.get_context()
+    given = bundle if context.get_start_method() == "fork" else None
     return concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context,
-                                                  initializer=_worker_init)
+                                                  initializer=_worker_init, initargs=(given,))
 
 
 def _terminate(pool: concurrent.futures.ProcessPoolExecutor) -> None:
@@ -422,8 +537,12 @@ def _terminate(pool: concurrent.futures.ProcessPoolExecutor) -> None:
 class _Serial:
     """Runs tasks in this process, in order."""
 
+    def __init__(self) -> None:
+        self.tasks = 0  #: tasks run
+
     def map_chunks(self, bundle, chunks, outputs, options) -> Iterator[list[RunOutcome]]:
         for chunk in chunks:
+            self.tasks += 1
             yield _run_chunk(bundle, chunk, outputs, options)
 
     def stop(self) -> None:
@@ -448,6 +567,10 @@ class _Pool:
     they were, and the sweep goes on.  Results already gathered are kept
     throughout.
 
+    The bundle reaches each worker process once (see :meth:`_shipped` and
+    :func:`_process_pool`); the chunks may be made while the pool runs (an
+    iterator), and each is sent as soon as it is made.
+
     Parameters
     ----------
     executor : concurrent.futures.Executor
@@ -455,37 +578,53 @@ class _Pool:
         Made here: shut down here, and its workers terminated on Ctrl-C.
         A replacement pool is always made here (the user's own pool, once
         broken, is only shut down: it cannot run anything any more).
+    bundle : TranslationBundle, optional
+        The sweep's bundle, which a replacement pool's forked workers inherit.
     """
 
-    def __init__(self, executor: concurrent.futures.Executor, owned: bool) -> None:
+    def __init__(self, executor: concurrent.futures.Executor, owned: bool,
+                 bundle: TranslationBundle | None = None) -> None:
         self.executor = executor
         self.made: list[concurrent.futures.ProcessPoolExecutor] = [executor] if owned else []
         self.futures: dict[concurrent.futures.Future, list[_RunSpec]] = {}  #: in flight, with their chunk
         self.ledger: _Ledger | None = None
         self.alone: _RunSpec | None = None  #: the suspect running alone, if one is
         self.deaths_outside_runs = 0
+        self.bundle = bundle
+        self.by_value = False  #: the workers could not read the bundle's file: it travels with every task
+        self.fresh: Iterator[list[_RunSpec]] | None = None  #: chunks not made yet
+        self.tasks = 0  #: tasks submitted, the retries included
 
     def map_chunks(self, bundle, chunks, outputs, options) -> Iterator[list[RunOutcome]]:
         self.ledger = ledger = _Ledger()
-        waiting = collections.deque(chunks)  # chunks to send
+        self.bundle = bundle
+        shipped = self._shipped(bundle, ledger)
+        self.fresh = iter(chunks)
+        waiting: collections.deque[list[_RunSpec]] = collections.deque()  # chunks to send (again)
         suspects: collections.deque[_RunSpec] = collections.deque()  # each to run again alone
 
         def submit(chunk: list[_RunSpec]) -> None:
-            future = self.executor.submit(_run_chunk, bundle, chunk, outputs, options, ledger.folder)
+            future = self.executor.submit(_run_chunk, bundle if self.by_value else shipped, chunk, outputs,
+                                          options, ledger.folder)
             self.futures[future] = chunk
+            self.tasks += 1
 
         try:
-            while waiting or suspects or self.futures:
+            while waiting or suspects or self.futures or self.fresh is not None:
                 lost: list[list[_RunSpec]] = []
                 broken = not self._send(waiting, suspects, submit)
                 if not broken:
-                    done, _ = concurrent.futures.wait(self.futures, return_when=concurrent.futures.FIRST_COMPLETED)
+                    # while chunks are still being made, only what has finished is gathered, and
+                    # the next chunk is made at once; then (or while a suspect runs alone) it waits
+                    making = self.fresh is not None and not suspects
+                    done, _ = concurrent.futures.wait(self.futures, timeout=0 if making else None,
+                                                      return_when=concurrent.futures.FIRST_COMPLETED)
                     for future in done:
-                        yield from self._gather(future, lost, waiting)
+                        yield from self._gather(future, lost, waiting, suspects)
                 if broken or lost:
                     # a worker died: the pool fails every task it holds, now or in a moment
                     for future in concurrent.futures.wait(self.futures)[0]:
-                        yield from self._gather(future, lost, waiting)
+                        yield from self._gather(future, lost, waiting, suspects)
                     failed = self._after_death(lost, waiting, suspects)
                     if failed:
                         yield failed
@@ -493,7 +632,8 @@ class _Pool:
             ledger.remove()
 
     def _send(self, waiting: collections.deque, suspects: collections.deque, submit) -> bool:
-        """Submit what may run now: the next suspect alone, or else every chunk waiting.
+        """Submit what may run now: the next suspect alone, or else every chunk waiting and the
+        next chunk made (one at a time, so that finished tasks are gathered in between).
 
         False if the pool is broken already (a worker died since the last
         look); what was not sent stays in its queue.
@@ -504,6 +644,12 @@ class _Pool:
                     submit([suspects[0]])
                     self.alone = suspects.popleft()
             else:
+                if self.fresh is not None:
+                    chunk = next(self.fresh, None)
+                    if chunk is None:
+                        self.fresh = None
+                    else:
+                        waiting.append(chunk)
                 while waiting:
                     submit(waiting[0])
                     waiting.popleft()
@@ -511,13 +657,37 @@ class _Pool:
             return False
         return True
 
-    def _gather(self, future: concurrent.futures.Future, lost: list, waiting: collections.deque):
-        """The outcomes of a finished task; a task lost with its pool goes to ``lost``."""
+    def _shipped(self, bundle: TranslationBundle, ledger: _Ledger) -> _Shipped:
+        """What the tasks carry of ``bundle``: its digest and its file.
+
+        A forked worker of a pool made here holds it from its start.  Any
+        other reads it from the file, once per process, in the sweep's
+        private temporary folder (the ledger's); if it cannot (it runs on
+        another machine), :meth:`_gather` sends the bundle with every task.
+        """
+        path = os.path.join(ledger.folder, _Ledger.BUNDLE)
+        with open(path, "wb") as file:
+            pickle.dump(bundle, file, protocol=pickle.HIGHEST_PROTOCOL)
+        return _Shipped(bundle.digest, path)
+
+    def _gather(self, future: concurrent.futures.Future, lost: list, waiting: collections.deque,
+                suspects: collections.deque):
+        """The outcomes of a finished task; a task lost with its pool goes to ``lost``, one whose
+        worker could not read the bundle goes back to its queue."""
         chunk = self.futures.pop(future)
         try:
             outcomes = future.result()
         except BrokenProcessPool:
             lost.append(chunk)
+            return
+        except _BundleMissing:
+            # the user's workers do not see this machine's files: the bundle goes with every task
+            self.by_value = True
+            if chunk[0] is self.alone:  # a suspect: it runs again alone
+                self.alone = None
+                suspects.appendleft(chunk[0])
+            else:
+                waiting.append(chunk)
             return
         except Exception as exc:  # noqa: BLE001 - the task's error becomes its runs' rows
             retry, outcomes = _task_failed(chunk, exc)
@@ -548,9 +718,10 @@ class _Pool:
             if self.deaths_outside_runs < _DEATHS_OUTSIDE_RUNS:
                 waiting.extend(lost)
                 return []
-            given_up = [spec for chunk in (*lost, *waiting) for spec in chunk] + list(suspects)
+            given_up = [spec for chunk in (*lost, *waiting, *(self.fresh or ())) for spec in chunk] + list(suspects)
             waiting.clear()
             suspects.clear()
+            self.fresh = None
             return [_died(spec, f"{self.deaths_outside_runs} times outside any run; the runs not done, this "
                                 f"one among them, were given up") for spec in given_up]
         for chunk in lost:
@@ -567,7 +738,8 @@ class _Pool:
         old = self.executor
         old.shutdown(wait=True)  # broken, it has terminated its workers: this waits until they end
         workers = getattr(old, "_max_workers", None) or os.cpu_count() or 1
-        self.executor = _process_pool(workers, getattr(old, "_mp_context", None))
+        # its forked workers inherit the bundle too (the others read its file)
+        self.executor = _process_pool(workers, getattr(old, "_mp_context", None), self.bundle)
         self.made.append(self.executor)
 
     def stop(self) -> None:
@@ -610,6 +782,7 @@ class _Dask:
         self.client = client
         self.owned = owned  #: connected here (to a scheduler address): closed here
         self.futures: dict[str, tuple[Any, list[_RunSpec]]] = {}  #: in flight by key, with their chunk
+        self.tasks = 0  #: tasks submitted, the retries included
 
     def map_chunks(self, bundle, chunks, outputs, options) -> Iterator[list[RunOutcome]]:
         from dask.distributed import as_completed
@@ -621,6 +794,7 @@ class _Dask:
         def submit(chunk: list[_RunSpec]):
             future = self.client.submit(_run_chunk, shipped, chunk, outputs, options, pure=False)
             self.futures[future.key] = (future, chunk)
+            self.tasks += 1
             return future
 
         finished = as_completed([submit(chunk) for chunk in chunks])
@@ -650,12 +824,13 @@ class _Dask:
             self.client.close()
 
 
-def _executor_for(executor, workers: int | None):
-    """The runner (``map_chunks``, ``stop``, ``close``) for the ``executor`` argument of :func:`sweep`."""
+def _executor_for(executor, workers: int | None, bundle: TranslationBundle | None = None):
+    """The runner (``map_chunks``, ``stop``, ``close``, ``tasks``) for the ``executor`` argument of
+    :func:`sweep`; a pool made here gives ``bundle`` to each of its workers at their start."""
     if executor == "serial":
         return _Serial()
     if executor is None:
-        return _Pool(_process_pool(workers or os.cpu_count() or 1), owned=True)
+        return _Pool(_process_pool(workers or os.cpu_count() or 1, bundle=bundle), owned=True, bundle=bundle)
     if isinstance(executor, str):
         if not executor.startswith(("tcp://", "tls://", "ucx://", "inproc://")):
             raise SettingError(f"unknown executor {executor!r}",
@@ -720,6 +895,12 @@ class SweepResult:
         Wall time of the sweep, translation included.
     workers : int or None
         Workers of the executor, when known.
+    setup_seconds : float
+        Wall time before the first task was sent: the translation, the runs
+        made here (the first and the pilot runs) and the bundle.  The part of
+        :attr:`seconds` that more workers do not shorten.
+    tasks : int
+        Tasks sent to the executor (chunks of runs), the retries included.
     """
 
     parameters: Any
@@ -731,6 +912,8 @@ class SweepResult:
     translated_in_workers: int = 0
     seconds: float = 0.0
     workers: int | None = None
+    setup_seconds: float = 0.0
+    tasks: int = 0
 
     @property
     def failed(self) -> tuple[RunOutcome, ...]:
@@ -1037,6 +1220,14 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
     the runs that had not come back are sent again; the runs that were in
     progress then run again alone, and one that kills its worker a second
     time is a failed row with ``error_type`` ``'WorkerDied'``.
+
+    Sizing: the setup ``s`` (:attr:`SweepResult.setup_seconds`) is serial;
+    then ``N`` runs of ``r`` seconds go in ``T = ceil(N / c)`` tasks of
+    ``c = chunk_size`` runs, each costing a worker ``c r + o``, where ``o``,
+    the overhead per task, is about a millisecond on one machine (the bundle
+    is not part of it).  ``W`` workers take about ``s + ceil(T / W) (c r +
+    o)``, while this process, which resolves each run's values as the
+    workers run, keeps up (see ``python -m acausal.tools.sweep_bench``).
     """
     t_start = _time.perf_counter()
     runs = parameter_sets(parameters, samples=samples, seed=seed, method=sampling)
@@ -1063,19 +1254,13 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
     bundle: TranslationBundle | None = None
     runner = None
     n_workers = None
+    setup_seconds = 0.0
     try:
-        # every run's values resolved here, without flattening equations: invalid ones fail
-        # now (as simulate() would raise), the others travel as plain numbers
-        specs: list[_RunSpec] = []
-        resolved: dict[int, tuple] = {}
+        # the first run whose values resolve is translated and run here
         for index, values in enumerate(runs):
-            try:
-                resolved[index] = _flat_values(model, with_start_values(values, start) or {})
-            except AcausalError as exc:
-                report(RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0))
-                continue
-            if first is None:
+            if _resolved(model, index, values, start, report) is not None:
                 first = index
+                break
         if first is not None:
             # this process's translation of the model is reused (a second sweep compiles
             # nothing); what it compiles keeps its stages, which the bundle ships
@@ -1084,47 +1269,57 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
             bundle_flat = translation.flat
             report(_run_here(translation, first, runs[first], outputs, options))
             bundle = translation.export()
-            for index, (flat_parameters, variables) in resolved.items():
-                if index == first:
-                    continue
-                by_name = {p.name: p.value for p in flat_parameters}
-                try:  # start values travel as numbers, the variables only when they differ otherwise
-                    starts, other = tunable_starts_of(bundle_flat, variables,
-                                                      with_start_values(runs[index], start) or {})
-                except AcausalError as exc:
-                    report(RunOutcome(index, runs[index], -1, exc.message, type(exc).__name__, None, 0.0))
-                    continue
-                specs.append(_RunSpec(index, runs[index], tuple(by_name[p.name] for p in bundle_flat.parameters),
-                                      variables if other else None, () if other else starts))
-            if pilot > 1 and specs:
+            rest = list(range(first + 1, total))
+
+            def spec_of(index: int) -> _RunSpec | None:
+                return _spec(model, bundle_flat, index, runs[index], start, report)
+
+            if pilot > 1 and rest:
                 # more runs here, spread over the sweep: the discrete states they reach are
                 # compiled once, here, and shipped, instead of once in every worker
-                chosen = sorted(set(np.linspace(0, len(specs) - 1, min(pilot - 1, len(specs))).astype(int)))
-                for k in chosen:
-                    report(dataclasses.replace(_run_one(bundle, specs[k], outputs, options), compiled=0))
-                bundle = bundle.extended(_worker_state(bundle)[1].payloads)
-                specs = [spec for k, spec in enumerate(specs) if k not in set(chosen)]
-        if specs:
-            runner = _executor_for(executor, workers)
-            n_workers = _worker_count(executor, runner, workers)
-            size = chunk_size or max(1, math.ceil(len(specs) / (4 * (n_workers or 1))))
-            chunks = [specs[k:k + size] for k in range(0, len(specs), size)]
-            for chunk_outcomes in runner.map_chunks(bundle, chunks, outputs, options):
-                for outcome in chunk_outcomes:
-                    report(outcome)
-            runner.close()  # here, so that an interrupt while it closes still keeps every run
-            runner = None
+                chosen = [rest[k] for k in sorted(set(np.linspace(0, len(rest) - 1,
+                                                                  min(pilot - 1, len(rest))).astype(int)))]
+                for index in chosen:
+                    spec = spec_of(index)
+                    if spec is not None:
+                        report(dataclasses.replace(_run_one(bundle, spec, outputs, options), compiled=0))
+                _, base, store = _worker_state(bundle)
+                bundle = bundle.extended(store.payloads)
+                # this process holds the extended bundle too, with the store its runs used: a
+                # worker forked from it starts with the code they loaded; and the entry of the
+                # bundle before stays, so that the next sweep of the model (whose translation
+                # exports that bundle again) ships what this one's runs compiled as well
+                _WORKER_STATE[bundle.digest] = _Held(bundle, base, store)
+                rest = [index for index in rest if index not in set(chosen)]
+            # every other run's values are resolved (without flattening equations) as its chunk
+            # is made, while the workers run the chunks made before: invalid ones fail as
+            # simulate() would raise, the others travel as plain numbers
+            specs = (spec for spec in map(spec_of, rest) if spec is not None)
+            head = next(specs, None)
+            if head is not None:
+                setup_seconds = _time.perf_counter() - t_start
+                runner = _executor_for(executor, workers, bundle)
+                n_workers = _worker_count(executor, runner, workers)
+                size = chunk_size or max(1, math.ceil(len(rest) / (4 * (n_workers or 1))))
+                chunks = _chunks(itertools.chain([head], specs), size)
+                for chunk_outcomes in runner.map_chunks(bundle, chunks, outputs, options):
+                    for outcome in chunk_outcomes:
+                        report(outcome)
+                runner.close()  # here, so that an interrupt while it closes still keeps every run
+        tasks = getattr(runner, "tasks", 0)
+        runner = None
         if isinstance(reporter, _Reporter):
             reporter.close()
-        return _gathered(outcomes, names, outputs, bundle, first, t_start, n_workers)
+        return _gathered(outcomes, names, outputs, bundle, first, t_start, n_workers, setup_seconds, tasks)
     except KeyboardInterrupt:
         # Ctrl-C (or the SIGTERM of ``acausal sweep``): the workers stop now, what finished is kept
+        tasks = getattr(runner, "tasks", 0)
         if runner is not None:
             runner.stop()
             runner = None
         if isinstance(reporter, _Reporter):
             reporter.close()
-        partial = _gathered(outcomes, names, outputs, bundle, first, t_start, n_workers)
+        partial = _gathered(outcomes, names, outputs, bundle, first, t_start, n_workers, setup_seconds, tasks)
         raise SweepInterrupted(f"the sweep was interrupted: {len(outcomes)} of {total} runs finished",
                                hint="exc.result holds the runs that finished", result=partial,
                                total=total) from None
@@ -1133,9 +1328,43 @@ def sweep(model: Component, parameters: Mapping[str, Sequence[float]] | Sequence
             runner.close()
 
 
+def _resolved(model: Component, index: int, values: dict, start: Mapping[str, float] | None,
+              report: Callable[[RunOutcome], None]) -> tuple | None:
+    """Run ``index``'s flat parameters and variables (:func:`_flat_values`), or None after
+    reporting its row when its values are invalid (as ``simulate()`` would raise)."""
+    try:
+        return _flat_values(model, with_start_values(values, start) or {})
+    except AcausalError as exc:
+        report(RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0))
+        return None
+
+
+def _spec(model: Component, bundle_flat: FlatModel, index: int, values: dict, start: Mapping[str, float] | None,
+          report: Callable[[RunOutcome], None]) -> _RunSpec | None:
+    """Run ``index`` as a task carries it, or None after reporting its row (values invalid)."""
+    resolved = _resolved(model, index, values, start, report)
+    if resolved is None:
+        return None
+    flat_parameters, variables = resolved
+    by_name = {p.name: p.value for p in flat_parameters}
+    try:  # start values travel as numbers, the variables only when they differ otherwise
+        starts, other = tunable_starts_of(bundle_flat, variables, with_start_values(values, start) or {})
+    except AcausalError as exc:
+        report(RunOutcome(index, values, -1, exc.message, type(exc).__name__, None, 0.0))
+        return None
+    return _RunSpec(index, values, tuple(by_name[p.name] for p in bundle_flat.parameters),
+                    variables if other else None, () if other else starts)
+
+
+def _chunks(specs: Iterator[_RunSpec], size: int) -> Iterator[list[_RunSpec]]:
+    """``specs`` in chunks of ``size``, each made when it is asked for."""
+    while chunk := list(itertools.islice(specs, size)):
+        yield chunk
+
+
 def _gathered(outcomes: Mapping[int, RunOutcome], names: Sequence[str], outputs: Sequence[str] | None,
               bundle: TranslationBundle | None, first: int | None, t_start: float,
-              n_workers: int | None) -> SweepResult:
+              n_workers: int | None, setup_seconds: float = 0.0, tasks: int = 0) -> SweepResult:
     """The :class:`SweepResult` of the runs in ``outcomes`` (every run, or those that finished)."""
     import pandas as pd
 
@@ -1146,7 +1375,8 @@ def _gathered(outcomes: Mapping[int, RunOutcome], names: Sequence[str], outputs:
                                    index=pd.Index([o.index for o in ordered], name="run"), columns=list(names))
     return SweepResult(parameter_table, table, tuple(kept), ordered, _units(ordered, bundle),
                        sum(o.compiled for o in ordered if o.index != first),
-                       sum(o.translated for o in ordered), _time.perf_counter() - t_start, n_workers)
+                       sum(o.translated for o in ordered), _time.perf_counter() - t_start, n_workers,
+                       setup_seconds, tasks)
 
 
 def _run_here(translation: Translation, index: int, values: dict, outputs, options: dict) -> RunOutcome:

@@ -267,6 +267,41 @@ def test_ctrl_c_in_the_api_raises_with_the_runs_that_finished(folder):
     assert not [pid for pid in _workers(folder) if _alive(pid)]
 
 
+def test_the_pools_that_replace_a_broken_one_get_the_bundle_as_the_first_did(folder):
+    """k = 5 kills its worker, twice: the two pools made after get the bundle as the first did (inherited
+    by forked workers, else read from the sweep's file); no task, before or after, carries the bundle."""
+    found = _script(folder, """
+        import concurrent.futures, json, multiprocessing
+        from acausal.tools.sweep import sweep
+        from decay import Decay
+
+        carried, given = [], []
+
+        class Recording(concurrent.futures.ProcessPoolExecutor):
+            def __init__(self, *args, **kwargs):
+                super().__init__(*args, **kwargs)
+                given.append(getattr(kwargs.get("initargs", (None,))[0], "digest", None))
+
+            def submit(self, fn, *args, **kwargs):
+                carried.append([type(args[0]).__name__, args[0].digest])
+                return super().submit(fn, *args, **kwargs)
+
+        concurrent.futures.ProcessPoolExecutor = Recording  # the pools sweep() makes
+        result = sweep(Decay(), {"k": [float(k) for k in range(1, 9)]}, ["x"], workers=2, chunk_size=1)
+        print(json.dumps({"rows": result.table.to_dict("records"), "carried": carried, "given": given,
+                          "tasks": result.tasks, "fork": multiprocessing.get_start_method() == "fork"}))
+    """, kill="5")
+    rows = found["rows"]
+    assert rows[4]["k"] == 5.0 and rows[4]["error_type"] == "WorkerDied"
+    for row in rows[:4] + rows[5:]:
+        _closed_form(row)
+    assert len(found["given"]) == 3  # the first pool and two replacements
+    assert {kind for kind, _ in found["carried"]} == {"_Shipped"}
+    digests = {digest for _, digest in found["carried"]}
+    assert set(found["given"]) == (digests if found["fork"] else {None})
+    assert found["tasks"] == len(found["carried"]) > 7  # the lost runs were sent again
+
+
 def test_a_broken_pool_of_the_user_is_replaced(folder):
     """A ProcessPoolExecutor given to sweep() breaks when k = 5 kills its worker; a pool made here goes on."""
     found = _script(folder, """
