@@ -32,7 +32,8 @@ from sympy.printing.pycode import PythonCodePrinter
 
 from .algebraic import Assign, LinearSolve, NewtonSolve
 from ..errors import SolverError
-from .generated import FLOAT_FUNCTIONS, _linalg_error, load_make, newton_solve, vectorised  # noqa: F401 - also here
+from .generated import (FLOAT_FUNCTIONS, _linalg_error, load_functions, load_make, newton_solve,  # noqa: F401
+                        vectorised)
 
 __all__ = ["CodePlan", "CodegenMemo", "GeneratedCode", "plan_functions", "generate", "needed_steps", "newton_solve", "python_identifiers",
            "compile_functions", "vectorised", "FLOAT_FUNCTIONS"]
@@ -301,6 +302,14 @@ def compile_functions(arguments: Sequence[Sequence[str]], expressions: Sequence[
     few milliseconds per expression).  Booleans, relations and if-expressions
     print as Python's own.
     """
+    source, functions = functions_source(arguments, expressions, name)
+    return load_functions(source, len(expressions), name, functions)
+
+
+def functions_source(arguments: Sequence[Sequence[str]], expressions: Sequence[sp.Expr],
+                     name: str = "functions") -> tuple[str, dict]:
+    """The source of :func:`compile_functions` (``_f0``, ``_f1``, ...) and the table or
+    impure functions it calls (name in the source -> implementation)."""
     identifiers = python_identifiers(sorted({a for args in arguments for a in args}))
     functions: dict = {}
     printer = _Printer(functions, identifiers)
@@ -308,9 +317,7 @@ def compile_functions(arguments: Sequence[Sequence[str]], expressions: Sequence[
     for k, (args, expr) in enumerate(zip(arguments, expressions)):
         lines += [f"def _f{k}({', '.join(identifiers[a] for a in args)}):",
                   f"    return {printer.doprint(expr)}"]
-    namespace = {"math": math, "np": np, **FLOAT_FUNCTIONS, **functions}
-    exec(compile("\n".join(lines) + "\n", f"<acausal {name}>", "exec"), namespace)
-    return [namespace[f"_f{k}"] for k in range(len(expressions))]
+    return "\n".join(lines) + "\n", functions
 
 
 def _step_key(step) -> tuple:

@@ -264,6 +264,10 @@ class DiscreteProgram:
         ``(terminate, arguments, fire function)`` per ``terminate``.
     asserts : tuple
         ``(assert, arguments, condition function)`` per ``assert``.
+    source : str or None
+        The generated source of the equations' functions (``_f0``, ``_f1``, ...),
+        when it calls no table or impure function: what a saved run keeps
+        (:mod:`~acausal.compiler.saved`).
     """
 
     equations: tuple[tuple[str, list[str], Callable, Any], ...]
@@ -271,3 +275,4 @@ class DiscreteProgram:
     reinits: tuple
     terminations: tuple
     asserts: tuple
+    source: str | None = None

@@ -17,7 +17,8 @@ from typing import Callable
 
 from ..functions import ImpureFunction, impure_applications
 from .compiled import DiscreteProgram
-from .codegen import compile_functions
+from .codegen import compile_functions, functions_source
+from .generated import load_functions
 
 __all__ = ["DiscreteProgram", "compile_discrete", "ImpureSite"]
 
@@ -35,7 +36,9 @@ def compile_discrete(flat, partitioned, impure_call: Callable) -> DiscreteProgra
     equations = partitioned.discrete_equations
     arguments = [_names(eq.rhs) for eq in equations]
     right_sides, impure_sites = _bind_impure_sites([eq.rhs for eq in equations], impure_call)
-    functions = compile_functions(arguments, right_sides, f"the discrete equations of {flat.name}")
+    name = f"the discrete equations of {flat.name}"
+    source, called = functions_source(arguments, right_sides, name)
+    functions = load_functions(source, len(right_sides), name, called)
     compiled = tuple((eq.variable, args, fn, eq.origin) for eq, args, fn in zip(equations, arguments, functions))
 
     hybrid = flat.hybrid
@@ -51,7 +54,8 @@ def compile_discrete(flat, partitioned, impure_call: Callable) -> DiscreteProgra
     conditions = [a.condition for a in hybrid.asserts]
     fns = compile_functions([_names(c) for c in conditions], conditions, f"the assertions of {flat.name}")
     compiled_asserts = tuple((a, _names(c), fn) for a, c, fn in zip(hybrid.asserts, conditions, fns))
-    return DiscreteProgram(compiled, impure_sites, compiled_reinits, compiled_terminations, compiled_asserts)
+    return DiscreteProgram(compiled, impure_sites, compiled_reinits, compiled_terminations, compiled_asserts,
+                           None if called else source)
 
 
 def _bind_impure_sites(expressions, call: Callable) -> tuple[list, int]:

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["FLOAT_FUNCTIONS", "newton_solve", "load_make", "vectorised", "vectorised_of"]
+__all__ = ["FLOAT_FUNCTIONS", "newton_solve", "load_functions", "load_make", "vectorised", "vectorised_of"]
 
 
 # -- floating-point semantics for the functions that overflow --------------------------------------
@@ -230,6 +230,14 @@ def _dense_solve(A, b, what):
         return np.linalg.solve(A, b)
     except np.linalg.LinAlgError:
         raise _linalg_error(what) from None
+
+
+def load_functions(source: str, count: int, name: str, functions: dict | None = None) -> list[Callable]:
+    """The functions ``_f0`` ... ``_f<count-1>`` of a source made by
+    :func:`~acausal.compiler.codegen.functions_source`, with the functions it calls."""
+    namespace = {"math": math, "np": np, **FLOAT_FUNCTIONS, **(functions or {})}
+    exec(compile(source, f"<acausal {name}>", "exec"), namespace)
+    return [namespace[f"_f{k}"] for k in range(count)]
 
 
 def load_make(source: str, functions: dict, name: str) -> Callable:

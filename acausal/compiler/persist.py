@@ -221,16 +221,24 @@ class PersistentSystems:
         (:class:`~acausal.compiler.saved.SavedModel`), or why it cannot be saved.
 
         Saved are models whose run needs no more than continuous systems of the
-        whole model and time events; the others (discrete equations, when-clauses,
-        sample clocks, delays, tables, independent parts compiled apart, an
-        output demand, homotopy) are translated by every command, as before.
+        whole model, discrete equations and time events; the others
+        (when-clauses, sample clocks, delays, discrete Reals, tables, impure
+        functions, independent parts compiled apart, an output demand,
+        homotopy) are translated by every command, as before.
         """
         from .saved import SavedModel
 
         flat, partitioned = self.flat, self.partitioned
+        discrete = None
+        if partitioned.discrete_equations:
+            program = self.discrete_program(lambda *args: None)
+            if program.source is None:
+                return "the model's discrete equations call a table or an impure function"
+            discrete = {"source": program.source,
+                        "equations": [[variable, list(args), str(origin)]
+                                      for variable, args, _fn, origin in program.equations]}
         reasons = [
             (self.demand is not None, "an output demand"),
-            (bool(partitioned.discrete_equations), "discrete equations"),
             (bool(flat.hybrid.reinits or flat.hybrid.asserts or flat.hybrid.terminations), "when-clauses"),
             (bool(partitioned.clocks), "sample clocks"),
             (bool(flat.delays), "delay()"),
@@ -259,7 +267,7 @@ class PersistentSystems:
             if payload is None or payload["functions"]:
                 return "an initialization problem calls a table function"
             initial.append(payload)
-        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots))
+        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots), discrete)
 
     # -- to other processes -------------------------------------------------------
 

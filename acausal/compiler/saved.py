@@ -29,7 +29,7 @@ from typing import Any, Callable, Mapping
 
 from ..options import EngineOptions
 from .compiled import DiscreteProgram, ModelData
-from .generated import load_make, vectorised_of
+from .generated import load_functions, load_make, vectorised_of
 
 __all__ = ["SavedModel", "LoadedModel", "LoadedSystem", "LoadedInitialSystem"]
 
@@ -47,6 +47,9 @@ class SavedModel:
         as the persistent compile cache stores them).
     time_roots : tuple
         ``(relation index, instant)`` of the time events.
+    discrete : dict or None
+        The discrete equations: their generated source and ``(variable,
+        arguments, origin as text)`` each (None: the model has none).
     """
 
     data: ModelData
@@ -54,6 +57,7 @@ class SavedModel:
     systems: tuple[dict, ...]
     initial_systems: tuple[dict, ...]
     time_roots: tuple[tuple[int, float], ...]
+    discrete: dict | None = None
 
 
 @dataclass(frozen=True)
@@ -162,6 +166,7 @@ class LoadedModel:
             system = LoadedInitialSystem.of(payload, vector)
             self.initial_systems[system.key] = system
         self._time_roots = saved.time_roots
+        self._discrete = saved.discrete
         self._translate = translate
         self._translation = None
         self._seconds = _time.perf_counter() - t0
@@ -196,8 +201,15 @@ class LoadedModel:
         return found
 
     def discrete_program(self, impure_call: Callable) -> DiscreteProgram:
-        # saved only for models without discrete equations or when-clauses (persist.saved_model)
-        return DiscreteProgram((), 0, (), (), ())
+        # saved only without when-clauses and impure functions (PersistentSystems.saved)
+        if self._discrete is None:
+            return DiscreteProgram((), 0, (), (), ())
+        equations = self._discrete["equations"]
+        functions = load_functions(self._discrete["source"], len(equations),
+                                   f"the discrete equations of {self.data.name}")
+        return DiscreteProgram(tuple((variable, list(args), fn, origin)
+                                     for (variable, args, origin), fn in zip(equations, functions)),
+                               0, (), (), (), self._discrete["source"])
 
     def time_events(self) -> tuple[tuple, tuple]:
         return self._time_roots, ()

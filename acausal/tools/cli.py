@@ -552,7 +552,7 @@ def _cmd_simulate(args) -> int:
             print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
             return 130
     if result.success and kept and _warm_eligible(args):
-        _save_run(args, cls.__name__, kept[0], modules_before)
+        _save_run(args.model, cls, kept[0], modules_before)
     return _write_simulation(args, result, out, cls.__name__, signals, display)
 
 
@@ -622,41 +622,54 @@ def _digest(path: str) -> str | None:
         return None
 
 
-def _warm_simulate(args) -> int | None:
-    """Run a saved run of this command's model without the compiler (the exit status), or None
-    when there is none, or the model's file or a module it imports has changed since."""
+def _load_saved(spec: str):
+    """``(class name, its modelica_class, LoadedModel)`` of the saved run of the model ``spec``
+    names, or None when there is none, or the model's file or a module it imports has changed."""
     import base64
     import pickle
 
     from ..compiler.diskcache import DiskCache, cache_folder
     from ..compiler.saved import LoadedModel
-    from ..runtime.simulate import simulate
 
-    payload = DiskCache(cache_folder(), _run_key(args.model)).load(_SAVED_RUN)
+    payload = DiskCache(cache_folder(), _run_key(spec)).load(_SAVED_RUN)
     if payload is None or any(_digest(path) != digest for path, digest in payload["deps"]):
         return None
     # authenticated by the cache (an HMAC under the user's own key): trusted as its code is
     saved = pickle.loads(base64.b64decode(payload["model"]))
-    name = payload["class"]
-    out = Path(args.out) if args.out else Path(f"{name}.csv")
-    if not args.out:
-        _check_writable(out, "the result")
 
     def translate_model():
         # a discrete state the saved run did not visit: the model, translated as a cold command does
-        cls = load_model_class(args.model)
-        return _translate(_instantiate(cls))
+        return _translate(_instantiate(load_model_class(spec)))
 
-    loaded = LoadedModel(saved, translate_model)
-    experiment = saved.data.experiment
-    start = experiment.start_time if args.start_time is None else args.start_time
-    stop = experiment.stop_time if args.stop_time is None else args.stop_time
+    return payload["class"], payload.get("modelica_class"), LoadedModel(saved, translate_model)
+
+
+def _simulate_loaded(loaded, **options):
+    """:func:`_simulate` for a saved run: the times checked, then the runtime alone."""
+    from ..runtime.simulate import simulate
+
+    experiment = loaded.data.experiment
+    start = experiment.start_time if options.get("start_time") is None else options["start_time"]
+    stop = experiment.stop_time if options.get("stop_time") is None else options["stop_time"]
     if not stop > start:
         raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
+    return simulate(loaded, **options)
+
+
+def _warm_simulate(args) -> int | None:
+    """Run a saved run of this command's model without the compiler (the exit status), or None
+    when there is none, or the model's file or a module it imports has changed since."""
+    found = _load_saved(args.model)
+    if found is None:
+        return None
+    name, _modelica_class, loaded = found
+    out = Path(args.out) if args.out else Path(f"{name}.csv")
+    if not args.out:
+        _check_writable(out, "the result")
     try:
-        result = simulate(loaded, start_time=args.start_time, stop_time=args.stop_time, interval=args.interval,
-                          method=args.method, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps,
-                          timeout=args.timeout)
+        result = _simulate_loaded(loaded, start_time=args.start_time, stop_time=args.stop_time,
+                                  interval=args.interval, method=args.method, rtol=args.rtol, atol=args.atol,
+                                  max_steps=args.max_steps, timeout=args.timeout)
     except KeyboardInterrupt as exc:
         result = getattr(exc, "result", None)
         if result is None:
@@ -665,7 +678,7 @@ def _warm_simulate(args) -> int | None:
     return _write_simulation(args, result, out, name, None, {})
 
 
-def _save_run(args, name: str, translation, modules_before: set) -> None:
+def _save_run(spec: str, cls: type, translation, modules_before: set) -> None:
     """Save the run of ``translation`` for the next ``acausal simulate`` of the same model
     (:meth:`~acausal.compiler.persist.PersistentSystems.saved`), with the digests of the model's
     file and of every module it imported outside acausal (acausal's own files are the
@@ -692,8 +705,9 @@ def _save_run(args, name: str, translation, modules_before: set) -> None:
         if digest is None:
             return
         deps.append([str(path), digest])
-    DiskCache(cache_folder(), _run_key(args.model)).store(_SAVED_RUN, {
-        "class": name, "deps": deps, "model": base64.b64encode(pickle.dumps(saved)).decode()})
+    DiskCache(cache_folder(), _run_key(spec)).store(_SAVED_RUN, {
+        "class": cls.__name__, "modelica_class": getattr(cls, "modelica_class", None), "deps": deps,
+        "model": base64.b64encode(pickle.dumps(saved)).decode()})
 
 
 def _display_unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
@@ -730,12 +744,21 @@ def _check_display_units(display: dict[str, str], flat, signals, model: str) -> 
             raise CommandError(f"{option}: {exc}") from None
 
 
-def _reproduced(model: str) -> list[str]:
-    """The FILE.py:Model specs ``model`` (a folder, a file or FILE.py:Model) stands for."""
+def _reproduced(model: str, saved: dict | None = None) -> list[str]:
+    """The FILE.py:Model specs ``model`` (a folder, a file or FILE.py:Model) stands for.
+
+    A file with a saved run (:func:`_load_saved`, kept in ``saved`` by spec) defines
+    one model: it stands for itself, and the file is not executed to find out."""
     path = Path(model)
     if path.is_dir():
         return reproducing_models(model)
     if path.is_file() and path.suffix == ".py":
+        from ..compiler.diskcache import disk_cache_enabled
+
+        found = _load_saved(model) if saved is not None and disk_cache_enabled() else None
+        if found is not None:
+            saved[model] = found
+            return [model]
         specs = reproducing_models(model)
         if len(specs) > 1:
             return specs
@@ -747,7 +770,9 @@ def _cmd_compare(args) -> int:
         _check_writable(Path(args.plot), "the plots into", folder=True)
     # a folder stands for every model in it that names the Modelica class it reproduces, and
     # so does a file that defines several models
-    args.models = [spec for model in args.models for spec in _reproduced(model)]
+    saved: dict = {}  # spec -> the saved run found for it (see _load_saved)
+    args.models = [spec for model in args.models for spec in _reproduced(model, saved)]
+    args.saved_runs = saved
     statuses = []
     # several models: a row per model in one table and the legend once (--verbose: each model's
     # run summary and per-signal table too, the table of models at the end)
@@ -799,21 +824,40 @@ def _compare_one(args, model_spec: str, several: bool, report=None) -> int:
     and print its run summary and per-signal table only with ``--verbose``."""
     from .compare import ModelOutcome, compare_signals, load_reference, plot_comparison, signal_info
 
-    cls = load_model_class(model_spec)
-    modelica_class = getattr(cls, "modelica_class", None)
+    # a saved run of the model (see _warm_simulate), else the model translated
+    from ..compiler.diskcache import disk_cache_enabled
+
+    found = getattr(args, "saved_runs", {}).pop(model_spec, None)
+    if found is None and disk_cache_enabled():
+        found = _load_saved(model_spec)
+    kept: list = []
+    if found is not None:
+        name, modelica_class, loaded = found
+        experiment, described = loaded.data.experiment, loaded.data
+    else:
+        modules_before = set(sys.modules)
+        cls = load_model_class(model_spec)
+        name, modelica_class = cls.__name__, getattr(cls, "modelica_class", None)
+        experiment, described = getattr(cls, "experiment", None), None
     if not modelica_class:
-        raise CommandError(f"{cls.__name__} has no modelica_class: nothing to compare with "
+        raise CommandError(f"{name} has no modelica_class: nothing to compare with "
                            f"(set modelica_class = 'Modelica.…' on the class)")
     reference = load_reference(modelica_class, args.reference_dir)
-    model = _instantiate(cls)
-    experiment = getattr(cls, "experiment", None)
     rtol = args.rtol
     if rtol is None:
         tolerance = getattr(experiment, "tolerance", None)
         rtol = min(COMPARE_RTOL, tolerance) if tolerance else COMPARE_RTOL
     try:
-        result = _simulate(model, method=args.method, rtol=rtol, max_steps=args.max_steps,
-                           timeout=args.timeout)
+        if found is not None:
+            result = _simulate_loaded(loaded, method=args.method, rtol=rtol, max_steps=args.max_steps,
+                                      timeout=args.timeout)
+        else:
+            model = _instantiate(cls)
+            described = model
+            result = _simulate(model, keep=kept, method=args.method, rtol=rtol, max_steps=args.max_steps,
+                               timeout=args.timeout)
+            if result.success and kept and disk_cache_enabled():
+                _save_run(model_spec, cls, kept[0], modules_before)
     except KeyboardInterrupt as exc:
         result = getattr(exc, "result", None)  # Ctrl-C or SIGTERM, perhaps with the result until then
         if result is None:
@@ -822,23 +866,23 @@ def _compare_one(args, model_spec: str, several: bool, report=None) -> int:
     if tables:
         print(result.summary(values=False))
     if _interrupted(result):
-        print(f"error: the simulation of {cls.__name__} was {_stopped(args)} at {_end_time(result)}; "
+        print(f"error: the simulation of {name} was {_stopped(args)} at {_end_time(result)}; "
               f"not compared", file=sys.stderr)
         if report is not None:
             report.add(ModelOutcome(model_spec, result="interrupted",
                                     note=f"{_stopped(args)} at {_end_time(result)}"))
         return 130
-    info = signal_info(model, reference.compared)  # units, kinds and value names of the signals
+    info = signal_info(described, reference.compared)  # units, kinds and value names of the signals
     comparison = compare_signals(reference, result.time, result.columns, info=info)
     if tables:
         print(comparison.table(legend=not several))  # several models: the legend once, at the end
     plotted = True
     if args.plot:
-        folder = Path(args.plot) / cls.__name__ if several else Path(args.plot)
+        folder = Path(args.plot) / name if several else Path(args.plot)
         try:
             folder.mkdir(parents=True, exist_ok=True)
             for path in plot_comparison(reference, result.time, result.columns,
-                                        folder / f"{_file_safe(cls.__name__)}.png", info=info,
+                                        folder / f"{_file_safe(name)}.png", info=info,
                                         per_signal=args.plot_per_signal):
                 print(f"wrote {path}")
         except BrokenPipeError:
@@ -850,14 +894,14 @@ def _compare_one(args, model_spec: str, several: bool, report=None) -> int:
     ok = comparison.passed and result.success and plotted
     budget = _spent_budget(result, args)
     if budget is not None:
-        print(f"error: {budget} stopped the simulation of {cls.__name__} at {_end_time(result)}: "
+        print(f"error: {budget} stopped the simulation of {name} at {_end_time(result)}: "
               f"{result.message}", file=sys.stderr)
     elif not result.success:
-        print(f"error: the simulation of {cls.__name__} failed: {result.message}", file=sys.stderr)
+        print(f"error: the simulation of {name} failed: {result.message}", file=sys.stderr)
     elif not comparison.passed:
         failed = ", ".join(s.name for s in comparison.failures)
         print(f"error: {len(comparison.failures)} of {len(comparison.signals)} signals of "
-              f"{cls.__name__} outside the tube: {failed}", file=sys.stderr)
+              f"{name} outside the tube: {failed}", file=sys.stderr)
     if report is not None:
         stopped = budget or (result.message if not result.success else "")
         report.add(ModelOutcome(

@@ -1,7 +1,7 @@
 """The warm ``acausal simulate``: a run saved whole, run again without the compiler.
 
 A cold command that simulated a model whose run needs no more than the
-continuous systems and time events saves it (``Translation.saved``,
+continuous systems, discrete equations and time events saves it (``Translation.saved``,
 ``acausal.compiler.saved``); the next command of the same model loads it,
 checks the digests of the model's file and of the modules it imported, and
 runs it with the runtime alone.  The results are the cold command's, bit for
@@ -24,6 +24,7 @@ from acausal import simulate, translate
 from acausal.compiler.saved import LoadedModel, SavedModel
 from examples.coupled_clutches import CoupledClutches
 from examples.first import First
+from examples.sampled_speed_control import SampledSpeedControl
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -37,10 +38,10 @@ sys.exit(status)
 """
 
 
-def command(folder: Path, *args: str) -> subprocess.CompletedProcess:
+def command(folder: Path, *args: str, verb: str = "simulate") -> subprocess.CompletedProcess:
     env = dict(os.environ, ACAUSAL_DISK_CACHE="on", ACAUSAL_CACHE_DIR=str(folder / "cache"),
                PYTHONPATH=str(REPO))
-    return subprocess.run([sys.executable, "-c", RUNNER, "simulate", *args], cwd=folder, env=env,
+    return subprocess.run([sys.executable, "-c", RUNNER, verb, *args], cwd=folder, env=env,
                           capture_output=True, text=True, timeout=300)
 
 
@@ -79,12 +80,24 @@ def test_a_changed_model_file_is_translated_again(tmp_path):
 
 
 def test_a_model_whose_run_needs_the_compiler_is_not_saved():
-    translation = translate(CoupledClutches())
+    translation = translate(SampledSpeedControl())
     simulate(translation)
-    assert translation.saved() == "the model has discrete equations"
-    saved = translate(First())
-    simulate(saved)
-    assert isinstance(saved.saved(), SavedModel)
+    assert translation.saved() == "the model has sample clocks"
+    for model in (First(), CoupledClutches()):
+        saved = translate(model)
+        simulate(saved)
+        assert isinstance(saved.saved(), SavedModel)
+
+
+def test_a_warm_command_with_discrete_equations_gives_the_cold_result(tmp_path):
+    """CoupledClutches: friction modes (discrete equations), time events, several states."""
+    model = tmp_path / "coupled_clutches.py"
+    model.write_text((REPO / "examples" / "coupled_clutches.py").read_text())
+    assert command(tmp_path, str(model), "--out", "cold.csv").returncode == 0
+    warm = command(tmp_path, str(model), "--out", "warm.csv")
+    assert warm.returncode == 0, warm.stderr
+    assert loaded_packages(warm) == "LOADED []"
+    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
 
 
 def test_a_state_the_saved_run_did_not_visit_is_compiled_through_the_callback():
@@ -108,3 +121,21 @@ def test_a_state_the_saved_run_did_not_visit_is_compiled_through_the_callback():
         np.testing.assert_array_equal(result.time, cold.time)
         for name in cold.columns:
             np.testing.assert_array_equal(result[name], cold[name])
+
+
+def test_a_warm_compare_tube_tests_the_saved_run(tmp_path):
+    """``acausal compare`` uses the saved run too (the reference bundled with acausal): the same
+    verdict and the same per-signal lines, without executing the model's file."""
+    model = tmp_path / "first.py"
+    model.write_text((REPO / "examples" / "first.py").read_text())
+    cold = command(tmp_path, str(model), verb="compare")
+    warm = command(tmp_path, str(model), verb="compare")
+    assert cold.returncode == warm.returncode == 0, (cold.stderr, warm.stderr)
+    assert "sympy" in loaded_packages(cold)
+    assert loaded_packages(warm) == "LOADED []"
+
+    def lines(done):  # the comparison, without the run's timings
+        return [line for line in done.stdout.splitlines()
+                if "_seconds" not in line and not line.startswith("LOADED")]
+
+    assert lines(warm) == lines(cold)
