@@ -280,17 +280,28 @@ class ComposedSystem:
             found = self._made["description"] = self.describe if isinstance(self.describe, str) else self.describe()
         return found
 
+    # ... and kept once asked for (in _made, which crossings_for keeps bounded): the run
+    # asks for the states of the system in force some fifteen times an event
     @property
     def states(self) -> tuple[str, ...]:
-        return tuple(chain.from_iterable([p.states for p in self.parts]))
+        found = self._made.get("states")
+        if found is None:
+            found = self._made["states"] = tuple(chain.from_iterable([p.states for p in self.parts]))
+        return found
 
     @property
     def unknowns(self) -> tuple[str, ...]:
-        return tuple(chain.from_iterable([p.unknowns for p in self.parts]))
+        found = self._made.get("unknowns")
+        if found is None:
+            found = self._made["unknowns"] = tuple(chain.from_iterable([p.unknowns for p in self.parts]))
+        return found
 
     @property
     def alias_plan(self) -> AliasPlan:
-        return tuple(chain.from_iterable([p.alias_plan for p in self.parts]))
+        found = self._made.get("alias_plan")
+        if found is None:
+            found = self._made["alias_plan"] = tuple(chain.from_iterable([p.alias_plan for p in self.parts]))
+        return found
 
     def crossings_for(self, relations: tuple[int, ...]) -> Callable:
         """A ``crossings`` that computes only the values of ``relations`` (the model's
@@ -298,8 +309,8 @@ class ComposedSystem:
         found = self._made.get(relations)
         if found is not None:
             return found
-        if len(self._made) >= 64:  # bounded: keep the description, drop the functions
-            for k in [k for k in self._made if k != "description"]:
+        if len(self._made) >= 64:  # bounded: keep the description and names, drop the functions
+            for k in [k for k in self._made if k not in ("description", "states", "unknowns", "alias_plan")]:
                 del self._made[k]
         owner = {k: p for p, rels in enumerate(self.part_relations) for k in rels}
         slices = _state_slices(self.parts)

@@ -28,6 +28,7 @@ import copy
 import heapq
 import itertools
 import math
+import operator
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
@@ -124,6 +125,16 @@ class ImpureCalls:
     calls: int = 0
 
 
+def _getter(items: list):
+    """``m -> tuple(m[i] for i in items)`` at C speed (operator.itemgetter, always a tuple)."""
+    if not items:
+        return lambda _m: ()
+    if len(items) == 1:
+        only = items[0]
+        return lambda m: (m[only],)
+    return operator.itemgetter(*items)
+
+
 def _cast(kind: str, value):
     """A discrete equation's value as its variable's type."""
     if kind == "boolean":
@@ -215,6 +226,12 @@ class DiscreteEvaluator:
         self._last_relevance: tuple | None = None
         self._kind_arrays: tuple | None = None
         self._relations_now: tuple | None = None
+        self._margin_arrays: tuple | None = None
+        self._key_plan = None
+        #: (relation, whether it is a selector) of the state relations, and the pairs of state
+        #: relations of one component and direction: made on first use
+        self._watch_plan: list | None = None
+        self._pairs = False
 
     def _setup_hybrid(self, translation: CompiledModel, program, arguments) -> None:
         """What the discrete equations read besides discrete values and relations
@@ -362,17 +379,33 @@ class DiscreteEvaluator:
     # -- keys -----------------------------------------------------------------
 
     def key(self, discrete: Mapping, pre: Mapping, relations, initial: bool) -> tuple:
-        out = []
+        """The discrete state: each selector's value in the selectors' order (a relation's
+        value as a bool, ``pre(v)`` from ``pre``, a discrete variable from ``discrete``,
+        ``initial()``)."""
+        plan = self._key_plan
+        if plan is None:
+            plan = self._key_plan = self._make_key_plan()
+        of_relations, of_pre, of_discrete, order = plan
+        return order((*map(bool, of_relations(relations)), *of_pre(pre), *of_discrete(discrete), bool(initial)))
+
+    def _make_key_plan(self):
+        """``key``'s getters, made once: the selectors' values gathered by kind (C-level
+        itemgetters), then put in the selectors' order."""
+        groups: dict[str, list] = {"relation": [], "pre": [], "discrete": []}
+        where = []
         for name in self._selector_names:
-            if name.kind == "relation":
-                out.append(bool(relations[name.index]))
-            elif name.kind == "initial":
-                out.append(bool(initial))
-            elif name.kind == "pre":
-                out.append(pre[name.base])
-            else:
-                out.append(discrete[name.text])
-        return tuple(out)
+            if name.kind == "initial":
+                where.append(("initial", 0))
+                continue
+            kind = name.kind if name.kind in ("relation", "pre") else "discrete"
+            item = name.index if kind == "relation" else name.base if kind == "pre" else name.text
+            where.append((kind, len(groups[kind])))
+            groups[kind].append(item)
+        offsets = {"relation": 0, "pre": len(groups["relation"]),
+                   "discrete": len(groups["relation"]) + len(groups["pre"]),
+                   "initial": len(groups["relation"]) + len(groups["pre"]) + len(groups["discrete"])}
+        return (_getter(groups["relation"]), _getter(groups["pre"]), _getter(groups["discrete"]),
+                _getter([offsets[kind] + k for kind, k in where]))
 
     # -- relations --------------------------------------------------------------
 
@@ -412,6 +445,21 @@ class DiscreteEvaluator:
         gives them) lies beyond its margin, or is exactly at its limit and kept a
         value decided clearly before (``inherited``: the answer for the pass before)."""
         self._raw_last = raw
+        if len(self._margins) >= _VECTORISE_FROM:
+            # the same doubles as below, with numpy: |lhs - rhs| > eps * max(floor, |lhs|, |rhs|)
+            # (a NaN side makes the comparison false either way)
+            if self._margin_arrays is None:
+                self._margin_arrays = (np.array(self._margins, dtype=float), np.array(self._floors, dtype=float))
+            margins, floors = self._margin_arrays
+            with np.errstate(invalid="ignore", over="ignore"):
+                values = np.asarray(raw, dtype=float)
+                lhs, rhs = values[0::2], values[1::2]
+                scale = np.maximum(np.maximum(floors, np.abs(lhs)), np.abs(rhs))
+                clear = np.abs(lhs - rhs) > margins * scale
+                equal = lhs == rhs
+                if equal.any():
+                    clear[equal] = False if inherited is None else np.asarray(inherited, dtype=bool)[equal]
+            return tuple(clear.tolist())
         out = []
         for k, (epsilon, floor) in enumerate(zip(self._margins, self._floors)):
             lhs, rhs = raw[2 * k], raw[2 * k + 1]
@@ -773,13 +821,11 @@ class DiscreteEvaluator:
             for k in again:
                 checked[k] = self._flip_changes(k, env, discrete, relations)
         self._last_relevance = (dict(discrete), tuple(relations), dict(checked), self._twins)
-        out = []
-        for k, rel in enumerate(self.relations):
-            if rel.is_time_event:
-                continue
-            if rel.name in selector_names or checked[k]:
-                out.append(k)
-        return tuple(out)
+        plan = self._watch_plan
+        if plan is None:
+            plan = self._watch_plan = [(k, rel.name in selector_names) for k, rel in enumerate(self.relations)
+                                       if not rel.is_time_event]
+        return tuple([k for k, selects in plan if selects or checked[k]])
 
     def _always_watched(self) -> frozenset:
         """Relations whose flip reaches a discrete equation that reads continuous values
@@ -822,6 +868,20 @@ class DiscreteEvaluator:
         sides have the same values in ``raw`` (``sa > tau0_max`` and ``sa > tau0``
         when the peak is 1): they cross together, so whether a crossing matters
         is asked of them together (see :meth:`relevant_relations`)."""
+        pairs = self._twin_candidates()
+        if pairs is not None:
+            # the same answer from the pairs of relations of one component and direction,
+            # compared with numpy (NaN sides: below, where a NaN object equals itself)
+            a, b = pairs
+            with np.errstate(invalid="ignore"):
+                values = np.asarray(raw, dtype=float)
+            if not np.isnan(values).any():
+                same = (values[2 * a] == values[2 * b]) & (values[2 * a + 1] == values[2 * b + 1])
+                found: dict[int, list[int]] = {}
+                for k, j in zip(a[same].tolist(), b[same].tolist()):
+                    found.setdefault(k, []).append(j)
+                    found.setdefault(j, []).append(k)
+                return {k: tuple(sorted(js)) for k, js in found.items()}
         groups: dict[tuple, list[int]] = {}
         for k, rel in enumerate(self.relations):
             if rel.is_time_event:
@@ -829,6 +889,22 @@ class DiscreteEvaluator:
             groups.setdefault((rel.components, self._kinds[k][0], raw[2 * k], raw[2 * k + 1]), []).append(k)
         return {k: tuple(j for j in group if j != k)
                 for group in groups.values() if len(group) > 1 for k in group}
+
+    def _twin_candidates(self):
+        """``(a, b)``: the pairs of state relations of one component and direction (numpy
+        index arrays, ``a < b``), made once; None for a few relations."""
+        found = self._pairs
+        if found is False:
+            found = None
+            if len(self.relations) >= _VECTORISE_FROM:
+                static: dict[tuple, list[int]] = {}
+                for k, rel in enumerate(self.relations):
+                    if not rel.is_time_event:
+                        static.setdefault((rel.components, self._kinds[k][0]), []).append(k)
+                pairs = [(k, j) for group in static.values() for i, k in enumerate(group) for j in group[i + 1:]]
+                found = (np.array([k for k, _ in pairs], dtype=int), np.array([j for _, j in pairs], dtype=int))
+            self._pairs = found
+        return found
 
     def _flip_changes(self, k: int, env: Mapping, discrete: Mapping, relations) -> bool:
         """Whether flipping relation k, alone or together with its twins, changes a

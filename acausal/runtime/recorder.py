@@ -144,11 +144,10 @@ class Recorder:
         model = translation.data
         continuous = [v.name for v in model.variables if not v.is_discrete]
         discrete_names = list(model.discrete_variables)
-        derivative_names = []
+        derivative_names: dict[str, None] = {}  # (in order of first appearance)
         for system in translation.systems.values():
-            for d in system.derivative_names:
-                if d not in derivative_names:
-                    derivative_names.append(d)
+            derivative_names.update(dict.fromkeys(system.derivative_names))
+        derivative_names = list(derivative_names)
         names = continuous + derivative_names + discrete_names
         if translation.demand is not None:
             names = [n for n in names if n in translation.demand] + discrete_names
@@ -164,9 +163,13 @@ class Recorder:
         starts = np.flatnonzero((systems[1:] != systems[:-1]) | (discretes[1:] != discretes[:-1])) + 1
         plans, bad, part_plans = {}, None, {}
         names_of = {ident: name for name, ident in model.identifiers.items()}
-        for start, stop in zip([0, *starts.tolist()], [*starts.tolist(), n]):
-            if start >= stop:
-                continue
+        stretches = [(a, b) for a, b in zip([0, *starts.tolist()], [*starts.tolist(), n]) if a < b]
+        if _fill_by_part(data, rows, times, stretches, index, part_plans):
+            # every value computed and finite, part by part: the discrete values stretch by stretch
+            for start, stop in stretches:
+                _fill_discrete(data[start:stop], index, rows[start][3])
+            stretches = []
+        for start, stop in stretches:
             _, system, _, discrete = rows[start]
             if system.key not in plans:
                 plans[system.key] = fill_plan(system, index, part_plans)
@@ -238,11 +241,88 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem
     (const_cols, const_vals), (var_cols, var_coeffs, var_srcs) = aliases
     block[:, const_cols] = const_vals
     block[:, var_cols] = var_coeffs * values[:, var_srcs]
+    _fill_discrete(block, index, discrete)
+    return failed
+
+
+def _fill_discrete(block: np.ndarray, index: dict[str, int], discrete: dict) -> None:
+    """The discrete values' columns of ``block``."""
     chosen = [(index[name], float(v)) for name, v in discrete.items() if name in index]
     if chosen:  # (with an output demand, only the discrete values demanded have columns)
         columns, values_ = zip(*chosen)
         block[:, list(columns)] = np.array(values_)
-    return failed
+
+
+def _fill_by_part(data: np.ndarray, rows, times: np.ndarray, stretches, index: dict[str, int],
+                  memo: dict) -> bool:
+    """The continuous columns of rows of composed systems, filled part by part: one
+    evaluation of a part's outputs for all the consecutive rows in which the part is the
+    same (a storm of events changes one part at a time, so that is once per event of
+    the part, not once per part and event).  The same values as :func:`_fill` stretch
+    by stretch; False (and nothing to keep) where that does not apply or a value is not
+    finite or cannot be computed: :func:`_fill` then says which.
+    """
+    if not stretches:
+        return False
+    systems = [rows[a][1] for a, _ in stretches]
+    parts0 = systems[0].parts
+    if parts0 is None or any(s.parts is None or len(s.parts) != len(parts0) for s in systems):
+        return False
+    try:
+        states = np.array(list(map(itemgetter(2), rows)), dtype=float)
+    except ValueError:  # rows with state vectors of different lengths
+        return False
+    if states.ndim != 2:
+        return False
+    # where each part's states start in each system's state vector (once per system)
+    offsets = {}
+    for system in systems:
+        if id(system) not in offsets:
+            offsets[id(system)] = list(itertools.accumulate((len(q.states) for q in system.parts), initial=0))
+    for p in range(len(parts0)):
+        run_start, run_part, run_offset = None, None, None
+        for (a, b), system in zip(stretches, systems):
+            part = system.parts[p]
+            offset = offsets[id(system)][p]
+            if part is run_part and offset == run_offset:
+                continue
+            if run_part is not None and not _fill_part(data, run_start, a, run_part, run_offset, states, times,
+                                                         index, memo):
+                return False
+            run_start, run_part, run_offset = a, part, offset
+        if not _fill_part(data, run_start, stretches[-1][1], run_part, run_offset, states, times, index, memo):
+            return False
+    return True
+
+
+def _fill_part(data, start: int, stop: int, part, offset: int, states, times, index, memo) -> bool:
+    """Rows ``start:stop`` of ``part`` (its states at ``offset``); False if a value is not finite."""
+    found = memo.get(id(part))
+    if found is None or found[0] is not part:
+        found = memo[id(part)] = (part, fill_plan(part, index))
+    targets, sources, ((const_cols, const_vals), (var_cols, var_coeffs, var_srcs)) = found[1]
+    n_states = len(part.states)
+    m = stop - start
+    values = np.empty((m, n_states + len(part.unknowns)))
+    values[:, :n_states] = states[start:stop, offset:offset + n_states]
+    if part.unknowns:
+        many = part.vectorised("outputs") if m > 1 else None
+        try:
+            if many is not None:
+                with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
+                    values[:, n_states:] = many(times[start:stop], values[:, :n_states].T).T
+            else:
+                for r in range(m):
+                    values[r, n_states:] = part.outputs(float(times[start + r]), values[r, :n_states])
+        except Exception:
+            return False
+    if not np.isfinite(values).all():
+        return False
+    block = data[start:stop]
+    block[:, targets] = values[:, sources]
+    block[:, const_cols] = const_vals
+    block[:, var_cols] = var_coeffs * values[:, var_srcs]
+    return True
 
 
 def _failing_line(exc: BaseException, system: CompiledSystem, names_of: dict[str, str]) -> tuple[str, str]:

@@ -442,6 +442,7 @@ class _Run:
         self.events: list[Event] = []
         self.terminated: tuple | None = None  #: (time, messages) of a terminate()
         self.modes: list[str] = []
+        self._modes_seen: set[str] = set()  #: (the same, for the test of a new one)
         self.notes: list[str] = []
         #: how many notes the translation had before this run (its later ones are this run's)
         self.translation_notes_before = len(translation.notes)
@@ -465,6 +466,9 @@ class _Run:
         #: state events per relation and direction: their last times (Zeno detection)
         self._state_event_times: dict[tuple, list[float]] = {}
         self._relation_of_text = {rel.text: rel.index for rel in self.relations}
+        self._relations_of_text: dict[str, tuple[int, ...]] = {}
+        for k, rel in enumerate(self.relations):
+            self._relations_of_text[rel.text] = (*self._relations_of_text.get(rel.text, ()), k)
         self._warned: set = set()
 
     def _update_time_roots(self, values) -> None:
@@ -574,7 +578,8 @@ class _Run:
             components=tuple(dict.fromkeys(n.rpartition(".")[0] for n in [variable] if "." in n)))
 
     def _record_mode(self, system: CompiledSystem) -> None:
-        if system.description not in self.modes:
+        if system.description not in self._modes_seen:
+            self._modes_seen.add(system.description)
             self.modes.append(system.description)
             relaxed = getattr(system, "relaxed", None)
             if relaxed is not None:
@@ -651,7 +656,7 @@ class _Run:
             started = _time.perf_counter()
             compiled = self.translation.translation_seconds
             values = mode_values(system, t_e, x_e)
-            fired_indices = frozenset(k for k, r in enumerate(self.relations) if r.text in fired)
+            fired_indices = frozenset(k for text in fired for k in self._relations_of_text.get(text, ()))
             outcome = self.evaluator.iterate(t_e, values, discrete, relations, fired=fired_indices,
                                              ticks=ticks)
             # (compiling a newly visited state is counted apart, from the pass logs)
