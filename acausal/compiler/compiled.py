@@ -20,7 +20,7 @@ from typing import Any, Callable, Mapping
 from ..attributes import Experiment, StateSelect
 
 __all__ = ["FlatVariable", "FlatParameter", "RelationData", "ClockData", "DelayData", "ModelData", "DiscreteProgram",
-           "EXACT_MARGIN"]
+           "EXACT_MARGIN", "hints_for"]
 
 #: The relative margin of a relation free of integration noise (``RelationData.is_exact``):
 #: round-off of its sides, no more.
@@ -234,16 +234,7 @@ class ModelData:
         A path inside a component (a variable's owner, ``a.b.c`` for ``a.b.c.x``)
         finds the hints of the nearest enclosing component that has some.
         """
-        out: list[str] = []
-        for path in components:
-            while True:
-                hint = self.hints.get(path, {}).get(situation)
-                if hint is not None or not path:
-                    break
-                path = path.rpartition(".")[0]
-            if hint is not None and hint not in out:
-                out.append(hint)
-        return tuple(out)
+        return hints_for(self.hints, situation, components)
 
 
 @dataclass(frozen=True)
@@ -276,3 +267,19 @@ class DiscreteProgram:
     terminations: tuple
     asserts: tuple
     source: str | None = None
+
+
+def hints_for(hints: Mapping[str, Mapping[str, str]], situation: str, components) -> tuple[str, ...]:
+    """The distinct hints of ``hints`` (component path -> situation -> hint) that the
+    ``components`` (dotted paths) declare for ``situation``; a path inside a component
+    finds the hints of the nearest enclosing component that has some."""
+    out: list[str] = []
+    for path in components:
+        while True:
+            hint = hints.get(path, {}).get(situation)
+            if hint is not None or not path:
+                break
+            path = path.rpartition(".")[0]
+        if hint is not None and hint not in out:
+            out.append(hint)
+    return tuple(out)

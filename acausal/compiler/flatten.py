@@ -35,7 +35,7 @@ from .. import hybrid
 from ..hybrid import EVENT_FUNCTIONS, Delay, Homotopy, NoEvent, Reinit, Terminate, When
 from ..errors import AcausalError, ConnectorError, EquationError, ModelDefinitionError, ParameterError
 from ..functions import impure_applications
-from .compiled import FlatParameter, FlatVariable
+from .compiled import FlatParameter, FlatVariable, hints_for
 from ..language import (
     Boolean,
     BoundConnector,
@@ -267,16 +267,7 @@ class FlatModel:
         A path inside a component (a variable's owner, ``a.b.c`` for ``a.b.c.x``)
         finds the hints of the nearest enclosing component that has some.
         """
-        out: list[str] = []
-        for path in components:
-            while True:
-                hint = self.hints.get(path, {}).get(situation)
-                if hint is not None or not path:
-                    break
-                path = path.rpartition(".")[0]
-            if hint is not None and hint not in out:
-                out.append(hint)
-        return tuple(out)
+        return hints_for(self.hints, situation, components)
 
     @property
     def variable_map(self) -> dict[str, FlatVariable]:
