@@ -488,6 +488,9 @@ class MemoryCache:
         self.payloads = dict(payloads)
         #: ``entry -> (GeneratedCode, make)``: the source is loaded once, then every translation binds it
         self.codes: dict = {}
+        #: ``entry -> the parameters its aliases read`` and ``(entry, their values) -> alias plan``
+        #: (:func:`acausal.compiler.persist._bundle_plan`)
+        self.plans: dict = {}
         self.hits = 0
         self.misses = 0
         self.compiled = 0  #: systems compiled because no payload served them
@@ -506,6 +509,9 @@ class MemoryCache:
         self.compiled += 1
         self.payloads[entry] = payload
         self.codes.pop(entry, None)
+        # the plans made from the entry's previous payload go with it
+        self.plans = {key: plan for key, plan in self.plans.items()
+                      if (key if isinstance(key, str) else key[0]) != entry}
         return True
 
 

@@ -183,8 +183,7 @@ class PersistentSystems:
         def build(payload, code, functions, passes):
             plan = tuple((n, c, s) for n, c, s in payload["alias_plan"])
             if "aliases" in payload:  # from a bundle: the plan follows these parameter values
-                aliases = {n: _expression(e) for n, e in payload["aliases"].items()}
-                plan = alias_plan(SimpleNamespace(aliases=aliases), cache.parameters.symbols)
+                plan = _bundle_plan(self._disk, entry, payload, cache.parameters)
             return ModeSystem(
                 tuple(payload["key"]), payload["description"], (), None, None, None, None, code, passes,
                 *functions, tuple(payload["states"]), tuple(payload["unknowns"]), plan,
@@ -530,6 +529,31 @@ class TranslationBundle:
     def store(self) -> MemoryCache:
         """The payloads as a persistent-cache replacement (:class:`~acausal.compiler.diskcache.MemoryCache`)."""
         return MemoryCache(self.payloads)
+
+
+def _bundle_plan(store, entry: str, payload: dict, parameters) -> tuple:
+    """A shipped system's alias plan for ``parameters`` (a ParameterTable).
+
+    The plan depends only on the values of the parameters its aliases read,
+    which most runs of a sweep leave as they are: a bundle's store keeps it by
+    those values (as ``repr``, so that -0.0 and 0.0 stay apart), so that the
+    sympy work is done once per process and distinct values.
+    """
+    plans = getattr(store, "plans", None)
+    if plans is None:
+        aliases = {n: _expression(e) for n, e in payload["aliases"].items()}
+        return alias_plan(SimpleNamespace(aliases=aliases), parameters.symbols)
+    reads = plans.get(entry)
+    if reads is None:
+        aliases = {n: _expression(e) for n, e in payload["aliases"].items()}
+        reads = plans[entry] = tuple(sorted({s.name for e in aliases.values() for s in e.free_symbols}
+                                            & parameters.values.keys()))
+    key = (entry, tuple(repr(parameters.values[n]) for n in reads))
+    plan = plans.get(key)
+    if plan is None:
+        aliases = {n: _expression(e) for n, e in payload["aliases"].items()}
+        plan = plans[key] = alias_plan(SimpleNamespace(aliases=aliases), parameters.symbols)
+    return plan
 
 
 @functools.lru_cache(maxsize=4)
