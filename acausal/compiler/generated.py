@@ -22,7 +22,8 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["FLOAT_FUNCTIONS", "newton_solve", "load_functions", "load_make", "vectorised", "vectorised_of"]
+__all__ = ["FLOAT_FUNCTIONS", "CompiledFunctions", "newton_solve", "load_functions", "load_make", "vectorised",
+           "vectorised_of"]
 
 
 # -- floating-point semantics for the functions that overflow --------------------------------------
@@ -588,3 +589,32 @@ def _v_rows(varying, constant, varying_rows, constant_rows, t) -> np.ndarray:
 _VECTOR_HELPERS = {"_v_map": _v_map, "_v_pow": _v_pow, "_v_where": _v_where, "_v_abs": _v_abs,
                    "_v_max": _v_max, "_v_min": _v_min, "_v_and": _v_and, "_v_or": _v_or, "_v_not": _v_not,
                    "_v_any": _v_any, "_v_rows": _v_rows, "np": np, "math": math}
+
+
+class CompiledFunctions:
+    """What a system of generated functions answers besides its fields (``states``,
+    ``unknowns``, ``crossings``, ``outputs``, ``code``): shared by the compiler's
+    :class:`~acausal.compiler.modes.ModeSystem` and a saved run's
+    :class:`~acausal.compiler.saved.LoadedSystem` (the runtime's ``CompiledSystem``)."""
+
+    #: a system of the whole model has no independent parts (a
+    #: :class:`~acausal.compiler.clusters.ComposedSystem` has)
+    parts = None
+
+    def crossings_for(self, relations: tuple[int, ...]) -> Callable:
+        """A ``crossings`` that computes at least the values of ``relations``: here
+        every relation's (the generated function is one)."""
+        return self.crossings
+
+    def vectorised(self, name: str) -> Callable | None:
+        """The numpy version of ``crossings`` or ``outputs``: ``f(t, X)`` for ``m``
+        times and the states as the rows of ``X`` gives a ``k x m`` array whose
+        columns equal the scalar function's values bit for bit (:func:`vectorised`);
+        None where the code does not allow one."""
+        return vectorised_of(self, name)
+
+    def values(self, t: float, x) -> dict[str, float]:
+        """Continuous variables and derivatives at ``(t, x)`` (aliases: see ``alias_plan``)."""
+        out = dict(zip(self.states, map(float, x)))
+        out.update(zip(self.unknowns, self.outputs(t, x)))
+        return out

@@ -19,7 +19,7 @@ import dataclasses
 import time as _time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Callable, ClassVar, Iterator, Mapping, Sequence
+from typing import Any, Iterator, Mapping, Sequence
 
 import sympy as sp
 
@@ -31,7 +31,7 @@ from .alias import AliasResult, eliminate_aliases
 from .blt import BLTResult, sort_blt
 from .cache import ModelCache
 from .codegen import GeneratedCode, generate, needed_steps
-from .generated import vectorised_of
+from .generated import CompiledFunctions
 from .flatten import FlatEquation, FlatVariable
 from .partition import PartitionedModel
 from .structure import StructuralResult, _incidence, analyse, check_balance
@@ -119,7 +119,7 @@ AliasPlan = tuple[tuple[str, float, "str | None"], ...]
 
 
 @dataclass(frozen=True)
-class ModeSystem:
+class ModeSystem(CompiledFunctions):
     """The compiled continuous system of one discrete state.
 
     Attributes
@@ -200,28 +200,6 @@ class ModeSystem:
             return tuple(self.loaded_derivatives or ())
         return tuple(self.structure.derivatives)
 
-    #: a system of the whole model has no independent parts (a
-    #: :class:`~acausal.compiler.clusters.ComposedSystem` has)
-    parts: ClassVar[None] = None
-
-    def crossings_for(self, relations: tuple[int, ...]) -> Callable:
-        """A ``crossings`` that computes at least the values of ``relations``: here
-        every relation's (the generated function is one)."""
-        return self.crossings
-
-    def vectorised(self, name: str) -> Callable | None:
-        """The numpy version of ``crossings`` or ``outputs``: ``f(t, X)`` for ``m``
-        times and the states as the rows of ``X`` gives a ``k x m`` array whose
-        columns equal the scalar function's values bit for bit
-        (:func:`~acausal.compiler.codegen.vectorised`); None where the code does
-        not allow one."""
-        return vectorised_of(self, name)
-
-    def values(self, t: float, x) -> dict[str, float]:
-        """Continuous variables and derivatives at ``(t, x)`` (aliases: see :attr:`alias_plan`)."""
-        out = dict(zip(self.states, map(float, x)))
-        out.update(zip(self.unknowns, self.outputs(t, x)))
-        return out
 
 
 def compile_mode(key: tuple, description: str, context: str, equations: tuple[FlatEquation, ...],

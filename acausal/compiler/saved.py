@@ -29,7 +29,7 @@ from typing import Any, Callable, Mapping
 
 from ..options import EngineOptions
 from .compiled import DiscreteProgram, ModelData
-from .generated import load_functions, load_make, vectorised_of
+from .generated import CompiledFunctions, load_functions, load_make
 
 __all__ = ["SavedModel", "LoadedModel", "LoadedSystem", "LoadedInitialSystem"]
 
@@ -76,7 +76,7 @@ def _made(payload: dict, parameters: tuple[float, ...]) -> tuple[_Code, tuple]:
 
 
 @dataclass(frozen=True)
-class LoadedSystem:
+class LoadedSystem(CompiledFunctions):
     """A discrete state's system made from its saved source (the runtime's ``CompiledSystem``)."""
 
     key: tuple
@@ -90,7 +90,6 @@ class LoadedSystem:
     crossings: Any = field(repr=False, compare=False)
     outputs: Any = field(repr=False, compare=False)
     relaxed: None = None
-    parts: None = None
 
     @classmethod
     def of(cls, payload: dict, parameters: tuple[float, ...]) -> "LoadedSystem":
@@ -103,16 +102,6 @@ class LoadedSystem:
     def sources(self) -> tuple[str, ...]:
         return (self.code.source,)
 
-    def crossings_for(self, relations: tuple[int, ...]) -> Callable:
-        return self.crossings
-
-    def vectorised(self, name: str) -> Callable | None:
-        return vectorised_of(self, name)
-
-    def values(self, t: float, x) -> dict[str, float]:
-        out = dict(zip(self.states, map(float, x)))
-        out.update(zip(self.unknowns, self.outputs(t, x)))
-        return out
 
 
 @dataclass(frozen=True)

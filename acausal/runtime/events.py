@@ -506,19 +506,7 @@ class DiscreteEvaluator:
         :meth:`flipped_relations` decides on, signed to be negative while the
         relation keeps its value in ``relations`` and positive once it has
         flipped (for the search of the flip instant)."""
-        d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])
-        crossings = system.crossings_for((k,))
-        epsilon, floor, i = self._margins[k], self._floors[k], 2 * k
-        sign = -1.0 if previous else 1.0
-
-        def distance(t, x) -> float:
-            raw = crossings(t, x)
-            lhs, rhs = raw[i], raw[i + 1]
-            if timed:
-                return sign * (d * (lhs - rhs))
-            return sign * (d * ((lhs - rhs) + toward * (epsilon * max(floor, abs(lhs), abs(rhs)))))
-
-        return distance
+        return self.distance_to_first_flip(system, relations, (k,))
 
     def distance_to_first_flip(self, system: CompiledSystem, relations, candidates) -> Callable:
         """``distance(t, x)`` for the first of ``candidates`` to flip: the largest of their
@@ -528,22 +516,21 @@ class DiscreteEvaluator:
         the flip instant takes its trial points from it when several relations flip in
         one step (twins of one component, or several parts of a storm) instead of
         halving alone."""
-        if len(candidates) == 1:
-            return self.distance_to_flip(system, relations, candidates[0])
         crossings = system.crossings_for(tuple(sorted(candidates)))
         terms = []
         for k in candidates:
             d, toward, _strict, timed, previous = self._relation_kind(k, relations[k])
-            terms.append((2 * k, -1.0 if previous else 1.0, d, 0.0 if timed else toward * self._margins[k],
-                          self._floors[k]))
+            terms.append((2 * k, -1.0 if previous else 1.0, d, timed, toward, self._margins[k], self._floors[k]))
 
         def distance(t, x) -> float:
             raw = crossings(t, x)
             best = -math.inf
-            for i, sign, d, shift, floor in terms:
+            for i, sign, d, timed, toward, epsilon, floor in terms:
                 lhs, rhs = raw[i], raw[i + 1]
-                value = sign * (d * ((lhs - rhs) + shift * max(floor, abs(lhs), abs(rhs)))) if shift \
-                    else sign * (d * (lhs - rhs))
+                if timed:
+                    value = sign * (d * (lhs - rhs))
+                else:
+                    value = sign * (d * ((lhs - rhs) + toward * (epsilon * max(floor, abs(lhs), abs(rhs)))))
                 if value > best:
                     best = value
             return best

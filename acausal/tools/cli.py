@@ -45,7 +45,7 @@ import threading
 import time
 import traceback
 from pathlib import Path
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Callable, Sequence
 
 from ..errors import AcausalError, SolverError
 from ..runtime.simulate import METHODS
@@ -468,11 +468,7 @@ def _simulate(model, keep: list | None = None, **options):
     from ..language import Experiment
     from ..runtime.simulate import simulate
 
-    experiment = getattr(model, "experiment", None) or Experiment()
-    start = experiment.start_time if options.get("start_time") is None else options["start_time"]
-    stop = experiment.stop_time if options.get("stop_time") is None else options["stop_time"]
-    if not stop > start:
-        raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
+    _check_times(getattr(model, "experiment", None) or Experiment(), options)
     # translated here, so that a failure of the model's own code is a model error (status 2)
     from ..compiler.translate import with_start_values
 
@@ -539,18 +535,13 @@ def _cmd_simulate(args) -> int:
             raise CommandError(f"not a variable of {cls.__name__}: {'; '.join(hints)}")
     # with --signals only what those signals need is computed (effects on demand)
     kept: list = []
-    try:
-        result = _simulate(_instantiate(cls), keep=kept, start_time=args.start_time, stop_time=args.stop_time,
-                           interval=args.interval, method=args.method, rtol=args.rtol,
-                           atol=args.atol, outputs=signals, parameters=_parameters(args.param) or None,
-                           start=_parameters(args.start, "--start") or None,
-                           max_steps=args.max_steps, timeout=args.timeout)
-    except KeyboardInterrupt as exc:
-        # Ctrl-C or SIGTERM: simulate() may attach the result computed until then
-        result = getattr(exc, "result", None)
-        if result is None:
-            print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
-            return 130
+    result = _run_keeping_partial(lambda: _simulate(
+        _instantiate(cls), keep=kept, start_time=args.start_time, stop_time=args.stop_time, interval=args.interval,
+        method=args.method, rtol=args.rtol, atol=args.atol, outputs=signals,
+        parameters=_parameters(args.param) or None, start=_parameters(args.start, "--start") or None,
+        max_steps=args.max_steps, timeout=args.timeout), args)
+    if result is None:
+        return 130
     if result.success and kept and _warm_eligible(args):
         _save_run(args.model, cls, kept[0], modules_before)
     return _write_simulation(args, result, out, cls.__name__, signals, display)
@@ -644,16 +635,33 @@ def _load_saved(spec: str):
     return payload["class"], payload.get("modelica_class"), LoadedModel(saved, translate_model)
 
 
-def _simulate_loaded(loaded, **options):
-    """:func:`_simulate` for a saved run: the times checked, then the runtime alone."""
-    from ..runtime.simulate import simulate
-
-    experiment = loaded.data.experiment
+def _check_times(experiment, options: dict) -> None:
+    """The start and stop times of a run (``options`` over the ``experiment``), checked
+    before anything runs: ``simulate`` would reject them with a ValueError."""
     start = experiment.start_time if options.get("start_time") is None else options["start_time"]
     stop = experiment.stop_time if options.get("stop_time") is None else options["stop_time"]
     if not stop > start:
         raise CommandError(f"the stop time ({stop:g}) must be after the start time ({start:g})")
+
+
+def _simulate_loaded(loaded, **options):
+    """:func:`_simulate` for a saved run: the times checked, then the runtime alone."""
+    from ..runtime.simulate import simulate
+
+    _check_times(loaded.data.experiment, options)
     return simulate(loaded, **options)
+
+
+def _run_keeping_partial(run: Callable[[], object], args):
+    """``run()``; on Ctrl-C or SIGTERM the result ``simulate()`` attached to the interrupt,
+    or None (said on standard error: nothing computed, nothing written)."""
+    try:
+        return run()
+    except KeyboardInterrupt as exc:
+        result = getattr(exc, "result", None)
+        if result is None:
+            print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
+        return result
 
 
 def _warm_simulate(args) -> int | None:
@@ -666,15 +674,11 @@ def _warm_simulate(args) -> int | None:
     out = Path(args.out) if args.out else Path(f"{name}.csv")
     if not args.out:
         _check_writable(out, "the result")
-    try:
-        result = _simulate_loaded(loaded, start_time=args.start_time, stop_time=args.stop_time,
-                                  interval=args.interval, method=args.method, rtol=args.rtol, atol=args.atol,
-                                  max_steps=args.max_steps, timeout=args.timeout)
-    except KeyboardInterrupt as exc:
-        result = getattr(exc, "result", None)
-        if result is None:
-            print(f"acausal simulate: {_stopped(args)}; nothing written", file=sys.stderr)
-            return 130
+    result = _run_keeping_partial(lambda: _simulate_loaded(
+        loaded, start_time=args.start_time, stop_time=args.stop_time, interval=args.interval, method=args.method,
+        rtol=args.rtol, atol=args.atol, max_steps=args.max_steps, timeout=args.timeout), args)
+    if result is None:
+        return 130
     return _write_simulation(args, result, out, name, None, {})
 
 

@@ -166,3 +166,40 @@ def test_random_hybrid_models_take_the_same_events_on_both_paths(seed, n_time, n
     assert [(e.time, e.kind, e.changes) for e in numpy_run.events] == \
         [(e.time, e.kind, e.changes) for e in scalar_run.events]
     np.testing.assert_array_equal(numpy_run["y"], scalar_run["y"])
+
+
+@settings(max_examples=60, derandomize=True, deadline=None)
+@given(data=st.data())
+def test_clear_decisions_with_numpy_equal_the_loop(data):
+    """``DiscreteEvaluator.clearly_decided`` with numpy (from ``_VECTORISE_FROM`` relations)
+    gives the loop's answers for the same doubles: sides within and beyond the margin, equal
+    sides that inherit the answer before, NaN and infinite sides."""
+    from acausal.compiler.translate import translate
+    from acausal.runtime.events import evaluator_for
+    from tests.compiler.test_clusters import storm
+
+    events_module = events
+
+    evaluator = _STORM_EVALUATOR.get("e")
+    if evaluator is None:
+        translation = translate(storm(12), cache=False)
+        evaluator = _STORM_EVALUATOR["e"] = evaluator_for(translation)
+    n = len(evaluator.relations)
+    assert n >= events_module._VECTORISE_FROM
+    side = st.sampled_from([0.0, -0.0, 1.0, -1.0, 1.0 + 1e-10, 1.0 - 1e-10, 1e-12, math.nan, math.inf, -math.inf]) \
+        | st.floats(-3, 3, allow_nan=False)
+    raw = data.draw(st.lists(side, min_size=2 * n, max_size=2 * n))
+    for i in data.draw(st.lists(st.integers(0, n - 1), max_size=n)):  # some exactly equal sides
+        raw[2 * i + 1] = raw[2 * i]
+    inherited = data.draw(st.none() | st.lists(st.booleans(), min_size=n, max_size=n))
+    fast = evaluator.clearly_decided(list(raw), inherited)
+    saved = events_module._VECTORISE_FROM
+    events_module._VECTORISE_FROM = 10 ** 9
+    try:
+        loop = evaluator.clearly_decided(list(raw), inherited)
+    finally:
+        events_module._VECTORISE_FROM = saved
+    assert fast == loop
+
+
+_STORM_EVALUATOR: dict = {}
