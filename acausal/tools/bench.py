@@ -715,8 +715,16 @@ _IMPORTTIME_LINE = re.compile(r"^import time:\s+(\d+)\s+\|\s+(\d+)\s+\|\s*(\S+)\
 
 
 def _repository_env() -> dict:
-    """This process's environment with the repository first on ``PYTHONPATH`` (as a fresh command needs)."""
+    """This process's environment with the repository first on ``PYTHONPATH`` (as a fresh command needs).
+
+    Bytecode is written and read as on a user's installation: ``PYTHONDONTWRITEBYTECODE``, which
+    some containers set, is dropped.  With it, every fresh process compiles acausal's sources
+    again (about 0.07 s a command; the commands section measures it when the variable is set)
+    while numpy's and scipy's, compiled when pip installed them, are read as bytecode: the
+    floors would not be measured alike.
+    """
     env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
     return env
 
@@ -898,6 +906,11 @@ def run_commands_with_floors(repeats: int = 5, log: Callable[[str], None] | None
                     record[key] = float(np.median(round_floors[label])) if round_floors[label] else math.nan
                 if breakdown and _is_warm_target(record):
                     record.update(import_breakdown(argv, envs[kind]))
+                    if os.environ.get("PYTHONDONTWRITEBYTECODE"):
+                        # what the same command costs where bytecode is not written (this environment)
+                        uncached = import_breakdown(argv, {**envs[kind], "PYTHONDONTWRITEBYTECODE": "1"})
+                        record["import_acausal_seconds_without_bytecode"] = uncached["import_acausal_seconds"]
+                        record["import_wall_without_bytecode"] = uncached["import_wall"]
                 records.append(record)
                 log(f"  {record['command']} ({kind} disk cache): min {record['min_wall']:.2f} s, "
                     f"median {record['median_wall']:.2f} s, " + ("passed" if ok else f"FAILED: {failures[kind]}"))
@@ -1007,7 +1020,22 @@ def _import_breakdown_table(rows: Sequence[dict]) -> str:
         "Each warm target command run again under `python -X importtime`: every module's own import "
         "time, counted for its top-level package whoever imported it (sympy's mpmath apart); the median "
         f"of {measured[0].get('import_runs', 1)} runs per column. The instrumentation slows the imports, so "
-        "read the shares.", "", table, ""])
+        "read the shares. Bytecode is written and read as on a user's installation (the bench drops "
+        "`PYTHONDONTWRITEBYTECODE`).", "", table, ""] + _without_bytecode_lines(measured))
+
+
+def _without_bytecode_lines(rows: Sequence[dict]) -> list[str]:
+    """What the warm commands' import of acausal costs where ``PYTHONDONTWRITEBYTECODE`` is set
+    (measured only when the bench's own environment sets it)."""
+    lines = [f"- `{_command_text(r)}`: acausal's own import {r['import_acausal_seconds_without_bytecode']:.3f} s "
+             f"without bytecode against {float(r.get('import_acausal_seconds', 0.0)):.3f} s with it "
+             f"(wall under -X importtime {r['import_wall_without_bytecode']:.2f} s against {r['import_wall']:.2f} s)"
+             for r in rows if _finite(r.get("import_acausal_seconds_without_bytecode"))]
+    if not lines:
+        return []
+    return ["This environment sets `PYTHONDONTWRITEBYTECODE=1`: every fresh process compiles acausal's "
+            "sources again, while numpy's were compiled when pip installed it. The same commands run so:", "",
+            *lines, ""]
 
 
 def _commands_markdown(records: Sequence[dict]) -> str:

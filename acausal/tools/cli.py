@@ -353,7 +353,15 @@ def _method(text: str) -> str:
     raise argparse.ArgumentTypeError(f"unknown method {text!r}; choose one of {', '.join(METHODS)}")
 
 
-def _parser() -> argparse.ArgumentParser:
+#: The commands ``_parser`` declares with their options (the others parse their own arguments).
+_PARSED_COMMANDS = ("simulate", "compare", "explain", "export")
+
+
+def _parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser; with ``command`` (one of :data:`_PARSED_COMMANDS`) only that
+    command's options are declared: a warm ``acausal simulate`` spends ~5 ms declaring the
+    others (argparse looks up a translation of every help text), which only
+    ``acausal --help`` shows."""
     from .. import __version__
 
     parser = argparse.ArgumentParser(
@@ -363,87 +371,95 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"acausal {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
 
-    sim = commands.add_parser("simulate", help="simulate a model and write a CSV result",
-                              description="Simulate a model and write its result as CSV "
-                                          "(time first, then every variable by dotted name).")
-    sim.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName")
-    sim.add_argument("--start-time", type=_finite_float, metavar="T",
-                     help="default: the model's experiment")
-    sim.add_argument("--stop-time", type=_finite_float, metavar="T",
-                     help="default: the model's experiment")
-    sim.add_argument("--interval", type=_positive_float, metavar="DT",
-                     help="output interval; default: the model's experiment or 500 points")
-    sim.add_argument("--method", type=_method, default=None, metavar="M",
-                     help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
-                          f"method, else RK45)")
-    sim.add_argument("--rtol", type=_positive_float, metavar="R",
-                     help="relative tolerance; default: the experiment's or 1e-6")
-    sim.add_argument("--atol", type=_positive_float, metavar="A",
-                     help="absolute tolerance; default: rtol times each state's nominal value")
-    sim.add_argument("--out", metavar="FILE.csv", help="CSV file to write; default: <Model>.csv")
-    sim.add_argument("--signals", metavar="a,b,...",
-                     help="comma-separated variables to write; default: all")
-    sim.add_argument("--display-unit", metavar="NAME=UNIT", action="append", default=[],
-                     help="print NAME's final value in UNIT (repeatable), e.g. J1.w=rpm, T=degC, p=bar; "
-                          "the CSV stays in the declared units")
-    sim.add_argument("--param", metavar="NAME=VALUE", action="append", default=[],
-                     help="a parameter's value for this run (repeatable), e.g. component.parameter=2.5; "
-                          "a numeric one reuses the compiled systems, a structural one translates anew")
-    sim.add_argument("--start", metavar="NAME=VALUE", action="append", default=[],
-                     help="a variable's start value for this run (repeatable), e.g. J1.w=3; those of "
-                          "states and fixed variables reuse the compiled systems")
-    _add_budgets(sim, "the run (the CSV holds what it computed)")
-    sim.add_argument("--no-disk-cache", action="store_true",
-                     help="compile everything: neither load nor store compiled systems on disk "
-                          "(as ACAUSAL_DISK_CACHE=off)")
-    sim.set_defaults(run=_cmd_simulate)
+    if command in (None, "simulate"):
+        sim = commands.add_parser("simulate", help="simulate a model and write a CSV result",
+                                  description="Simulate a model and write its result as CSV "
+                                              "(time first, then every variable by dotted name).")
+        sim.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName")
+        sim.add_argument("--start-time", type=_finite_float, metavar="T",
+                         help="default: the model's experiment")
+        sim.add_argument("--stop-time", type=_finite_float, metavar="T",
+                         help="default: the model's experiment")
+        sim.add_argument("--interval", type=_positive_float, metavar="DT",
+                         help="output interval; default: the model's experiment or 500 points")
+        sim.add_argument("--method", type=_method, default=None, metavar="M",
+                         help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
+                              f"method, else RK45)")
+        sim.add_argument("--rtol", type=_positive_float, metavar="R",
+                         help="relative tolerance; default: the experiment's or 1e-6")
+        sim.add_argument("--atol", type=_positive_float, metavar="A",
+                         help="absolute tolerance; default: rtol times each state's nominal value")
+        sim.add_argument("--out", metavar="FILE.csv", help="CSV file to write; default: <Model>.csv")
+        sim.add_argument("--signals", metavar="a,b,...",
+                         help="comma-separated variables to write; default: all")
+        sim.add_argument("--display-unit", metavar="NAME=UNIT", action="append", default=[],
+                         help="print NAME's final value in UNIT (repeatable), e.g. J1.w=rpm, T=degC, p=bar; "
+                              "the CSV stays in the declared units")
+        sim.add_argument("--param", metavar="NAME=VALUE", action="append", default=[],
+                         help="a parameter's value for this run (repeatable), e.g. component.parameter=2.5; "
+                              "a numeric one reuses the compiled systems, a structural one translates anew")
+        sim.add_argument("--start", metavar="NAME=VALUE", action="append", default=[],
+                         help="a variable's start value for this run (repeatable), e.g. J1.w=3; those of "
+                              "states and fixed variables reuse the compiled systems")
+        _add_budgets(sim, "the run (the CSV holds what it computed)")
+        sim.add_argument("--no-disk-cache", action="store_true",
+                         help="compile everything: neither load nor store compiled systems on disk "
+                              "(as ACAUSAL_DISK_CACHE=off)")
+        sim.set_defaults(run=_cmd_simulate)
 
-    cmp_ = commands.add_parser("compare", help="tube-test a model against the MSL reference results",
-                               description="Simulate a model with its experiment settings and "
-                                           "tube-test every signal of the reference's "
-                                           "comparisonSignals.txt (csv-compare's test).")
-    cmp_.add_argument("models", metavar="MODEL", nargs="+",
-                      help="FILE.py or FILE.py:ClassName (with modelica_class), or a folder (every such "
-                           "model in its .py files); several may be given")
-    cmp_.add_argument("--reference-dir", metavar="DIR",
-                      help="folder of reference results (default: ACAUSAL_REFERENCE_DIR, else "
-                           "the references bundled with acausal for its examples)")
-    cmp_.add_argument("--plot", metavar="DIR",
-                      help="write one PNG per model into DIR: a panel per compared signal, with the tube")
-    cmp_.add_argument("--plot-per-signal", action="store_true",
-                      help="with --plot, also write one PNG per compared signal")
-    cmp_.add_argument("--method", type=_method, default=None, metavar="M",
-                      help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
-                           f"method, else RK45)")
-    cmp_.add_argument("--rtol", type=_positive_float, metavar="R",
-                      help=f"relative tolerance (default {COMPARE_RTOL:g}, or the experiment's "
-                           f"if tighter)")
-    _add_budgets(cmp_, "each model's run")
-    cmp_.add_argument("-v", "--verbose", action="store_true",
-                      help="with several models, also print each model's run summary and per-signal "
-                           "table (without: a row per model in one table, the legend once)")
-    cmp_.add_argument("--no-disk-cache", action="store_true",
-                      help="compile everything: neither load nor store compiled systems on disk "
-                           "(as ACAUSAL_DISK_CACHE=off)")
-    cmp_.set_defaults(run=_cmd_compare)
+    if command in (None, "compare"):
+        cmp_ = commands.add_parser("compare", help="tube-test a model against the MSL reference results",
+                                   description="Simulate a model with its experiment settings and "
+                                               "tube-test every signal of the reference's "
+                                               "comparisonSignals.txt (csv-compare's test).")
+        cmp_.add_argument("models", metavar="MODEL", nargs="+",
+                          help="FILE.py or FILE.py:ClassName (with modelica_class), or a folder (every such "
+                               "model in its .py files); several may be given")
+        cmp_.add_argument("--reference-dir", metavar="DIR",
+                          help="folder of reference results (default: ACAUSAL_REFERENCE_DIR, else "
+                               "the references bundled with acausal for its examples)")
+        cmp_.add_argument("--plot", metavar="DIR",
+                          help="write one PNG per model into DIR: a panel per compared signal, with the tube")
+        cmp_.add_argument("--plot-per-signal", action="store_true",
+                          help="with --plot, also write one PNG per compared signal")
+        cmp_.add_argument("--method", type=_method, default=None, metavar="M",
+                          help=f"integration method: {', '.join(METHODS)} (default: the model's experiment "
+                               f"method, else RK45)")
+        cmp_.add_argument("--rtol", type=_positive_float, metavar="R",
+                          help=f"relative tolerance (default {COMPARE_RTOL:g}, or the experiment's "
+                               f"if tighter)")
+        _add_budgets(cmp_, "each model's run")
+        cmp_.add_argument("-v", "--verbose", action="store_true",
+                          help="with several models, also print each model's run summary and per-signal "
+                               "table (without: a row per model in one table, the legend once)")
+        cmp_.add_argument("--no-disk-cache", action="store_true",
+                          help="compile everything: neither load nor store compiled systems on disk "
+                               "(as ACAUSAL_DISK_CACHE=off)")
+        cmp_.set_defaults(run=_cmd_compare)
 
-    exp = commands.add_parser("explain", help="show how the model is translated, stage by stage",
-                              description="Print what each translation stage does to the model "
-                                          "and draw the incidence matrix in BLT order.")
-    exp.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName")
-    exp.add_argument("--out", metavar="DIR", help="folder for the pictures (default: current directory)")
-    exp.add_argument("--html", metavar="DIR",
-                     help="write a self-contained teaching page DIR/index.html (simulates the model for "
-                          "its discrete states and events)")
-    exp.set_defaults(run=_cmd_explain)
-    export = commands.add_parser("export", help="write a model as Modelica text",
-                                 description="Write the model as one Modelica model: library components "
-                                             "as their MSL classes with their modifiers, the model's own "
-                                             "classes with their equations, connects and the experiment.")
-    export.add_argument("model", metavar="MODEL", help="FILE.py[:ClassName] (or FILE.mo[:Class])")
-    export.add_argument("--modelica", metavar="OUT.mo", required=True,
-                        help="the Modelica file to write ('-': standard output)")
-    export.set_defaults(run=_cmd_export)
+    if command in (None, "explain"):
+        exp = commands.add_parser("explain", help="show how the model is translated, stage by stage",
+                                  description="Print what each translation stage does to the model "
+                                              "and draw the incidence matrix in BLT order.")
+        exp.add_argument("model", metavar="MODEL", help="FILE.py or FILE.py:ClassName")
+        exp.add_argument("--out", metavar="DIR", help="folder for the pictures (default: current directory)")
+        exp.add_argument("--html", metavar="DIR",
+                         help="write a self-contained teaching page DIR/index.html (simulates the model for "
+                              "its discrete states and events)")
+        exp.set_defaults(run=_cmd_explain)
+
+    if command in (None, "export"):
+        export = commands.add_parser("export", help="write a model as Modelica text",
+                                     description="Write the model as one Modelica model: library components "
+                                                 "as their MSL classes with their modifiers, the model's own "
+                                                 "classes with their equations, connects and the experiment.")
+        export.add_argument("model", metavar="MODEL", help="FILE.py[:ClassName] (or FILE.mo[:Class])")
+        export.add_argument("--modelica", metavar="OUT.mo", required=True,
+                            help="the Modelica file to write ('-': standard output)")
+        export.set_defaults(run=_cmd_export)
+
+    if command is not None:
+        return parser
     commands.add_parser("bench", help="work-precision benchmark (acausal bench --help)", add_help=False)
     commands.add_parser("show", help="a component's parameters, connectors and variables "
                                      "(acausal show Class, PACKAGE.Class, its Modelica name or "
@@ -1017,7 +1033,7 @@ def _command(argv: list[str], stop: _Stop) -> int:
         from .check import main_check
 
         return main_check(argv[1:])
-    parser = _parser()
+    parser = _parser(argv[0] if argv and argv[0] in _PARSED_COMMANDS else None)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help, --version or a usage error

@@ -249,21 +249,25 @@ def test_a_failed_write_keeps_the_earlier_out_file(in_tmp, capsys, monkeypatch):
     out = in_tmp / "first.csv"
     assert main(["simulate", str(FIRST), "--stop-time", "0.1", "--out", str(out)]) == 0
     good = out.read_bytes()
-    real_writer = csv.writer
+    real_atomic_write = result_module.atomic_write
 
     class DiskFull:
-        """A CSV writer whose disk fills up after a few rows."""
+        """A file whose disk fills up after 300 characters (the header and a few rows)."""
 
-        def __init__(self, handle, *args, **kwargs):
-            self._writer, self._rows = real_writer(handle, *args, **kwargs), 0
+        def __init__(self, handle):
+            self._handle, self._left = handle, 300
 
-        def writerow(self, row):
-            self._rows += 1
-            if self._rows > 3:
+        def write(self, text):
+            if len(text) > self._left:
+                self._handle.write(text[:self._left])
                 raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-            return self._writer.writerow(row)
+            self._left -= len(text)
+            return self._handle.write(text)
 
-    monkeypatch.setattr(result_module.csv, "writer", DiskFull)
+    def filling(path, write, *args, **kwargs):
+        return real_atomic_write(path, lambda handle: write(DiskFull(handle)), *args, **kwargs)
+
+    monkeypatch.setattr(result_module, "atomic_write", filling)
     capsys.readouterr()
     assert main(["simulate", str(FIRST), "--stop-time", "0.2", "--out", str(out)]) == 1
     assert out.read_bytes() == good  # before: the header and three rows
