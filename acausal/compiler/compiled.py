@@ -20,7 +20,7 @@ from typing import Any, Callable, Mapping
 from ..attributes import Experiment, StateSelect
 
 __all__ = ["FlatVariable", "FlatParameter", "RelationData", "ClockData", "DelayData", "ModelData", "DiscreteProgram",
-           "EXACT_MARGIN", "hints_for"]
+           "ActionOrigin", "SavedReinit", "SavedTermination", "SavedAssert", "EXACT_MARGIN", "hints_for"]
 
 #: The relative margin of a relation free of integration noise (``RelationData.is_exact``):
 #: round-off of its sides, no more.
@@ -259,6 +259,10 @@ class DiscreteProgram:
         The generated source of the equations' functions (``_f0``, ``_f1``, ...),
         when it calls no table or impure function: what a saved run keeps
         (:mod:`~acausal.compiler.saved`).
+    hybrid_source : str or None
+        Likewise for the functions of the reinits, terminations and assertions,
+        in that order: the reinits' conditions, then their values, the
+        terminations' conditions, the assertions' conditions.
     """
 
     equations: tuple[tuple[str, list[str], Callable, Any], ...]
@@ -267,6 +271,44 @@ class DiscreteProgram:
     terminations: tuple
     asserts: tuple
     source: str | None = None
+    hybrid_source: str | None = None
+
+
+@dataclass(frozen=True)
+class ActionOrigin:
+    """Where a saved reinit, termination or assertion comes from: what the runtime's messages
+    need of the compiler's ``Origin`` (its component, and its text)."""
+
+    component: str
+    text: str
+
+    def __str__(self) -> str:
+        return self.text
+
+
+@dataclass(frozen=True)
+class SavedReinit:
+    """A ``reinit`` of a saved run (the runtime reads its variable and origin)."""
+
+    variable: str
+    origin: ActionOrigin
+
+
+@dataclass(frozen=True)
+class SavedTermination:
+    """A ``terminate`` of a saved run."""
+
+    message: str
+    origin: ActionOrigin
+
+
+@dataclass(frozen=True)
+class SavedAssert:
+    """An ``assert`` of a saved run."""
+
+    message: str
+    level: str
+    origin: ActionOrigin
 
 
 def hints_for(hints: Mapping[str, Mapping[str, str]], situation: str, components) -> tuple[str, ...]:

@@ -17,7 +17,7 @@ from typing import Callable
 
 from ..functions import ImpureFunction, impure_applications
 from .compiled import DiscreteProgram
-from .codegen import compile_functions, functions_source
+from .codegen import functions_source
 from .generated import load_functions
 
 __all__ = ["DiscreteProgram", "compile_discrete", "ImpureSite"]
@@ -42,20 +42,21 @@ def compile_discrete(flat, partitioned, impure_call: Callable) -> DiscreteProgra
     compiled = tuple((eq.variable, args, fn, eq.origin) for eq, args, fn in zip(equations, arguments, functions))
 
     hybrid = flat.hybrid
+    reinits, terminations, asserts = hybrid.reinits, hybrid.terminations, hybrid.asserts
+    # one source for every function of the when-clauses and assertions, in this order:
+    # the reinits' conditions, the reinits' values, the terminations', the assertions'
+    expressions = [*(r.fires for r in reinits), *(r.value for r in reinits),
+                   *(r.fires for r in terminations), *(a.condition for a in asserts)]
     context = f"the when-clauses of {flat.name}"
-    reinits = hybrid.reinits
-    fns = compile_functions([_names(r.fires) for r in reinits] + [_names(r.value) for r in reinits],
-                            [r.fires for r in reinits] + [r.value for r in reinits], context)
-    compiled_reinits = tuple((r, _names(r.fires), fns[i], _names(r.value), fns[len(reinits) + i])
+    hybrid_source, hybrid_called = functions_source([_names(e) for e in expressions], expressions, context)
+    fns = load_functions(hybrid_source, len(expressions), context, hybrid_called)
+    n_r, n_t = len(reinits), len(terminations)
+    compiled_reinits = tuple((r, _names(r.fires), fns[i], _names(r.value), fns[n_r + i])
                              for i, r in enumerate(reinits))
-    terminations = hybrid.terminations
-    fns = compile_functions([_names(r.fires) for r in terminations], [r.fires for r in terminations], context)
-    compiled_terminations = tuple((r, _names(r.fires), fn) for r, fn in zip(terminations, fns))
-    conditions = [a.condition for a in hybrid.asserts]
-    fns = compile_functions([_names(c) for c in conditions], conditions, f"the assertions of {flat.name}")
-    compiled_asserts = tuple((a, _names(c), fn) for a, c, fn in zip(hybrid.asserts, conditions, fns))
+    compiled_terminations = tuple((r, _names(r.fires), fns[2 * n_r + i]) for i, r in enumerate(terminations))
+    compiled_asserts = tuple((a, _names(a.condition), fns[2 * n_r + n_t + i]) for i, a in enumerate(asserts))
     return DiscreteProgram(compiled, impure_sites, compiled_reinits, compiled_terminations, compiled_asserts,
-                           None if called else source)
+                           None if called else source, None if hybrid_called else hybrid_source)
 
 
 def _bind_impure_sites(expressions, call: Callable) -> tuple[list, int]:

@@ -220,25 +220,29 @@ class PersistentSystems:
         (:class:`~acausal.compiler.saved.SavedModel`), or why it cannot be saved.
 
         Saved are models whose run needs no more than continuous systems of the
-        whole model, discrete equations and time events; the others
-        (when-clauses, sample clocks, delays, discrete Reals, tables, impure
-        functions, independent parts compiled apart, an output demand,
-        homotopy) are translated by every command, as before.
+        whole model, discrete equations, when-clauses (reinit, terminate),
+        assertions and time events; the others (sample clocks, delays,
+        discrete Reals, tables, impure functions, independent parts compiled
+        apart, an output demand, homotopy) are translated by every command, as
+        before.
         """
         from .saved import SavedModel
 
         flat, partitioned = self.flat, self.partitioned
-        discrete = None
-        if partitioned.discrete_equations:
+        discrete = hybrid = None
+        if partitioned.discrete_equations or flat.hybrid:
             program = self.discrete_program(lambda *args: None)
             if program.source is None:
                 return "the model's discrete equations call a table or an impure function"
+            if program.hybrid_source is None:
+                return "the model's when-clauses or assertions call a table or an impure function"
             discrete = {"source": program.source,
                         "equations": [[variable, list(args), str(origin)]
                                       for variable, args, _fn, origin in program.equations]}
+            if flat.hybrid:
+                hybrid = _hybrid_payload(program)
         reasons = [
             (self.demand is not None, "an output demand"),
-            (bool(flat.hybrid.reinits or flat.hybrid.asserts or flat.hybrid.terminations), "when-clauses"),
             (bool(partitioned.clocks), "sample clocks"),
             (bool(flat.delays), "delay()"),
             (bool(partitioned.held_variables), "discrete Reals"),
@@ -266,7 +270,7 @@ class PersistentSystems:
             if payload is None or payload["functions"]:
                 return "an initialization problem calls a table function"
             initial.append(payload)
-        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots), discrete)
+        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots), discrete, hybrid)
 
     # -- to other processes -------------------------------------------------------
 
@@ -348,6 +352,30 @@ class PersistentSystems:
         translation._disk = bundle.store() if store is None else store
         translation._tables = translation._table_functions() or {}
         return translation
+
+
+def _hybrid_payload(program) -> dict:
+    """The reinits, terminations and assertions of a compiled discrete ``program`` as
+    plain data: their generated source, arguments, messages and origins (as text, each
+    origin once: the runtime tells two reinits of one when-clause apart by identity)."""
+    from .compiled import ActionOrigin
+
+    origins: list[ActionOrigin] = []
+    index: dict[int, int] = {}
+
+    def origin_index(origin) -> int:
+        if id(origin) not in index:
+            index[id(origin)] = len(origins)
+            origins.append(ActionOrigin(origin.component, str(origin)))
+        return index[id(origin)]
+
+    return {"source": program.hybrid_source, "origins": origins,
+            "reinits": [[r.variable, origin_index(r.origin), list(fire_args), list(value_args)]
+                        for r, fire_args, _f, value_args, _v in program.reinits],
+            "terminations": [[r.message, origin_index(r.origin), list(args)]
+                             for r, args, _f in program.terminations],
+            "asserts": [[a.message, a.level, origin_index(a.origin), list(args)]
+                        for a, args, _f in program.asserts]}
 
 
 def _mode_fields(system: ModeSystem) -> dict:

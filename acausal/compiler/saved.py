@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping
 
 from ..options import EngineOptions
-from .compiled import DiscreteProgram, ModelData
+from .compiled import DiscreteProgram, ModelData, SavedAssert, SavedReinit, SavedTermination
 from .generated import CompiledFunctions, load_functions, load_make
 
 __all__ = ["SavedModel", "LoadedModel", "LoadedSystem", "LoadedInitialSystem"]
@@ -50,6 +50,9 @@ class SavedModel:
     discrete : dict or None
         The discrete equations: their generated source and ``(variable,
         arguments, origin as text)`` each (None: the model has none).
+    hybrid : dict or None
+        The reinits, terminations and assertions: their generated source,
+        arguments, messages and origins (None: the model has none).
     """
 
     data: ModelData
@@ -58,6 +61,7 @@ class SavedModel:
     initial_systems: tuple[dict, ...]
     time_roots: tuple[tuple[int, float], ...]
     discrete: dict | None = None
+    hybrid: dict | None = None
 
 
 @dataclass(frozen=True)
@@ -156,6 +160,7 @@ class LoadedModel:
             self.initial_systems[system.key] = system
         self._time_roots = saved.time_roots
         self._discrete = saved.discrete
+        self._hybrid = saved.hybrid
         self._translate = translate
         self._translation = None
         self._seconds = _time.perf_counter() - t0
@@ -190,15 +195,31 @@ class LoadedModel:
         return found
 
     def discrete_program(self, impure_call: Callable) -> DiscreteProgram:
-        # saved only without when-clauses and impure functions (PersistentSystems.saved)
+        # saved only without impure functions (PersistentSystems.saved): impure_call is not needed
         if self._discrete is None:
             return DiscreteProgram((), 0, (), (), ())
         equations = self._discrete["equations"]
         functions = load_functions(self._discrete["source"], len(equations),
                                    f"the discrete equations of {self.data.name}")
-        return DiscreteProgram(tuple((variable, list(args), fn, origin)
-                                     for (variable, args, origin), fn in zip(equations, functions)),
-                               0, (), (), (), self._discrete["source"])
+        compiled = tuple((variable, list(args), fn, origin)
+                         for (variable, args, origin), fn in zip(equations, functions))
+        hybrid = self._hybrid
+        if hybrid is None:
+            return DiscreteProgram(compiled, 0, (), (), (), self._discrete["source"])
+        reinits, terminations, asserts = hybrid["reinits"], hybrid["terminations"], hybrid["asserts"]
+        n_r, n_t = len(reinits), len(terminations)
+        fns = load_functions(hybrid["source"], 2 * n_r + n_t + len(asserts),
+                             f"the when-clauses of {self.data.name}")
+        origins = hybrid["origins"]
+        return DiscreteProgram(
+            compiled, 0,
+            tuple((SavedReinit(variable, origins[o]), fire_args, fns[i], value_args, fns[n_r + i])
+                  for i, (variable, o, fire_args, value_args) in enumerate(reinits)),
+            tuple((SavedTermination(message, origins[o]), args, fns[2 * n_r + i])
+                  for i, (message, o, args) in enumerate(terminations)),
+            tuple((SavedAssert(message, level, origins[o]), args, fns[2 * n_r + n_t + i])
+                  for i, (message, level, o, args) in enumerate(asserts)),
+            self._discrete["source"], hybrid["source"])
 
     def time_events(self) -> tuple[tuple, tuple]:
         return self._time_roots, ()

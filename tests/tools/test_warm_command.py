@@ -139,3 +139,67 @@ def test_a_warm_compare_tube_tests_the_saved_run(tmp_path):
                 if "_seconds" not in line and not line.startswith("LOADED")]
 
     assert lines(warm) == lines(cold)
+
+
+WHEN_CLAUSES = '''
+from acausal import Assert, Boolean, Eq, Experiment, If, Model, Parameter, Variable, When, der, pre, reinit, terminate
+
+
+class BallWithLimits(Model):
+    """A bouncing ball whose run ends by terminate(), with an assertion warning on the way."""
+
+    experiment = Experiment(stop_time=10.0, interval=0.01)
+    e = Parameter(0.8)
+    h = Variable(start=1.0, fixed=True)
+    v = Variable(start=0.0, fixed=True)
+    bounces = Variable(start=0.0, fixed=True)
+
+    def equations(self):
+        return [
+            Eq(der(self.h), self.v),
+            Eq(der(self.v), -9.81),
+            Eq(der(self.bounces), 0.0),
+            When(self.h <= 0, reinit(self.v, -self.e * pre(self.v)), reinit(self.bounces, pre(self.bounces) + 1)),
+            When(self.bounces >= 3, terminate("three bounces")),
+            Assert(self.h < 0.95, "starts high", level="warning"),
+        ]
+'''
+
+
+def test_a_warm_command_runs_when_clauses_and_assertions_as_the_cold_one(tmp_path):
+    """reinit(), terminate() and an assertion warning are saved with the run: the warm command
+    loads no compiler, ends at the same terminate() and writes the cold command's bytes."""
+    model = tmp_path / "ball.py"
+    model.write_text(WHEN_CLAUSES)
+    cold = command(tmp_path, str(model), "--out", "cold.csv")
+    assert cold.returncode == 0, cold.stderr
+    warm = command(tmp_path, str(model), "--out", "warm.csv")
+    assert warm.returncode == 0, warm.stderr
+    assert loaded_packages(warm) == "LOADED []"
+    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+    for done in (cold, warm):  # the reason the run ended, as the cold run says it
+        assert "terminate() at t = 1.75" in done.stdout and "three bounces" in done.stdout, done.stdout
+    rows = (tmp_path / "warm.csv").read_text().splitlines()
+    assert float(rows[-1].split(",")[0]) < 10.0  # terminated before the stop time
+
+
+def test_a_loaded_model_gives_the_cold_notes_events_and_message(tmp_path):
+    """The same through the Python API: the assertion's warning note, the events, the termination
+    message and every column, without a call into the compiler."""
+    namespace: dict = {}
+    exec(compile(WHEN_CLAUSES, str(tmp_path / "ball.py"), "exec"), namespace)
+    translation = translate(namespace["BallWithLimits"](), cache=False)
+    cold = simulate(translation)
+    saved = translation.saved()
+    assert isinstance(saved, SavedModel), saved
+
+    def no_compiler():
+        raise AssertionError("the loaded model asked for the compiler")
+
+    warm = simulate(LoadedModel(saved, no_compiler))
+    assert any("starts high" in note for note in cold.notes), cold.notes
+    assert warm.notes == cold.notes and warm.message == cold.message and warm.status == cold.status
+    assert [(e.time, e.kind) for e in warm.events] == [(e.time, e.kind) for e in cold.events]
+    np.testing.assert_array_equal(warm.time, cold.time)
+    for name in cold.columns:
+        np.testing.assert_array_equal(warm[name], cold[name])
