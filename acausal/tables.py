@@ -21,7 +21,6 @@ from __future__ import annotations
 import keyword
 import re
 import weakref
-from bisect import bisect_right
 from typing import Any, Callable
 
 import numpy as np
@@ -29,6 +28,7 @@ import sympy as sp
 from sympy.core.function import ArgumentIndexError
 
 from .errors import ParameterError
+from .table_calls import ConstantTable, NextTableEvent, SegmentTable, StepTable, TableOutput
 
 __all__ = ["check_abscissae", "table_function", "validate_table", "TableFunction", "table_1d_function",
            "table_2d_function", "time_table_functions"]
@@ -165,71 +165,10 @@ def table_function(name: str, table: Any) -> type[sp.Function]:
 # --------------------------------------------------------------------------
 
 
-def _segment_functions(xs: tuple, ys: tuple, slopes: tuple) -> tuple[Callable, Callable]:
-    """Scalar and vectorised linear interpolation with LastTwoPoints extrapolation."""
-    n = len(xs)
-    last = n - 2
-    x_last, y_last, s_last = xs[-1], ys[-1], slopes[-1]
-
-    def scalar(x: float) -> float:
-        i = bisect_right(xs, x) - 1
-        if i > last:  # at or beyond the last breakpoint: anchor at the last row
-            return y_last + s_last * (x - x_last)
-        if i < 0:
-            i = 0
-        return ys[i] + slopes[i] * (x - xs[i])
-
-    xa, ya, sa = np.array(xs), np.array(ys), np.array(slopes)
-
-    def vector(x):
-        arr = np.asarray(x, dtype=float)
-        i = np.searchsorted(xa, arr, side="right") - 1
-        high = i > last
-        i = np.clip(i, 0, last)
-        y = np.where(high, y_last + s_last * (arr - x_last), ya[i] + sa[i] * (arr - xa[i]))
-        return float(y) if y.ndim == 0 else y
-
-    return scalar, vector
-
-
-def _step_functions(xs: tuple, values: tuple) -> tuple[Callable, Callable]:
-    """Piecewise-constant function: ``values[i]`` on ``[xs[i], xs[i+1])``, clamped outside."""
-    last = len(values) - 1
-
-    def scalar(x: float) -> float:
-        i = bisect_right(xs, x) - 1
-        return values[0 if i < 0 else last if i > last else i]
-
-    xa, va = np.array(xs), np.array(values)
-
-    def vector(x):
-        arr = np.asarray(x, dtype=float)
-        i = np.clip(np.searchsorted(xa, arr, side="right") - 1, 0, last)
-        y = va[i]
-        return float(y) if y.ndim == 0 else y
-
-    return scalar, vector
-
-
-def _constant_functions(value: float) -> tuple[Callable, Callable]:
-    def scalar(x: float) -> float:
-        return value
-
-    def vector(x):
-        arr = np.asarray(x, dtype=float)
-        return value if arr.ndim == 0 else np.full(arr.shape, value)
-
-    return scalar, vector
-
-
-def _make_class(ident: str, scalar: Callable, vector: Callable, *, constant: float | None,
+def _make_class(ident: str, imp: SegmentTable | StepTable | ConstantTable, *, constant: float | None,
                 derivative: Callable[[], Any], attributes: dict) -> type[sp.Function]:
-    """Build the sympy Function subclass around a scalar and a vector implementation."""
-
-    def imp(x):
-        if isinstance(x, np.ndarray):
-            return vector(x)
-        return scalar(float(x))
+    """Build the sympy Function subclass around a numeric implementation (:mod:`acausal.table_calls`)."""
+    scalar, vector = imp.scalar, imp.vector
 
     def eval_(cls, x):
         if constant is not None:
@@ -276,13 +215,14 @@ def _make_class(ident: str, scalar: Callable, vector: Callable, *, constant: flo
 def _interpolation_class(ident: str, data: np.ndarray) -> type[sp.Function]:
     xs = tuple(float(v) for v in data[:, 0])
     ys = tuple(float(v) for v in data[:, 1])
+    imp: SegmentTable | ConstantTable
     if len(xs) == 1:
-        scalar, vector = _constant_functions(ys[0])
+        imp = ConstantTable(ys[0])
         slopes: tuple = ()
         constant: float | None = ys[0]
     else:
         slopes = tuple((ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i]) for i in range(len(xs) - 1))
-        scalar, vector = _segment_functions(xs, ys, slopes)
+        imp = SegmentTable(xs, ys, slopes)
         constant = None
 
     derivative_class: list = []
@@ -294,19 +234,20 @@ def _interpolation_class(ident: str, data: np.ndarray) -> type[sp.Function]:
             derivative_class.append(_slope_class(f"{ident}_slope", xs, slopes))
         return derivative_class[0]
 
-    return _make_class(ident, scalar, vector, constant=constant, derivative=derivative,
+    return _make_class(ident, imp, constant=constant, derivative=derivative,
                        attributes={"table": data, "breakpoints": xs, "slopes": slopes,
                                    "kind": "linear"})
 
 
 def _slope_class(ident: str, xs: tuple, slopes: tuple) -> type[sp.Function]:
+    imp: StepTable | ConstantTable
     if len(slopes) == 1:
-        scalar, vector = _constant_functions(slopes[0])
+        imp = ConstantTable(slopes[0])
         constant: float | None = slopes[0]
     else:
-        scalar, vector = _step_functions(xs, slopes)
+        imp = StepTable(xs, slopes)
         constant = None
-    return _make_class(ident, scalar, vector, constant=constant, derivative=lambda: sp.Integer(0),
+    return _make_class(ident, imp, constant=constant, derivative=lambda: sp.Integer(0),
                        attributes={"breakpoints": xs, "values": slopes, "kind": "steps"})
 
 
@@ -435,29 +376,7 @@ def _table_class(rebuild: tuple, orders: tuple) -> type:
     suffix = {"1d": f"_y{output + 1}", "2d": "", "time": f"_y{output + 1}", "next": "_next_event"}[shape]
     if any(orders):
         suffix += "_d" + "_".join(str(o) for o in orders)
-    if shape == "1d":
-        (order,) = orders
-
-        def evaluate(u):
-            return table.value(output, u, order)
-    elif shape == "2d":
-        o1, o2 = orders
-
-        def evaluate(u1, u2):
-            return table.value(u1, u2, o1, o2)
-    elif shape == "time":
-        (order,) = orders
-
-        def evaluate(t, next_event, start, shift):
-            return table.value(output, t, next_event, start, shift, order)
-    else:
-        scalar = np.vectorize(table.next_event, otypes=[float])
-
-        def evaluate(t, start, shift):
-            if isinstance(t, np.ndarray):
-                return scalar(t, start, shift)
-            return table.next_event(float(t), float(start), float(shift))
-
+    evaluate = NextTableEvent(table) if shape == "next" else TableOutput(shape, table, output, orders)
     cls = type(f"{ident}{suffix}", (TableFunction,), {
         "__module__": __name__,
         "__doc__": f"Table {name} ({shape}, output {output + 1}, derivative orders {orders}).",

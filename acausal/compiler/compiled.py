@@ -263,6 +263,9 @@ class DiscreteProgram:
         Likewise for the functions of the reinits, terminations and assertions,
         in that order: the reinits' conditions, then their values, the
         terminations' conditions, the assertions' conditions.
+    calls : dict
+        The tables both sources call (name in the source -> a callable of
+        :mod:`acausal.table_calls`), when they are saved.
     """
 
     equations: tuple[tuple[str, list[str], Callable, Any], ...]
@@ -272,6 +275,7 @@ class DiscreteProgram:
     asserts: tuple
     source: str | None = None
     hybrid_source: str | None = None
+    calls: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ import functools
 from typing import Callable
 
 from ..functions import ImpureFunction, impure_applications
+from ..table_calls import TABLE_CALLS
 from .compiled import DiscreteProgram
 from .codegen import functions_source
 from .generated import load_functions
@@ -55,8 +56,12 @@ def compile_discrete(flat, partitioned, impure_call: Callable) -> DiscreteProgra
                              for i, r in enumerate(reinits))
     compiled_terminations = tuple((r, _names(r.fires), fns[2 * n_r + i]) for i, r in enumerate(terminations))
     compiled_asserts = tuple((a, _names(a.condition), fns[2 * n_r + n_t + i]) for i, a in enumerate(asserts))
+    # a source that calls tables alone can be saved with them (acausal.table_calls); an impure
+    # function's call site calls back into the run's evaluator: its source is not saved
+    saveable = all(isinstance(f, TABLE_CALLS) for f in (*called.values(), *hybrid_called.values()))
     return DiscreteProgram(compiled, impure_sites, compiled_reinits, compiled_terminations, compiled_asserts,
-                           None if called else source, None if hybrid_called else hybrid_source)
+                           source if saveable else None, hybrid_source if saveable else None,
+                           {**called, **hybrid_called} if saveable else {})
 
 
 def _bind_impure_sites(expressions, call: Callable) -> tuple[list, int]:

@@ -34,6 +34,7 @@ import sympy as sp
 
 from ..errors import InitializationError
 from ..language import real_symbol
+from ..table_calls import TABLE_CALLS
 from ..tables import TableFunction, _table_class
 from .algebraic import NewtonSolve
 from .cache import ModelCache
@@ -221,10 +222,10 @@ class PersistentSystems:
 
         Saved are models whose run needs no more than continuous systems of the
         whole model, discrete equations, when-clauses (reinit, terminate),
-        assertions and time events; the others (sample clocks, delays,
-        discrete Reals, tables, impure functions, independent parts compiled
-        apart, an output demand, homotopy) are translated by every command, as
-        before.
+        assertions, tables (:mod:`acausal.table_calls`, pickled with their
+        data) and time events; the others (sample clocks, delays, discrete
+        Reals, impure functions, independent parts compiled apart, an output
+        demand, homotopy) are translated by every command, as before.
         """
         from .saved import SavedModel
 
@@ -233,10 +234,10 @@ class PersistentSystems:
         if partitioned.discrete_equations or flat.hybrid:
             program = self.discrete_program(lambda *args: None)
             if program.source is None:
-                return "the model's discrete equations call a table or an impure function"
+                return "the model's discrete equations call an impure function"
             if program.hybrid_source is None:
-                return "the model's when-clauses or assertions call a table or an impure function"
-            discrete = {"source": program.source,
+                return "the model's when-clauses or assertions call an impure function"
+            discrete = {"source": program.source, "calls": dict(program.calls),
                         "equations": [[variable, list(args), str(origin)]
                                       for variable, args, _fn, origin in program.equations]}
             if flat.hybrid:
@@ -255,22 +256,36 @@ class PersistentSystems:
         roots, held = self.time_events()
         if held:
             return "the model has time events at held values"
+        if not self._tables:
+            self._tables = self._table_functions() or {}
         systems, initial = [], []
+        tables: dict[str, Any] = {}  # the tables the systems call, by class name
+
+        def plain(payload: dict | None) -> bool:
+            if payload is None:
+                return False
+            for class_name in payload["functions"].values():
+                tables[class_name] = self._tables[class_name]
+                if not isinstance(tables[class_name], TABLE_CALLS):
+                    return False
+            return True
+
         for system in self.systems.values():
             if not isinstance(system, ModeSystem) or system.relaxed is not None or system.code is None:
                 return "a discrete state's system is not a plain one"
             payload = self._payload(system, _mode_fields(system))
-            if payload is None or payload["functions"]:
-                return "a system calls a table function"
+            if not plain(payload):
+                return "a system calls a function that is not a table of this model"
             systems.append(payload)
         for system in self.initial_systems.values():
             if not isinstance(system, InitialSystem) or system.code is None:
                 return "an initialization problem is not a plain one"
             payload = self._payload(system, _initial_fields(system))
-            if payload is None or payload["functions"]:
-                return "an initialization problem calls a table function"
+            if not plain(payload):
+                return "an initialization problem calls a function that is not a table of this model"
             initial.append(payload)
-        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots), discrete, hybrid)
+        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots), discrete, hybrid,
+                          tables)
 
     # -- to other processes -------------------------------------------------------
 

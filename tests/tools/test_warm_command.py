@@ -13,12 +13,15 @@ through the one callback into the compiler.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import os
+import pickle
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from acausal import simulate, translate
 from acausal.compiler.saved import LoadedModel, SavedModel
@@ -203,3 +206,41 @@ def test_a_loaded_model_gives_the_cold_notes_events_and_message(tmp_path):
     np.testing.assert_array_equal(warm.time, cold.time)
     for name in cold.columns:
         np.testing.assert_array_equal(warm[name], cold[name])
+
+
+def _cold_and_loaded(model_class):
+    translation = translate(model_class(), cache=False)
+    cold = simulate(translation)
+    saved = translation.saved()
+    assert isinstance(saved, SavedModel), saved
+
+    def no_compiler():
+        raise AssertionError("the loaded model asked for the compiler")
+
+    # through pickle, as the saved run is stored
+    return cold, simulate(LoadedModel(pickle.loads(pickle.dumps(saved)), no_compiler))
+
+
+@pytest.mark.parametrize("example, name", [
+    ("friction", "Friction"),                     # BearingFriction's tau_pos: a segment table
+    ("tables_combi_table_1ds", "Test1"),          # CombiTable1Ds: an output of a Table1D
+    ("tables_combi_table_2ds", "Test1"),          # CombiTable2Ds: a Table2D
+    ("electrical_dc_machines", "DCPM_Start"),     # assertions of the electrical library
+])
+def test_tables_and_assertions_are_saved_and_give_the_cold_run_bit_for_bit(example, name):
+    module = importlib.import_module(f"examples.{example}")
+    cold, warm = _cold_and_loaded(getattr(module, name))
+    assert warm.notes == cold.notes and warm.status == cold.status
+    np.testing.assert_array_equal(warm.time, cold.time)
+    for column in cold.columns:
+        np.testing.assert_array_equal(warm[column], cold[column])
+
+
+def test_a_warm_command_with_a_friction_table_loads_no_compiler(tmp_path):
+    model = tmp_path / "friction.py"
+    model.write_text((REPO / "examples" / "friction.py").read_text())
+    assert command(tmp_path, str(model), "--out", "cold.csv").returncode == 0
+    warm = command(tmp_path, str(model), "--out", "warm.csv")
+    assert warm.returncode == 0, warm.stderr
+    assert loaded_packages(warm) == "LOADED []"
+    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
