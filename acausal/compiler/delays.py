@@ -15,9 +15,10 @@ At the start time ``time - T <= time.start``, so the delay is ``u`` itself: the
 initialization problem reads the hidden variable in place of the delayed value
 (:func:`at_start`).
 
-The class is one module-level class with a module-level implementation: the
-persistent compile cache finds it by name in the flat equations, and a pickled
-translation refers to it by reference.
+The class is one module-level class with a module-level implementation
+(:func:`~acausal.compiler.run_context.delayed_value`, light: a saved run calls
+it without the compiler): the persistent compile cache finds it by name in the
+flat equations, and a pickled translation refers to it by reference.
 """
 
 from __future__ import annotations
@@ -27,25 +28,16 @@ from typing import Callable, Mapping
 
 import sympy as sp
 
-from ..errors import ModelDefinitionError, SolverError
+from ..errors import ModelDefinitionError
 from ..hybrid import Delay
 from ..language import real_symbol, time
-from .run_context import activate, active_history
+from .run_context import activate, active_history, delayed_value
 
 __all__ = ["FlatDelay", "DelayedValue", "extract_delays", "at_start", "activate", "active_history",
            "DELAY_STEM"]
 
 #: The stem of the hidden variables: ``<component>.$delay3``.
 DELAY_STEM = "$delay"
-
-def _delayed(k, t, delay_time, delay_max):
-    """The implementation the generated code calls: delay number ``k`` at time ``t``."""
-    history = active_history()
-    if history is None:
-        raise SolverError("delay(): a delayed value was asked for outside a simulation run",
-                          hint="delayed values come from the recorded solution of a run: simulate the model")
-    return history.value(int(k), t, delay_time, delay_max)
-
 
 class DelayedValue(sp.Function):
     """``DelayedValue(k, time, T, Tmax)``: the value of delay ``k``'s expression at ``time - T``.
@@ -56,7 +48,7 @@ class DelayedValue(sp.Function):
     """
 
     nargs = 4
-    _imp_ = staticmethod(_delayed)
+    _imp_ = staticmethod(delayed_value)
 
     def _eval_is_real(self):
         return True

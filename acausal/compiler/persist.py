@@ -35,6 +35,8 @@ import sympy as sp
 from ..errors import InitializationError
 from ..language import real_symbol
 from ..table_calls import TABLE_CALLS
+from .run_context import delayed_value
+from .timing import held_time_event_source
 from ..tables import TableFunction, _table_class
 from .algebraic import NewtonSolve
 from .cache import ModelCache
@@ -221,10 +223,10 @@ class PersistentSystems:
         (:class:`~acausal.compiler.saved.SavedModel`), or why it cannot be saved.
 
         Saved are models whose run needs no more than continuous systems of the
-        whole model, discrete equations, when-clauses (reinit, terminate),
-        assertions, tables (:mod:`acausal.table_calls`, pickled with their
-        data) and time events; the others (sample clocks, delays, discrete
-        Reals, impure functions, independent parts compiled apart, an output
+        whole model, discrete equations and discrete Reals, when-clauses
+        (reinit, terminate), assertions, tables (:mod:`acausal.table_calls`,
+        pickled with their data), delays, sample clocks and time events; the
+        others (impure functions, independent parts compiled apart, an output
         demand, homotopy) are translated by every command, as before.
         """
         from .saved import SavedModel
@@ -244,18 +246,16 @@ class PersistentSystems:
                 hybrid = _hybrid_payload(program)
         reasons = [
             (self.demand is not None, "an output demand"),
-            (bool(partitioned.clocks), "sample clocks"),
-            (bool(flat.delays), "delay()"),
-            (bool(partitioned.held_variables), "discrete Reals"),
             (flat.homotopy is not None, "homotopy()"),
             (bool(self.parts or self.initial_parts), "independent parts"),
         ]
         for found, what in reasons:
             if found:
                 return f"the model has {what}"
-        roots, held = self.time_events()
-        if held:
-            return "the model has time events at held values"
+        roots, _held = self.time_events()
+        held_source, held_items = held_time_event_source(partitioned.relations, self.cache.parameters.symbols)
+        timing = {"roots": tuple(roots), "held_source": held_source, "held": held_items,
+                  "clock_ticks": self.clock_ticks(), "delay_numbers": self.delay_numbers()}
         if not self._tables:
             self._tables = self._table_functions() or {}
         systems, initial = [], []
@@ -266,7 +266,7 @@ class PersistentSystems:
                 return False
             for class_name in payload["functions"].values():
                 tables[class_name] = self._tables[class_name]
-                if not isinstance(tables[class_name], TABLE_CALLS):
+                if not (isinstance(tables[class_name], TABLE_CALLS) or tables[class_name] is delayed_value):
                     return False
             return True
 
@@ -284,8 +284,7 @@ class PersistentSystems:
             if not plain(payload):
                 return "an initialization problem calls a function that is not a table of this model"
             initial.append(payload)
-        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), tuple(roots), discrete, hybrid,
-                          tables)
+        return SavedModel(self.data, self.options, tuple(systems), tuple(initial), timing, discrete, hybrid, tables)
 
     # -- to other processes -------------------------------------------------------
 

@@ -47,8 +47,11 @@ class SavedModel:
     systems, initial_systems : tuple of dict
         The payloads of the compiled systems (generated source and metadata,
         as the persistent compile cache stores them).
-    time_roots : tuple
-        ``(relation index, instant)`` of the time events.
+    timing : dict
+        When things happen, as numbers: ``roots`` (``(relation index, instant)``
+        of the time events), ``held_source`` and ``held`` (the generated roots of
+        the time events at held values, with ``(relation index, names)`` each),
+        ``clock_ticks`` (``(start, interval)`` per clock), ``delay_numbers``.
     discrete : dict or None
         The discrete equations: their generated source and ``(variable,
         arguments, origin as text)`` each (None: the model has none).
@@ -64,7 +67,7 @@ class SavedModel:
     options: EngineOptions
     systems: tuple[dict, ...]
     initial_systems: tuple[dict, ...]
-    time_roots: tuple[tuple[int, float], ...]
+    timing: dict
     discrete: dict | None = None
     hybrid: dict | None = None
     tables: dict = field(default_factory=dict)
@@ -102,8 +105,15 @@ class LoadedSystem(CompiledFunctions):
     relaxed: None = None
 
     @classmethod
-    def of(cls, payload: dict, parameters: tuple[float, ...], tables: Mapping[str, Callable]) -> "LoadedSystem":
-        code, (derivatives, crossings, outputs) = _made(payload, parameters, tables)
+    def of(cls, payload: dict, parameters: tuple[float, ...], tables: Mapping[str, Callable],
+           twin: "LoadedSystem | None" = None) -> "LoadedSystem":
+        """The system of ``payload``; with ``twin``, the system whose functions it shares (as
+        the translation shares them: one Newton warm start for both, so the same iterates)."""
+        if twin is None:
+            code, (derivatives, crossings, outputs) = _made(payload, parameters, tables)
+        else:
+            code = _Code(payload["source"], twin.code.make)
+            derivatives, crossings, outputs = twin.derivatives, twin.crossings, twin.outputs
         return cls(tuple(payload["key"]), payload["description"], tuple(payload["states"]),
                    tuple(payload["unknowns"]), tuple(tuple(a) for a in payload["alias_plan"]),
                    tuple(payload["derivatives"]), code, derivatives, crossings, outputs)
@@ -158,14 +168,19 @@ class LoadedModel:
         self.extras: dict = {}
         vector = saved.data.parameter_vector
         self.systems: dict[tuple, Any] = {}
-        for payload in saved.systems:
-            system = LoadedSystem.of(payload, vector, saved.tables)
+        # a state that shares another's compiled functions after that one (the translation
+        # compiled the other first; the saved order may differ)
+        for payload in sorted(saved.systems, key=lambda p: p.get("shares") is not None):
+            shares = payload.get("shares")
+            twin = self.systems.get(tuple(shares)) if shares is not None else None
+            system = LoadedSystem.of(payload, vector, saved.tables, twin)
             self.systems[system.key] = system
         self.initial_systems: dict[tuple, Any] = {}
         for payload in saved.initial_systems:
             system = LoadedInitialSystem.of(payload, vector, saved.tables)
             self.initial_systems[system.key] = system
-        self._time_roots = saved.time_roots
+        self._timing = saved.timing
+        self._time_events: tuple | None = None
         self._discrete = saved.discrete
         self._hybrid = saved.hybrid
         self._translate = translate
@@ -230,13 +245,19 @@ class LoadedModel:
             self._discrete["source"], hybrid["source"], calls)
 
     def time_events(self) -> tuple[tuple, tuple]:
-        return self._time_roots, ()
+        if self._time_events is None:
+            timing = self._timing
+            held = timing["held"]
+            roots = load_functions(timing["held_source"], len(held), "the held time events") if held else []
+            self._time_events = (timing["roots"], tuple((index, tuple(names), root)
+                                                        for (index, names), root in zip(held, roots)))
+        return self._time_events
 
     def clock_ticks(self) -> tuple:
-        return ()
+        return self._timing["clock_ticks"]
 
     def delay_numbers(self) -> dict[int, float]:
-        return {}
+        return dict(self._timing["delay_numbers"])
 
     def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
         return self.translation.start_value_relations(start_time)

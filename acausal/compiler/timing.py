@@ -18,8 +18,10 @@ import sympy as sp
 
 from ..errors import ModelDefinitionError
 from ..language import time as time_symbol
+from .codegen import functions_source
+from .generated import load_functions
 
-__all__ = ["time_event_roots", "held_time_events", "clock_ticks", "delay_numbers"]
+__all__ = ["time_event_roots", "held_time_events", "held_time_event_source", "clock_ticks", "delay_numbers"]
 
 
 def time_event_roots(relations: Sequence, parameter_symbols: Mapping) -> tuple[tuple[int, float], ...]:
@@ -68,9 +70,19 @@ def held_time_events(relations: Sequence, parameter_symbols: Mapping) -> tuple[
     event, but one whose instant is known only once the event that sets
     ``t_next`` is over.  Returns ``(relation index, names, root)`` per such
     relation, ``root(*values)`` being the crossing time for the held values
-    of ``names``.
+    of ``names`` (made from :func:`held_time_event_source`).
     """
-    found = []
+    source, items = held_time_event_source(relations, parameter_symbols)
+    roots = load_functions(source, len(items), "the held time events")
+    return tuple((index, names, root) for (index, names), root in zip(items, roots))
+
+
+def held_time_event_source(relations: Sequence, parameter_symbols: Mapping) -> tuple[
+        str, tuple[tuple[int, tuple[str, ...]], ...]]:
+    """The generated source of the held time events' roots (``_f0``, ``_f1``, ... as
+    :func:`~acausal.compiler.codegen.functions_source` writes them) and ``(relation
+    index, names of the held values)`` per root: what a saved run keeps of them."""
+    items, expressions = [], []
     for rel in relations:
         if not rel.is_time_event:
             continue
@@ -80,9 +92,10 @@ def held_time_events(relations: Sequence, parameter_symbols: Mapping) -> tuple[
             continue
         slope = sp.diff(g, time_symbol)
         offset = g.xreplace({time_symbol: 0})
-        root = sp.lambdify(held, sp.Piecewise((-offset / slope, sp.Ne(slope, 0)), (sp.oo, True)), "math")
-        found.append((rel.index, tuple(s.name for s in held), root))
-    return tuple(found)
+        items.append((rel.index, tuple(s.name for s in held)))
+        expressions.append(sp.Piecewise((-offset / slope, sp.Ne(slope, 0)), (sp.oo, True)))
+    source, _calls = functions_source([names for _index, names in items], expressions, "the held time events")
+    return source, tuple(items)
 
 
 def clock_ticks(clocks: Sequence, parameter_symbols: Mapping) -> tuple[tuple[float, float], ...]:

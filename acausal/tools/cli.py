@@ -480,7 +480,7 @@ def _parser(command: str | None = None) -> argparse.ArgumentParser:
 
 def _simulate(model, keep: list | None = None, **options):
     """Simulate after checking the times, which ``simulate`` would reject with a ValueError
-    (``keep``: a list the translation is appended to)."""
+    (``keep``: a list the translation and then the notes printed of it are appended to)."""
     from ..language import Experiment
     from ..runtime.simulate import simulate
 
@@ -496,8 +496,11 @@ def _simulate(model, keep: list | None = None, **options):
         keep.append(translation)
     from ..runtime.simulate import _structural_notes
 
-    for note in _structural_notes(translation, parameters):
+    notes = _structural_notes(translation, parameters)
+    for note in notes:
         print(f"note: {note}", file=sys.stderr)
+    if keep is not None:
+        keep.append(notes)
     try:
         result = simulate(translation, **options)
     except KeyboardInterrupt as exc:  # it may carry the partial result
@@ -559,7 +562,7 @@ def _cmd_simulate(args) -> int:
     if result is None:
         return 130
     if result.success and kept and _warm_eligible(args):
-        _save_run(args.model, cls, kept[0], modules_before)
+        _save_run(args.model, cls, kept[0], modules_before, _run_variant(args), kept[1])
     return _write_simulation(args, result, out, cls.__name__, signals, display)
 
 
@@ -601,22 +604,30 @@ _SAVED_RUN = "saved run"
 
 
 def _warm_eligible(args) -> bool:
-    """Whether this ``acausal simulate`` may load a saved run or save one: a run of the model
-    as declared (no --signals, --display-unit, --param, --start) with the persistent cache on."""
+    """Whether this ``acausal simulate`` may load a saved run or save one: a run of every
+    variable (no --signals, --display-unit) with the persistent cache on.  Runs with
+    ``--param``/``--start`` are saved apart, one per set of those options (:func:`_run_variant`)."""
     from ..compiler.diskcache import disk_cache_enabled
 
-    return (args.signals is None and not args.display_unit and not args.param and not args.start
+    return (args.signals is None and not args.display_unit
             and not args.no_disk_cache and disk_cache_enabled())
 
 
-def _run_key(spec: str) -> str:
-    """The key of a saved run: the model file's resolved path and the class asked for (what
-    the file and the modules it imported hold is checked against their digests on load; the
-    engine's version is part of every entry of the cache)."""
+def _run_variant(args) -> tuple[str, ...]:
+    """The options of ``acausal simulate`` its translation depends on, as given
+    (``--param``/``--start``): part of the key of its saved run."""
+    return (*(f"--param {p}" for p in args.param or ()), *(f"--start {s}" for s in args.start or ()))
+
+
+def _run_key(spec: str, variant: tuple[str, ...] = ()) -> str:
+    """The key of a saved run: the model file's resolved path, the class asked for and the
+    options the translation depends on (what the file and the modules it imported hold is
+    checked against their digests on load; the engine's version is part of every entry of
+    the cache)."""
     import hashlib
 
     filename, _, name = spec.partition(":")
-    text = f"acausal saved run 1\n{sys.version}\n{Path(filename).resolve()}\n{name}"
+    text = f"acausal saved run 1\n{sys.version}\n{Path(filename).resolve()}\n{name}\n" + "\n".join(variant)
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -629,26 +640,35 @@ def _digest(path: str) -> str | None:
         return None
 
 
-def _load_saved(spec: str):
-    """``(class name, its modelica_class, LoadedModel)`` of the saved run of the model ``spec``
-    names, or None when there is none, or the model's file or a module it imports has changed."""
+def _load_saved(spec: str, variant: tuple[str, ...] = ()):
+    """``(class name, its modelica_class, LoadedModel, notes)`` of the saved run of the model
+    ``spec`` names (with the options ``variant``), or None when there is none, or the model's
+    file or a module it imports has changed."""
     import base64
     import pickle
 
     from ..compiler.diskcache import DiskCache, cache_folder
     from ..compiler.saved import LoadedModel
 
-    payload = DiskCache(cache_folder(), _run_key(spec)).load(_SAVED_RUN)
+    payload = DiskCache(cache_folder(), _run_key(spec, variant)).load(_SAVED_RUN)
     if payload is None or any(_digest(path) != digest for path, digest in payload["deps"]):
         return None
     # authenticated by the cache (an HMAC under the user's own key): trusted as its code is
     saved = pickle.loads(base64.b64decode(payload["model"]))
 
     def translate_model():
-        # a discrete state the saved run did not visit: the model, translated as a cold command does
-        return _translate(_instantiate(load_model_class(spec)))
+        # a discrete state the saved run did not visit: the model, translated as a cold command
+        # does (with the values of its --param/--start options)
+        from ..compiler.translate import with_start_values
 
-    return payload["class"], payload.get("modelica_class"), LoadedModel(saved, translate_model)
+        given = {option: [v.split(" ", 1)[1] for v in variant if v.startswith(option + " ")]
+                 for option in ("--param", "--start")}
+        parameters = with_start_values(_parameters(given["--param"]) or None,
+                                       _parameters(given["--start"], "--start") or None)
+        return _translate(_instantiate(load_model_class(spec)), parameters=parameters)
+
+    return (payload["class"], payload.get("modelica_class"), LoadedModel(saved, translate_model),
+            tuple(payload.get("notes", ())))
 
 
 def _check_times(experiment, options: dict) -> None:
@@ -683,10 +703,12 @@ def _run_keeping_partial(run: Callable[[], object], args):
 def _warm_simulate(args) -> int | None:
     """Run a saved run of this command's model without the compiler (the exit status), or None
     when there is none, or the model's file or a module it imports has changed since."""
-    found = _load_saved(args.model)
+    found = _load_saved(args.model, _run_variant(args))
     if found is None:
         return None
-    name, _modelica_class, loaded = found
+    name, _modelica_class, loaded, notes = found
+    for note in notes:  # what the cold command said of the translation (structural parameters)
+        print(f"note: {note}", file=sys.stderr)
     out = Path(args.out) if args.out else Path(f"{name}.csv")
     if not args.out:
         _check_writable(out, "the result")
@@ -698,7 +720,8 @@ def _warm_simulate(args) -> int | None:
     return _write_simulation(args, result, out, name, None, {})
 
 
-def _save_run(spec: str, cls: type, translation, modules_before: set) -> None:
+def _save_run(spec: str, cls: type, translation, modules_before: set, variant: tuple[str, ...] = (),
+              notes: Sequence[str] = ()) -> None:
     """Save the run of ``translation`` for the next ``acausal simulate`` of the same model
     (:meth:`~acausal.compiler.persist.PersistentSystems.saved`), with the digests of the model's
     file and of every module it imported outside acausal (acausal's own files are the
@@ -725,9 +748,9 @@ def _save_run(spec: str, cls: type, translation, modules_before: set) -> None:
         if digest is None:
             return
         deps.append([str(path), digest])
-    DiskCache(cache_folder(), _run_key(spec)).store(_SAVED_RUN, {
+    DiskCache(cache_folder(), _run_key(spec, variant)).store(_SAVED_RUN, {
         "class": cls.__name__, "modelica_class": getattr(cls, "modelica_class", None), "deps": deps,
-        "model": base64.b64encode(pickle.dumps(saved)).decode()})
+        "notes": list(notes), "model": base64.b64encode(pickle.dumps(saved)).decode()})
 
 
 def _display_unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
@@ -852,7 +875,7 @@ def _compare_one(args, model_spec: str, several: bool, report=None) -> int:
         found = _load_saved(model_spec)
     kept: list = []
     if found is not None:
-        name, modelica_class, loaded = found
+        name, modelica_class, loaded, _notes = found  # a model as declared: no notes
         experiment, described = loaded.data.experiment, loaded.data
     else:
         modules_before = set(sys.modules)

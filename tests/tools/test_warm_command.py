@@ -27,7 +27,7 @@ from acausal import simulate, translate
 from acausal.compiler.saved import LoadedModel, SavedModel
 from examples.coupled_clutches import CoupledClutches
 from examples.first import First
-from examples.sampled_speed_control import SampledSpeedControl
+from examples.blocks_noise import UniformNoiseExample
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -83,9 +83,10 @@ def test_a_changed_model_file_is_translated_again(tmp_path):
 
 
 def test_a_model_whose_run_needs_the_compiler_is_not_saved():
-    translation = translate(SampledSpeedControl())
+    # a random number generator's call sites call back into the run's evaluator
+    translation = translate(UniformNoiseExample())
     simulate(translation)
-    assert translation.saved() == "the model has sample clocks"
+    assert translation.saved() == "the model's discrete equations call an impure function"
     for model in (First(), CoupledClutches()):
         saved = translate(model)
         simulate(saved)
@@ -226,6 +227,9 @@ def _cold_and_loaded(model_class):
     ("tables_combi_table_1ds", "Test1"),          # CombiTable1Ds: an output of a Table1D
     ("tables_combi_table_2ds", "Test1"),          # CombiTable2Ds: a Table2D
     ("electrical_dc_machines", "DCPM_Start"),     # assertions of the electrical library
+    ("electrical_opamps", "LowPass"),             # sample clocks
+    ("tables_combi_time_table", "Test1"),         # a time table: discrete Reals, time events at held values
+    ("electrical_semiconductors", "ThyristorBehaviourTest"),  # states sharing one compiled system
 ])
 def test_tables_and_assertions_are_saved_and_give_the_cold_run_bit_for_bit(example, name):
     module = importlib.import_module(f"examples.{example}")
@@ -244,3 +248,36 @@ def test_a_warm_command_with_a_friction_table_loads_no_compiler(tmp_path):
     assert warm.returncode == 0, warm.stderr
     assert loaded_packages(warm) == "LOADED []"
     assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+
+
+def test_a_model_with_delays_is_saved_and_gives_the_cold_run_bit_for_bit():
+    """delay(): the generated code reads the run's history through a light function, which the
+    saved run calls as the cold one does (x' = -x(t - 0.5) + y, y set by a when-clause)."""
+    from tests.hybrid.test_delay import DelayedFeedback
+
+    cold, warm = _cold_and_loaded(DelayedFeedback)
+    assert cold.success and warm.status == cold.status
+    np.testing.assert_array_equal(warm.time, cold.time)
+    for column in cold.columns:
+        np.testing.assert_array_equal(warm[column], cold[column])
+
+
+def test_runs_with_param_and_start_are_saved_apart_and_give_the_cold_bytes(tmp_path):
+    """``--param``/``--start`` runs are saved under their own key: the warm run of the same options
+    loads no compiler and writes the cold bytes; other options are not served by it."""
+    model = tmp_path / "first.py"
+    model.write_text((REPO / "examples" / "first.py").read_text())
+    options = ("--param", "amplitude=5", "--start", "inertia1.w=1")
+    cold = command(tmp_path, str(model), *options, "--out", "cold.csv")
+    assert cold.returncode == 0, cold.stderr
+    assert "sympy" in loaded_packages(cold)
+    warm = command(tmp_path, str(model), *options, "--out", "warm.csv")
+    assert warm.returncode == 0, warm.stderr
+    assert loaded_packages(warm) == "LOADED []"
+    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+    # the model as declared is another run: translated, and its result differs
+    plain = command(tmp_path, str(model), "--out", "plain.csv")
+    assert plain.returncode == 0 and "sympy" in loaded_packages(plain)
+    assert (tmp_path / "plain.csv").read_bytes() != (tmp_path / "cold.csv").read_bytes()
+    other = command(tmp_path, str(model), "--param", "amplitude=6", "--out", "other.csv")
+    assert other.returncode == 0 and "sympy" in loaded_packages(other)
