@@ -11,7 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acausal import translate
-from acausal.runtime.events import _VECTORISE_FROM, evaluator_for
+from acausal.runtime.events import evaluator_for
+from acausal.runtime.relation_evaluator import _VECTORISE_FROM
 from examples.coupled_clutches import CoupledClutches
 
 _EVALUATOR = evaluator_for(translate(CoupledClutches()))

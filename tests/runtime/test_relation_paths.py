@@ -1,13 +1,17 @@
 """The scalar and numpy relation paths agree (issue 22, item 5).
 
 Event iteration decides relation values in plain Python for a few relations
-and with numpy from 48 on (``events._VECTORISE_FROM``); the crossing watch
-likewise (``_VECTORISE_FROM``, ``_MANY_FROM``).  The numpy form used to keep
-a time event's relation true at its own instant where the scalar one did
-not (a table of 48 rows starting at t = 1 chattered, one of 47 ran).  Here
-the two forms of :mod:`acausal.runtime.relations` are compared on random
-relation sets, and whole simulations must take the same events with the
-same values whichever form runs.
+and with numpy from 48 on (``relation_evaluator._VECTORISE_FROM``); the crossing
+watch likewise (``_VECTORISE_FROM``, ``_MANY_FROM``), and the relevance analysis
+finds relations that cross together with numpy from 48 on
+(``relevance._TWINS_WITH_NUMPY_FROM``).  The numpy form used to keep a time
+event's relation true at its own instant where the scalar one did not (a
+table of 48 rows starting at t = 1 chattered, one of 47 ran).  Here the two
+forms of :mod:`acausal.runtime.relations` are compared on random relation
+sets -- the rules at an event, and the pieces of hysteresis every decision
+goes through (the margin, the shifted ``g``, whether it holds, whether a
+relation was decided clearly) -- and whole simulations must take the same
+events with the same values whichever form runs.
 """
 
 from __future__ import annotations
@@ -21,8 +25,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acausal import Eq, Experiment, If, Integer, Model, Variable, When, der, pre, simulate, time
-from acausal.runtime import events
-from acausal.runtime.relations import ROUND_OFF, decide, decide_many
+from acausal.runtime import relation_evaluator, relevance
+from acausal.runtime.relations import (ROUND_OFF, decide, decide_many, decided_clearly, decided_clearly_many, holds,
+                                       holds_many, margin, margin_many, shifted, shifted_many)
 
 # -- the two forms of one rule, on random relation sets ---------------------------------
 
@@ -69,6 +74,43 @@ def test_scalar_and_numpy_decisions_agree(case):
     scalar = decide(kinds, raw, previous, epsilon, floor=floor, exact=exact, fired=fired, clear=clear)
     vector = decide_many(kinds, raw, previous, epsilon, floor=floor, exact=exact, fired=fired, clear=clear)
     assert scalar == vector
+
+
+@settings(max_examples=400, deadline=None)
+@given(relation_sets())
+def test_scalar_and_numpy_hysteresis_agree(case):
+    """The pieces of hysteresis, one relation at a time against numpy on all at once: the
+    same doubles (the shifted ``g`` to the sign of zero, as the flip search reads it)."""
+    kinds, raw, previous, fired, clear, _exact, epsilon, floor = case
+    n = len(kinds)
+    eps = epsilon if isinstance(epsilon, list) else [epsilon] * n
+    bottom = floor if isinstance(floor, list) else [floor] * n
+    plain = [timed or k in fired for k, (_d, _s, timed) in enumerate(kinds)]
+    d = np.array([k[0] for k in kinds])
+    strict = np.array([k[1] for k in kinds])
+    values = np.array(raw, dtype=float)
+    lhs, rhs = values[0::2], values[1::2]
+    with np.errstate(invalid="ignore", over="ignore"):
+        margins = margin_many(np.array(eps), np.array(bottom), lhs, rhs)
+        moved = shifted_many(d, np.array(previous), lhs, rhs, np.array(eps), np.array(bottom), np.array(plain))
+        decided = holds_many(moved, strict)
+    for k in range(n):
+        lhs_k, rhs_k = raw[2 * k], raw[2 * k + 1]
+        one = shifted(d[k], previous[k], lhs_k, rhs_k, eps[k], bottom[k], plain[k])
+        if not (math.isnan(lhs_k) or math.isnan(rhs_k)):  # (Python's max may skip a NaN side)
+            assert _same(margin(eps[k], bottom[k], lhs_k, rhs_k), margins[k])
+        assert _same(one, moved[k])
+        assert holds(one, bool(strict[k])) == decided[k]
+    # whether each was decided beyond its margin, with and without the answer before
+    assert decided_clearly(raw, eps, bottom, clear) == \
+        decided_clearly_many(raw, np.array(eps, dtype=float), np.array(bottom, dtype=float), clear)
+
+
+def _same(a: float, b: float) -> bool:
+    """The same double: equal with the same sign (of zero too), or both NaN."""
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
 
 
 def test_a_time_event_at_its_instant_takes_its_own_value_in_both_forms():
@@ -136,8 +178,9 @@ def _mixed_model(seed: int, n_time: int, n_state: int):
 def _run_both(make, monkeypatch):
     runs = []
     for threshold in (1, 10**9):
-        monkeypatch.setattr(events, "_VECTORISE_FROM", threshold)
-        monkeypatch.setattr(events, "_MANY_FROM", threshold)
+        monkeypatch.setattr(relation_evaluator, "_VECTORISE_FROM", threshold)
+        monkeypatch.setattr(relation_evaluator, "_MANY_FROM", threshold)
+        monkeypatch.setattr(relevance, "_TWINS_WITH_NUMPY_FROM", threshold)
         runs.append(simulate(make()))
     return runs
 
@@ -171,21 +214,19 @@ def test_random_hybrid_models_take_the_same_events_on_both_paths(seed, n_time, n
 @settings(max_examples=60, derandomize=True, deadline=None)
 @given(data=st.data())
 def test_clear_decisions_with_numpy_equal_the_loop(data):
-    """``DiscreteEvaluator.clearly_decided`` with numpy (from ``_VECTORISE_FROM`` relations)
+    """``RelationEvaluator.clearly_decided`` with numpy (from ``_VECTORISE_FROM`` relations)
     gives the loop's answers for the same doubles: sides within and beyond the margin, equal
     sides that inherit the answer before, NaN and infinite sides."""
     from acausal.compiler.translate import translate
     from acausal.runtime.events import evaluator_for
     from tests.compiler.test_clusters import storm
 
-    events_module = events
-
     evaluator = _STORM_EVALUATOR.get("e")
     if evaluator is None:
         translation = translate(storm(12), cache=False)
         evaluator = _STORM_EVALUATOR["e"] = evaluator_for(translation)
     n = len(evaluator.relations)
-    assert n >= events_module._VECTORISE_FROM
+    assert n >= relation_evaluator._VECTORISE_FROM
     side = st.sampled_from([0.0, -0.0, 1.0, -1.0, 1.0 + 1e-10, 1.0 - 1e-10, 1e-12, math.nan, math.inf, -math.inf]) \
         | st.floats(-3, 3, allow_nan=False)
     raw = data.draw(st.lists(side, min_size=2 * n, max_size=2 * n))
@@ -193,12 +234,9 @@ def test_clear_decisions_with_numpy_equal_the_loop(data):
         raw[2 * i + 1] = raw[2 * i]
     inherited = data.draw(st.none() | st.lists(st.booleans(), min_size=n, max_size=n))
     fast = evaluator.clearly_decided(list(raw), inherited)
-    saved = events_module._VECTORISE_FROM
-    events_module._VECTORISE_FROM = 10 ** 9
-    try:
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(relation_evaluator, "_VECTORISE_FROM", 10 ** 9)
         loop = evaluator.clearly_decided(list(raw), inherited)
-    finally:
-        events_module._VECTORISE_FROM = saved
     assert fast == loop
 
 

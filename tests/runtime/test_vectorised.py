@@ -5,7 +5,7 @@ A step's dense output is evaluated once for all its samples and output points
 outputs for many instants in one numpy call
 (:func:`~acausal.compiler.codegen.vectorised`), and the watched relations are
 decided for all samples at once
-(:meth:`~acausal.runtime.events.DiscreteEvaluator.first_flip`).  Each must give
+(:meth:`~acausal.runtime.relation_evaluator.RelationEvaluator.first_flip`).  Each must give
 exactly -- bit for bit, knife edges included -- what the scalar definition
 gives one instant at a time, and a simulation must not change by a bit when
 they are switched off.
@@ -260,7 +260,7 @@ def test_relations_decided_at_once_equal_the_definition(data):
     watched = tuple(sorted(data.draw(st.sets(st.integers(0, n - 1), min_size=1))))
     system = _Fixed(raw)
     with np.errstate(all="ignore"):
-        w, flips = _EVALUATOR._flips(raw, relations, watched)
+        w, flips = _EVALUATOR.relation_evaluator._flips(raw, relations, watched)
     for j in range(m):
         expected = _definition_flips(raw[:, j].tolist(), relations, watched)
         assert _EVALUATOR.flipped_relations(system, j, (), relations, watched) == expected

@@ -1,0 +1,325 @@
+"""The relations of a model at an instant: decided at events, watched between them.
+
+A model's relations (``$rel0 = lhs > rhs`` …) are computed by the compiled
+systems' ``crossings`` function, which gives both sides of every relation
+(``lhs_0, rhs_0, lhs_1, ...``).  :class:`RelationEvaluator` turns those
+sides into decisions, always through the one definition of hysteresis in
+:mod:`acausal.runtime.relations`:
+
+- at an event, the relations' values (:meth:`RelationEvaluator.relation_values`,
+  the rules of :func:`~acausal.runtime.relations.decide`), which of them
+  were decided beyond their margin (:meth:`~RelationEvaluator.clearly_decided`)
+  and which crossing relations keep the value the crossing gave them
+  (:meth:`~RelationEvaluator.keep_crossed`);
+- between events, which watched relations have flipped at one instant
+  (:meth:`~RelationEvaluator.flipped_relations`, the hot path of event
+  detection) or first along a step's samples (:meth:`~RelationEvaluator.first_flip`),
+  and a signed distance to the first flip for the search of its instant
+  (:meth:`~RelationEvaluator.distance_to_first_flip`).
+
+Each answer has a plain Python path for a few relations and a numpy path
+for many; both go through the same functions of
+:mod:`~acausal.runtime.relations`, and the tests hold them to the same
+answers (``tests/runtime/test_relation_paths.py``, ``test_vectorised.py``).
+The evaluator keeps no state of a run: only plans (index arrays, kinds)
+made from the relations it was asked about last, so that the watch does not
+build them again at every step.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Sequence
+
+import numpy as np
+
+from .contract import CompiledSystem
+from .relations import (decide, decide_many, decided_clearly, decided_clearly_many, holds, holds_many, kind_arrays,
+                        margin, shifted, shifted_many)
+
+__all__ = ["RelationEvaluator"]
+
+#: From this many relations on (decided at an event, or watched), they are decided with
+#: numpy at once.
+_VECTORISE_FROM = 48
+
+#: Up to this many watched relations, a composed system computes the crossing
+#: functions of the parts that own them only.
+_FEW_RELATIONS = 8
+
+#: Samples times (watched relations + 2) from which the relations at the samples of a
+#: step are decided in one numpy call rather than sample by sample.
+_MANY_FROM = 40
+
+
+class RelationEvaluator:
+    """The decisions about a model's relations (see the module docstring).
+
+    Parameters
+    ----------
+    relations : sequence of RelationData
+        The model's relations, in the order of the systems' ``crossings``.
+    epsilon : float
+        The relative crossing margin (``simulate(relation_epsilon=)``).
+
+    Attributes
+    ----------
+    kinds : list of (d, strict, timed)
+        Each relation's kind (:data:`acausal.runtime.relations.Kind`).
+    margins, floors : tuple of float
+        Each relation's margin ``epsilon * max(floor, |lhs|, |rhs|)``: the crossing
+        margin, or round-off relative to the sides alone for a relation free of
+        integration noise (``RelationData.is_exact``: two forces rising from 0 on one
+        sine cross together).
+    """
+
+    def __init__(self, relations: Sequence, epsilon: float) -> None:
+        self.relations = relations
+        self.epsilon = epsilon
+        self.kinds = [(1.0 if r.op in (">", ">=") else -1.0, r.op in (">", "<"), r.is_time_event)
+                      for r in relations]
+        self.margins, self.floors = (tuple(m) for m in zip(
+            *[r.margin_parameters(epsilon) for r in relations])) if relations else ((), ())
+        # caches, made on first use: the kinds and margins as numpy arrays, and the plans of
+        # the last watch (the same watched tuple and relation values are asked step after step)
+        self._kind_arrays: tuple | None = None
+        self._margin_arrays: tuple | None = None
+        self._scalar_plan: tuple | None = None
+        self._vector_plan: tuple | None = None
+
+    # -- at an event ----------------------------------------------------------------
+
+    def relation_values(self, system: CompiledSystem, t: float, x, previous, exact: bool = False,
+                        fired: frozenset = frozenset(), clear=None, raw=None) -> tuple[bool, ...]:
+        """Relation values at ``(t, x)``; with hysteresis against ``previous``.
+
+        Relations in ``fired`` (those whose crossing caused the event) are
+        evaluated exactly: their margin has done its job, and in another
+        discrete state their arguments may have other units (``sa`` is a
+        torque while locked and an acceleration while sliding), so a margin
+        in the units of one would wrongly undo the crossing in the other.
+
+        ``clear`` (in event iteration: from the pass before) says which of
+        ``previous`` were decided with ``lhs - rhs`` beyond the margin.  Such
+        a relation that was true and whose sides are now exactly equal stays
+        true: the guess the pass made because it was true put it at its
+        limit (a friction element tried sliding sees exactly its sliding
+        torque), which confirms the guess rather than deciding against it.
+        (A false relation at its limit takes its own value: ``u <= 0`` for
+        ``u`` stepped to exactly 0 becomes true.)  ``raw``: the sides, when
+        the caller has computed them already.
+        """
+        if not self.relations:
+            return ()
+        if raw is None:
+            raw = system.crossings(t, x)
+        if len(self.kinds) >= _VECTORISE_FROM:
+            if self._kind_arrays is None:
+                self._kind_arrays = kind_arrays(self.kinds)
+            return decide_many(self.kinds, raw, previous, self.margins, floor=self.floors, exact=exact,
+                               fired=fired, clear=clear, arrays=self._kind_arrays)
+        return decide(self.kinds, raw, previous, self.margins, floor=self.floors, exact=exact, fired=fired,
+                      clear=clear)
+
+    def clearly_decided(self, raw, inherited=None) -> tuple[bool, ...]:
+        """Whether each relation's ``lhs - rhs`` (``raw``: the sides, as ``crossings``
+        gives them) lies beyond its margin, or is exactly at its limit and kept a
+        value decided clearly before (``inherited``: the answer for the pass before)."""
+        if len(self.margins) >= _VECTORISE_FROM:
+            if self._margin_arrays is None:
+                self._margin_arrays = (np.array(self.margins, dtype=float), np.array(self.floors, dtype=float))
+            return decided_clearly_many(raw, *self._margin_arrays, inherited)
+        return decided_clearly(raw, self.margins, self.floors, inherited)
+
+    def keep_crossed(self, raw, fired, guess, before, decided) -> tuple[bool, ...]:
+        """``decided`` with each crossed relation that the guess already holds at its
+        new value kept there while ``raw`` puts ``lhs - rhs`` within its margin.
+
+        A relation whose crossing caused the event is decided exactly (see
+        :meth:`relation_values`), but in the discrete state the crossing selects,
+        its arguments may land on zero up to round-off (an ideal diode turning on
+        in series with an inductor has ``s`` = current = 0 +- 1e-10 A against
+        hundreds of amperes). Deciding that round-off exactly would undo the
+        crossing and make event iteration alternate between the two states; the
+        crossing itself already said which side the relation goes to, and a
+        relation that does leave at once is caught by the crossing watch.
+        """
+        out = list(decided)
+        for k in fired:
+            if guess[k] != before[k] and decided[k] != guess[k]:
+                lhs, rhs = raw[2 * k], raw[2 * k + 1]
+                if abs(lhs - rhs) <= margin(self.margins[k], self.floors[k], lhs, rhs):
+                    out[k] = guess[k]
+        return tuple(out)
+
+    # -- between events: the crossing watch -----------------------------------------------
+
+    def flipped_relations(self, system: CompiledSystem, t: float, x, relations,
+                          watched: tuple[int, ...]) -> tuple[int, ...]:
+        """The watched relations whose value at ``(t, x)`` differs from ``relations``.
+
+        The hot path of event detection: only the watched relations are
+        evaluated (with hysteresis against their current values).
+        """
+        if not watched:
+            return ()
+        raw = (system.crossings_for(watched) if len(watched) <= _FEW_RELATIONS else system.crossings)(t, x)
+        if len(watched) >= _VECTORISE_FROM:
+            with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
+                w, flips = self._flips(np.asarray(raw, dtype=float), relations, watched)
+            return tuple(w[flips].tolist())
+        plan = self._scalar_plan
+        if plan is None or plan[0] is not watched or plan[1] is not relations:
+            plan = self._scalar_plan = (watched, relations, [
+                (k, 2 * k, *self.kinds[k], bool(relations[k]), self.margins[k], self.floors[k])
+                for k in watched])
+        out = []
+        for k, i, d, strict, timed, previous, epsilon, floor in plan[2]:
+            if holds(shifted(d, previous, raw[i], raw[i + 1], epsilon, floor, timed), strict) != previous:
+                out.append(k)
+        return tuple(out)
+
+    def distance_to_flip(self, system: CompiledSystem, relations, k: int) -> Callable:
+        """``distance(t, x)`` for relation ``k``: the margin-shifted ``g`` that
+        :meth:`flipped_relations` decides on, signed to be negative while the
+        relation keeps its value in ``relations`` and positive once it has
+        flipped (for the search of the flip instant)."""
+        return self.distance_to_first_flip(system, relations, (k,))
+
+    def distance_to_first_flip(self, system: CompiledSystem, relations, candidates) -> Callable:
+        """``distance(t, x)`` for the first of ``candidates`` to flip: the largest of their
+        :meth:`distance_to_flip` values, from one evaluation of their crossing functions.
+
+        It is positive exactly where one of them has flipped, so that the search of
+        the flip instant takes its trial points from it when several relations flip in
+        one step (twins of one component, or several parts of a storm) instead of
+        halving alone."""
+        crossings = system.crossings_for(tuple(sorted(candidates)))
+        terms = []
+        for k in candidates:
+            d, _strict, timed = self.kinds[k]
+            previous = bool(relations[k])
+            terms.append((2 * k, -1.0 if previous else 1.0, d, previous, timed, self.margins[k], self.floors[k]))
+
+        def distance(t, x) -> float:
+            raw = crossings(t, x)
+            best = -math.inf
+            for i, sign, d, previous, timed, epsilon, floor in terms:
+                value = sign * shifted(d, previous, raw[i], raw[i + 1], epsilon, floor, timed)
+                if value > best:
+                    best = value
+            return best
+
+        return distance
+
+    def first_flip(self, system: CompiledSystem, times, states, relations,
+                   watched: tuple[int, ...]) -> tuple[int, tuple[int, ...]] | None:
+        """The first of ``times`` at which a watched relation has flipped.
+
+        ``states`` holds the state at each time as a row.  Returns ``(index,
+        flipped)`` with ``flipped`` as :meth:`flipped_relations` gives it at that
+        instant, or None: exactly what calling :meth:`flipped_relations` at each
+        time in turn gives (the first flip, and any error on the way).
+
+        The relations are decided for all times at once, with numpy
+        (:meth:`_flips`), on the crossing functions' values: from one numpy call
+        when the system's code allows it
+        (the system's ``vectorised("crossings")``; from an instant
+        whose values are not all finite on, or if it raises, the scalar function
+        decides instant by instant), else from the scalar function at each time.
+        A few samples of few relations are decided one by one: a numpy call has
+        a fixed cost of some tens of microseconds.
+        """
+        m = len(times)
+        if not watched or not m:
+            return None
+        start = 0
+        if m * (len(watched) + 2) >= _MANY_FROM:
+            many = system.vectorised("crossings")
+            if many is not None:
+                found, start = self._first_flip_many(many, times, states, relations, watched)
+            else:
+                found, start = self._first_flip_collected(system, times, states, relations, watched)
+            if found is not None or start >= m:
+                return found
+        for i in range(start, m):
+            hit = self.flipped_relations(system, times[i], states[i], relations, watched)
+            if hit:
+                return i, hit
+        return None
+
+    def _first_flip_many(self, many, times, states, relations, watched):
+        """``(first flip, None)`` or ``(None, index to go on from)`` with the numpy crossings."""
+        m = len(times)
+        try:
+            # a division by zero or an invalid operation (where Python's floats could
+            # raise) leaves the instants to the scalar function
+            with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
+                raw = many(np.asarray(times, dtype=float), np.asarray(states, dtype=float).T)
+            with np.errstate(all="ignore"):
+                w, flips = self._flips(raw, relations, watched)
+        except Exception:  # the scalar function raises where it should, or not at all
+            return None, 0
+        stop = flips.any(axis=0)
+        finite = np.isfinite(raw)
+        unsure = None if finite.all() else ~finite.all(axis=0)
+        if unsure is not None:
+            stop |= unsure
+        if not stop.any():
+            return None, m
+        first = int(np.argmax(stop))
+        if unsure is not None and unsure[first]:
+            return None, first  # the scalar function decides from here on
+        return (first, tuple(w[flips[:, first]].tolist())), m
+
+    def _first_flip_collected(self, system, times, states, relations, watched):
+        """The same with the scalar crossing function called at each time: its values
+        are those :meth:`flipped_relations` decides on."""
+        columns = []
+        crossings = system.crossings
+        for t, x in zip(times, states):
+            try:
+                columns.append(crossings(t, x))
+            except Exception:  # flipped_relations raises it, unless a flip comes first
+                break
+        if not columns:
+            return None, 0
+        try:
+            raw = np.array(columns, dtype=float).T
+            with np.errstate(all="ignore"):
+                w, flips = self._flips(raw, relations, watched)
+        except (TypeError, ValueError):  # values that are no numbers: decided one by one
+            return None, 0
+        stop = flips.any(axis=0)
+        if not stop.any():
+            return None, len(columns)
+        first = int(np.argmax(stop))
+        return (first, tuple(w[flips[:, first]].tolist())), len(times)
+
+    def _flips(self, values: np.ndarray, relations, watched):
+        """``(w, flipped)``: the watched relations' indices, and whether each has
+        flipped at each column of ``values`` (the crossing functions' values, one
+        instant a column; or one instant as a vector).  Callers silence numpy's
+        warnings: inf/NaN sides decide as in Python."""
+        w, left, right, vectors, columns, any_timed = self._plan(relations, watched)
+        d, strict, previous, epsilon, floor, timed = columns if values.ndim == 2 else vectors
+        # (a time event gets no margin: its instant is computed in closed form)
+        v = shifted_many(d, previous, values[left], values[right], epsilon, floor, timed if any_timed else None)
+        return w, holds_many(v, strict) != previous
+
+    def _plan(self, relations, watched):
+        """The watched relations' indices and kinds as numpy arrays (as vectors, and as
+        columns for many instants), made again only for other watched or relation tuples."""
+        plan = self._vector_plan
+        if plan is None or plan[0] is not watched or plan[1] is not relations:
+            w = np.array(watched, dtype=int)
+            d = np.array([self.kinds[k][0] for k in watched], dtype=float)
+            strict = np.array([self.kinds[k][1] for k in watched], dtype=bool)
+            previous = np.array([bool(relations[k]) for k in watched], dtype=bool)
+            epsilon = np.array([self.margins[k] for k in watched], dtype=float)
+            floor = np.array([self.floors[k] for k in watched], dtype=float)
+            timed = np.array([self.kinds[k][2] for k in watched], dtype=bool)
+            vectors = (d, strict, previous, epsilon, floor, timed)
+            plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, vectors,
+                                        tuple(a[:, None] for a in vectors), bool(timed.any()))
+        return plan[2:]
