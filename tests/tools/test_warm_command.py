@@ -93,15 +93,23 @@ def test_a_model_whose_run_needs_the_compiler_is_not_saved():
         assert isinstance(saved.saved(), SavedModel)
 
 
-def test_a_warm_command_with_discrete_equations_gives_the_cold_result(tmp_path):
-    """CoupledClutches: friction modes (discrete equations), time events, several states."""
-    model = tmp_path / "coupled_clutches.py"
-    model.write_text((REPO / "examples" / "coupled_clutches.py").read_text())
-    assert command(tmp_path, str(model), "--out", "cold.csv").returncode == 0
-    warm = command(tmp_path, str(model), "--out", "warm.csv")
+def cold_then_warm(folder: Path, filename: str, text: str, *options: str):
+    """``acausal simulate`` of ``text`` (written to ``folder/filename``) twice with ``options``:
+    the second loads no compiler and writes the first's bytes.  Returns both processes."""
+    model = folder / filename
+    model.write_text(text)
+    cold = command(folder, str(model), *options, "--out", "cold.csv")
+    assert cold.returncode == 0, cold.stderr
+    warm = command(folder, str(model), *options, "--out", "warm.csv")
     assert warm.returncode == 0, warm.stderr
     assert loaded_packages(warm) == "LOADED []"
-    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+    assert (folder / "warm.csv").read_bytes() == (folder / "cold.csv").read_bytes()
+    return cold, warm
+
+
+def test_a_warm_command_with_discrete_equations_gives_the_cold_result(tmp_path):
+    """CoupledClutches: friction modes (discrete equations), time events, several states."""
+    cold_then_warm(tmp_path, "coupled_clutches.py", (REPO / "examples" / "coupled_clutches.py").read_text())
 
 
 def test_a_state_the_saved_run_did_not_visit_is_compiled_through_the_callback():
@@ -173,14 +181,7 @@ class BallWithLimits(Model):
 def test_a_warm_command_runs_when_clauses_and_assertions_as_the_cold_one(tmp_path):
     """reinit(), terminate() and an assertion warning are saved with the run: the warm command
     loads no compiler, ends at the same terminate() and writes the cold command's bytes."""
-    model = tmp_path / "ball.py"
-    model.write_text(WHEN_CLAUSES)
-    cold = command(tmp_path, str(model), "--out", "cold.csv")
-    assert cold.returncode == 0, cold.stderr
-    warm = command(tmp_path, str(model), "--out", "warm.csv")
-    assert warm.returncode == 0, warm.stderr
-    assert loaded_packages(warm) == "LOADED []"
-    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+    cold, warm = cold_then_warm(tmp_path, "ball.py", WHEN_CLAUSES)
     for done in (cold, warm):  # the reason the run ended, as the cold run says it
         assert "terminate() at t = 1.75" in done.stdout and "three bounces" in done.stdout, done.stdout
     rows = (tmp_path / "warm.csv").read_text().splitlines()
@@ -202,6 +203,11 @@ def test_a_loaded_model_gives_the_cold_notes_events_and_message(tmp_path):
 
     warm = simulate(LoadedModel(saved, no_compiler))
     assert any("starts high" in note for note in cold.notes), cold.notes
+    assert_same_run(warm, cold)
+
+
+def assert_same_run(warm, cold) -> None:
+    """The same run: status, notes, message, events, times and every column, bit for bit."""
     assert warm.notes == cold.notes and warm.message == cold.message and warm.status == cold.status
     assert [(e.time, e.kind) for e in warm.events] == [(e.time, e.kind) for e in cold.events]
     np.testing.assert_array_equal(warm.time, cold.time)
@@ -233,21 +239,11 @@ def _cold_and_loaded(model_class):
 ])
 def test_tables_and_assertions_are_saved_and_give_the_cold_run_bit_for_bit(example, name):
     module = importlib.import_module(f"examples.{example}")
-    cold, warm = _cold_and_loaded(getattr(module, name))
-    assert warm.notes == cold.notes and warm.status == cold.status
-    np.testing.assert_array_equal(warm.time, cold.time)
-    for column in cold.columns:
-        np.testing.assert_array_equal(warm[column], cold[column])
+    assert_same_run(*reversed(_cold_and_loaded(getattr(module, name))))
 
 
 def test_a_warm_command_with_a_friction_table_loads_no_compiler(tmp_path):
-    model = tmp_path / "friction.py"
-    model.write_text((REPO / "examples" / "friction.py").read_text())
-    assert command(tmp_path, str(model), "--out", "cold.csv").returncode == 0
-    warm = command(tmp_path, str(model), "--out", "warm.csv")
-    assert warm.returncode == 0, warm.stderr
-    assert loaded_packages(warm) == "LOADED []"
-    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+    cold_then_warm(tmp_path, "friction.py", (REPO / "examples" / "friction.py").read_text())
 
 
 def test_a_model_with_delays_is_saved_and_gives_the_cold_run_bit_for_bit():
@@ -256,25 +252,17 @@ def test_a_model_with_delays_is_saved_and_gives_the_cold_run_bit_for_bit():
     from tests.hybrid.test_delay import DelayedFeedback
 
     cold, warm = _cold_and_loaded(DelayedFeedback)
-    assert cold.success and warm.status == cold.status
-    np.testing.assert_array_equal(warm.time, cold.time)
-    for column in cold.columns:
-        np.testing.assert_array_equal(warm[column], cold[column])
+    assert cold.success
+    assert_same_run(warm, cold)
 
 
 def test_runs_with_param_and_start_are_saved_apart_and_give_the_cold_bytes(tmp_path):
     """``--param``/``--start`` runs are saved under their own key: the warm run of the same options
     loads no compiler and writes the cold bytes; other options are not served by it."""
-    model = tmp_path / "first.py"
-    model.write_text((REPO / "examples" / "first.py").read_text())
-    options = ("--param", "amplitude=5", "--start", "inertia1.w=1")
-    cold = command(tmp_path, str(model), *options, "--out", "cold.csv")
-    assert cold.returncode == 0, cold.stderr
+    cold, _warm = cold_then_warm(tmp_path, "first.py", (REPO / "examples" / "first.py").read_text(),
+                                 "--param", "amplitude=5", "--start", "inertia1.w=1")
     assert "sympy" in loaded_packages(cold)
-    warm = command(tmp_path, str(model), *options, "--out", "warm.csv")
-    assert warm.returncode == 0, warm.stderr
-    assert loaded_packages(warm) == "LOADED []"
-    assert (tmp_path / "warm.csv").read_bytes() == (tmp_path / "cold.csv").read_bytes()
+    model = tmp_path / "first.py"
     # the model as declared is another run: translated, and its result differs
     plain = command(tmp_path, str(model), "--out", "plain.csv")
     assert plain.returncode == 0 and "sympy" in loaded_packages(plain)
