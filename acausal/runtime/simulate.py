@@ -17,7 +17,10 @@ written out because hybrid models need what ``solve_ivp`` does not offer:
 
 The loop is here; locating events is in :mod:`acausal.runtime.crossings`
 (pure helpers), keeping rows and assembling the result's columns in
-:mod:`acausal.runtime.recorder`.
+:mod:`acausal.runtime.recorder`.  A model of independent parts runs this
+loop once per part, each with its own solver (:mod:`acausal.runtime.part_runs`),
+when its discrete part links no two of them; otherwise one loop carries them
+all, and the result's notes say why.
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ from .events import evaluator_for, mode_values
 from .initialization import initialize
 from . import explicit_rk
 from .integrators import RK4, Euler
+from .part_runs import run_parts, separate_parts
 from .recorder import Recorder, generated_line
 from .result import Event, SimulationResult, describe_columns
 
@@ -290,14 +294,37 @@ def simulate(model: "Component | CompiledModel", *, start_time: float | None = N
                                hint=f"choose one of {', '.join(METHODS)}")
     _check_settings(t0, t1, interval, method, rtol, atol, max_step, relation_epsilon,
                     max_event_iterations, chattering_events, max_steps, timeout)
-    run = _Run(translation, method, float(rtol), atol, max_step, relation_epsilon, max_event_iterations,
-               chattering_events, options)
-    run.notes.extend(_structural_notes(translation, parameters))
-    run.max_steps, run.timeout = max_steps, timeout
-    run.progress = progress_reporter(progress, translation.data.name)
+    reporter = progress_reporter(progress, translation.data.name)
     # translation time of this call: flattening (unless cached) plus the systems
     # compiled during the run (a reused translation may have them all already)
-    run.compile_seconds_before = translation.translation_seconds - flatten_seconds
+    compile_seconds_before = translation.translation_seconds - flatten_seconds
+    structural = _structural_notes(translation, parameters)
+
+    def make_run(compiled: CompiledModel) -> _Run:
+        return _Run(compiled, method, float(rtol), atol, max_step, relation_epsilon, max_event_iterations,
+                    chattering_events, options)
+
+    # independent parts, each integrated with a solver of its own (acausal.runtime.part_runs)
+    models, why = separate_parts(translation, atol)
+    if models:
+        wall = _time.perf_counter()
+        result, why = run_parts(translation, models, make_run, t0, t1, float(interval), t_setup,
+                                notes=structural, progress=reporter, max_steps=max_steps, timeout=timeout,
+                                compile_seconds_before=compile_seconds_before)
+        if isinstance(reporter, TerminalProgress):
+            reporter.close()
+        if result is not None:
+            return _finish(model, parameters, result) if given_model else result
+        if timeout is not None:
+            timeout = max(timeout - (_time.perf_counter() - wall), 0.0)
+    run = make_run(translation)
+    run.notes.extend(structural)
+    if why:
+        count = len(getattr(getattr(translation, "clustering", None), "clusters", ())) or len(models)
+        run.notes.append(f"the {count} independent parts were integrated with one solver: {why}")
+    run.max_steps, run.timeout = max_steps, timeout
+    run.progress = reporter
+    run.compile_seconds_before = compile_seconds_before
     result = run.execute(t0, t1, float(interval), t_setup)
     if result.success and given_model:
         result = _finish(model, parameters, result)
@@ -470,6 +497,9 @@ class _Run:
         for k, rel in enumerate(self.relations):
             self._relations_of_text[rel.text] = (*self._relations_of_text.get(rel.text, ()), k)
         self._warned: set = set()
+        #: the accepted steps with their dense output, kept for rows at other instants (a part
+        #: integrated apart, :mod:`acausal.runtime.part_runs`); None: not kept
+        self.history = None
 
     def _update_time_roots(self, values) -> None:
         """Time events at instants set by held discrete Reals move when those are set."""
@@ -617,6 +647,8 @@ class _Run:
             if not system.states and not self.evaluator.relevant_relations(discrete, relations):
                 # nothing to integrate and no crossing to look for: straight to the next time event
                 self._emit(t_bound, False, system, lambda s: x, discrete)
+                if self.history is not None:
+                    self.history.add(t, t_bound, None, x, system, discrete)
                 t_new, x_new, event_at = t_bound, x, None
             else:
                 t_new, x_new, event_at = self._segment(system, t, x, t_bound, discrete, relations)
@@ -904,7 +936,9 @@ class _Run:
                                       hint="try a smaller tolerance, an implicit method (Radau, BDF) "
                                            "or a max_step")
                 delays = self.delays
-                dense = solver.dense_output() if (watched or recorder.grid_left or delays) else None
+                history = self.history
+                dense = (solver.dense_output() if (watched or recorder.grid_left or delays or history is not None)
+                         else None)
                 y_new = solver.y.copy()
                 if delays is not None and t_new > t_old:
                     delays.add_step(t_old, t_new, dense, system)
@@ -926,11 +960,15 @@ class _Run:
                         delays.trim_last(t_e)
                     before = rows[rows < t_e]
                     self._emit_rows(before, at_rows[:len(before)], system, discrete)
+                    if history is not None:
+                        history.add(t_old, t_e, dense, x_e, system, discrete)
                     names = tuple(self.relations[k].text for k in fired)
                     return t_e, x_e, (t_e, x_e, names)
                 if self.evaluator.asserts:
                     self._asserts_in_step(rows, at_rows, dense, y_new, t_new, system, discrete)
                 self._emit_step(rows, at_rows, dense, y_new, t_new, system, discrete)
+                if history is not None:
+                    history.add(t_old, t_new, dense, y_new, system, discrete)
                 if self.evaluator.asserts:
                     self._check_asserts(t_new, system, y_new, discrete)
                 if solver.status == "finished":

@@ -2378,9 +2378,20 @@ def storm_point(n: int, clusters: bool = True, progress: Callable[[dict], None] 
         "simulate": wall - translation.translation_seconds,
         "wall": wall,
         "final_watched": result.final(watched) if watched in result else math.nan,
+        "integrated": _storm_integration(result),
         "max_rss_mb": _rss_mb(),
     })
     return point
+
+
+def _storm_integration(result) -> str:
+    """How a storm run was integrated: each part with its own solver, or one solver for all
+    (with the reason the result's notes give)."""
+    if result.stats.get("parts"):
+        return f"parts apart ({result.stats['parts']} solvers)"
+    why = next((note.split("one solver: ", 1)[1] for note in result.notes if "integrated with one solver: " in note),
+               "")
+    return f"one solver: {why}" if why else "one solver"
 
 
 def _storm_point_subprocess(n: int, clusters: bool, timeout: float) -> dict:
@@ -2559,10 +2570,10 @@ def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
                      p.get("events", math.nan), p.get("compiled_systems", math.nan),
                      p.get("translation", math.nan), p.get("simulate", math.nan), _storm_per_event_ms(p),
                      p.get("wall", math.nan), _storm_wall_per_event_ms(p), p.get("max_rss_mb", math.nan),
-                     status_text))
+                     p.get("integrated", ""), status_text))
     table = _md_table(("N", "mode", "parts", "discrete states visited", "events", "compiled systems",
                        "translation [s]", "integration+events [s]", "per event [ms]", "wall [s]",
-                       "wall per event [ms]", "max RSS [MB]", "status"), rows)
+                       "wall per event [ms]", "max RSS [MB]", "integrated", "status"), rows)
     fit_rows = []
     for mode in STORM_MODES:
         a, b = fits.get(mode, (math.nan, math.nan))
@@ -2607,7 +2618,9 @@ def _storm_markdown(points: Sequence[dict], fits: dict, timeout: float) -> str:
         "(the old behaviour). Wall: `translate(model, cache=False)` and `simulate(translation)`, what "
         "`simulate(model)` does; translation: the translation's `translation_seconds` at the end "
         "(flattening, every system compiled, the initialization systems); integration+events: the rest. "
-        "Parts: the independent parts the translation found (1: none used). Compiled systems: "
+        "Parts: the independent parts the translation found (1: none used). Integrated: each part with a "
+        "solver of its own (`acausal.runtime.part_runs`), or one solver for all and why. Discrete states "
+        "visited: `len(result.modes)` (parts apart: the parts' own states). Compiled systems: "
         "`result.compiled_modes` (with clusters, every part's systems count). Per event: integration+events "
         "over the events (the cost of an event); wall per event: the wall over the events, translation "
         "included. Max RSS: the process's peak.",

@@ -55,6 +55,16 @@ def storm(n: int, extra_equation: bool = False, coupled_start: bool = False) -> 
 WHOLE = EngineOptions(clusters=False)
 
 
+@pytest.fixture(autouse=True)
+def one_solver(monkeypatch):
+    """These tests hold the composed systems to the whole model's, bit for bit: with one
+    solver for every part (the runs of the parts apart are tested in
+    tests/runtime/test_part_runs.py)."""
+    from acausal.runtime import part_runs
+
+    monkeypatch.setattr(part_runs, "ENABLED", False)
+
+
 def run_both(make, **options):
     outputs = options.get("outputs")
     clustered = translate(make(), outputs, cache=False)

@@ -236,7 +236,8 @@ def test_storm_clusters_and_whole_model_agree(tmp_path):
         assert clustered["parts"] == n and whole["parts"] == 1
         assert clustered["events"] == whole["events"] > n
         assert clustered["compiled_systems"] <= whole["compiled_systems"]
-        assert clustered["final_watched"] == pytest.approx(whole["final_watched"], abs=1e-9)
+        # the parts integrated apart take other steps than one solver for all: equal to the tolerance
+        assert clustered["final_watched"] == pytest.approx(whole["final_watched"], abs=1e-6)
         for p in (clustered, whole):
             assert p["translation"] > 0 and p["wall"] > p["translation"] and p["max_rss_mb"] > 0
     files = bench.write_storm(points, tmp_path, timeout=120)
