@@ -25,13 +25,14 @@ from typing import Callable, Sequence
 import sympy as sp
 
 from .blt import BLTResult
+from .canonical import from_placeholders, shape, to_placeholders
 from .flatten import FlatEquation
 from ..language import parameter_symbols, real_symbol
 
 __all__ = ["Assign", "LinearSolve", "NewtonSolve", "AlgebraicResult", "AlgebraicMemo", "solve_blocks", "tear"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Assign:
     """``variable = expression``."""
 
@@ -127,6 +128,47 @@ def _linear_coefficient(residual: sp.Expr, var: sp.Symbol) -> sp.Expr | None:
     return sp.Add(*coefficients)
 
 
+def _derivative(expr: sp.Expr, var: sp.Symbol) -> sp.Expr | None:
+    """``sp.diff(expr, var)`` for sums and products in which ``var`` occurs in one factor
+    of each product (built as sympy builds it, so the same expression); None otherwise.
+
+    The case :func:`_linear_coefficient` does not take (``k*(var - c)/d``), without
+    sympy's differentiation machinery, which costs about a millisecond per call.
+    """
+    if expr == var:
+        return sp.Integer(1)
+    if isinstance(expr, sp.Add):
+        parts = []
+        for term in expr.args:
+            d = _derivative(term, var) if term.has(var) else sp.Integer(0)
+            if d is None:
+                return None
+            parts.append(d)
+        return sp.Add(*parts)
+    if isinstance(expr, sp.Mul):
+        args = expr.args
+        holding = [k for k, f in enumerate(args) if f.has(var)]
+        if len(holding) != 1:
+            return None
+        (k,) = holding
+        d = _derivative(args[k], var)
+        if d is None:
+            return None
+        # (sympy's Leibniz rule for one derivative: 1 * Mul(factors, the one differentiated))
+        return sp.Mul(*args[:k], d, *args[k + 1:])
+    return None
+
+
+def _coefficient(residual: sp.Expr, var: sp.Symbol) -> sp.Expr:
+    """``d residual / d var``: the fast forms first, sympy's ``diff`` for the rest."""
+    coeff = _linear_coefficient(residual, var)
+    if coeff is None:
+        coeff = _derivative(residual, var)
+        if coeff is None:
+            coeff = sp.diff(residual, var)
+    return coeff
+
+
 def _solve_for(residual: sp.Expr, var: sp.Symbol, values: dict) -> sp.Expr | None:
     """``var`` from ``residual = 0`` if linear in it with a non-zero coefficient."""
     return _solve_with_guard(residual, var, values)[0]
@@ -137,7 +179,7 @@ def _solve_with_guard(residual: sp.Expr, var: sp.Symbol, values: dict) -> tuple[
     (its being non-zero was decided by the parameter values: a guard for other values)."""
     coeff = _linear_coefficient(residual, var)
     if coeff is None:
-        coeff = sp.diff(residual, var)
+        coeff = _coefficient(residual, var)
         if coeff.has(var):
             return None, None
     numeric = coeff.xreplace(values)
@@ -152,6 +194,44 @@ def _solve_with_guard(residual: sp.Expr, var: sp.Symbol, values: dict) -> tuple[
     return -rest / coeff, guard
 
 
+def _solved(residual: sp.Expr, var: sp.Symbol, values: dict, shapes: dict) -> tuple[sp.Expr | None, sp.Expr | None]:
+    """:func:`_solve_with_guard`, solved once per shape of ``(residual, var)`` (the
+    equal units of a model: :mod:`~acausal.compiler.canonical`) and renamed for the
+    other copies; whether the coefficient is zero is decided for each copy's values."""
+    found = shape((residual, var))
+    if found is None:
+        return _solve_with_guard(residual, var, values)
+    key, order, symbols = found
+    template = shapes.get(key, False)
+    if template is False:
+        template = shapes[key] = _solution_template(residual, var, order, symbols)
+    if template is None:
+        return _solve_with_guard(residual, var, values)
+    if template == ():
+        return None, None  # not linear in var
+    coeff_t, solution_t = template
+    coeff = from_placeholders(coeff_t, order, symbols)
+    numeric = coeff if isinstance(coeff, sp.Number) else coeff.xreplace(values)
+    if numeric.is_zero:
+        return None, None
+    solution = from_placeholders(solution_t, order, symbols)
+    if coeff == 1 or coeff == -1:
+        return solution, None
+    return solution, (coeff if coeff.free_symbols and coeff.free_symbols <= values.keys() else None)
+
+
+def _solution_template(residual: sp.Expr, var: sp.Symbol, order, symbols) -> tuple | None:
+    """``(coefficient, solution)`` of ``residual = 0`` for ``var`` with placeholders for
+    its symbols (``()``: not linear in it; None: cannot be renamed)."""
+    coeff = _coefficient(residual, var)
+    if coeff.has(var):
+        return ()
+    rest = residual.xreplace({var: sp.Integer(0)})
+    solution = -rest if coeff == 1 else rest if coeff == -1 else -rest / coeff
+    coeff_t, solution_t = to_placeholders(coeff, order, symbols), to_placeholders(solution, order, symbols)
+    return None if coeff_t is None or solution_t is None else (coeff_t, solution_t)
+
+
 @dataclass(eq=False)
 class AlgebraicMemo:
     """The solution of each block, for the other discrete states of one model."""
@@ -160,6 +240,7 @@ class AlgebraicMemo:
     values: dict = field(default_factory=dict)  #: parameter symbol -> sympy Float
     solutions: dict = field(default_factory=dict)  #: (residual, unknown) -> expression or None
     torn: dict = field(default_factory=dict)  #: (residuals, unknowns, origins) -> step
+    shapes: dict = field(default_factory=dict)  #: shape of (residual, unknown) -> solution (:func:`_solved`)
 
 
 def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt: BLTResult,
@@ -186,7 +267,7 @@ def solve_blocks(equations: Sequence[FlatEquation], unknowns: Sequence[str], blt
         if block.size == 1:
             key = (eqs[0].residual, names[0])
             if key not in memo.solutions:
-                memo.solutions[key] = _solve_with_guard(eqs[0].residual, real_symbol(names[0]), values)
+                memo.solutions[key] = _solved(eqs[0].residual, real_symbol(names[0]), values, memo.shapes)
             expr, guard = memo.solutions[key]
             if guard is not None:
                 guards[guard] = None
@@ -301,10 +382,7 @@ def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
         # the coefficient divided by is a number or an expression of parameters: an
         # expression of other unknowns may vanish while the model runs (0*y = 0)
         residual, var = eqs[i].residual, symbols[names[j]]
-        coeff = _linear_coefficient(residual, var)
-        if coeff is None:
-            coeff = sp.diff(residual, var)
-        return coeff.free_symbols <= values.keys()
+        return _coefficient(residual, var).free_symbols <= values.keys()
 
     plan = tear(incidence, len(names), solvable, safe)
     if plan is None:
@@ -322,7 +400,7 @@ def _tear(eqs: list[FlatEquation], names: list[str], values: dict):
         substitution[symbols[a.variable]] = a.expression.xreplace(substitution)
     residuals = [eqs[i].residual.xreplace(substitution) for i in residual_eqs]
     tear_syms = [symbols[n] for n in tears]
-    jacobian = [[sp.diff(r, z) for z in tear_syms] for r in residuals]
+    jacobian = [[_coefficient(r, z) for z in tear_syms] for r in residuals]
     if all(not entry.has(*tear_syms) for row in jacobian for entry in row):
         zero = {z: sp.Integer(0) for z in tear_syms}
         b = tuple(-r.xreplace(zero) for r in residuals)

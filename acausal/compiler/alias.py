@@ -29,6 +29,7 @@ import sympy as sp
 
 from ..errors import InitializationError
 from ..names import base_name, der_name, derivative_order, is_derivative
+from .canonical import substituted
 from .flatten import FlatEquation, FlatVariable
 from ..language import real_symbol, time
 
@@ -47,6 +48,11 @@ class AliasMemo:
     candidates: set[str] = field(default_factory=set)  #: variables that may be eliminated
     forms: dict = field(default_factory=dict)  #: residual -> its alias form, or None
     linear: dict = field(default_factory=dict)  #: residual -> its linear form, or None
+    derivatives: dict = field(default_factory=dict)  #: residual -> the derivatives it reads
+    #: the substitution of the aliases, once per shape (:func:`~acausal.compiler.canonical.substituted`)
+    shapes: dict = field(default_factory=dict)
+    #: residual -> (its symbols with what replaced them, the result): the same object again
+    substituted: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -125,11 +131,15 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     elif memo.inputs != (variables, parameters, keep):
         raise ValueError("eliminate_aliases: this memo belongs to other variables or parameters")
     candidates = memo.candidates
+    derivatives_in = memo.derivatives
     differentiated = set()
     for eq in equations:
-        for sym in eq.residual.free_symbols:
-            if is_derivative(sym.name):
-                differentiated.add(base_name(sym.name))
+        found = derivatives_in.get(eq.residual)
+        if found is None:
+            found = derivatives_in[eq.residual] = \
+                tuple(s for s in eq.residual.free_symbols if is_derivative(s.name)) or ()
+        for sym in found:
+            differentiated.add(base_name(sym.name))
 
     parent: dict[str, str] = {}
     sign: dict[str, int] = {}  # x = sign[x] * parent[x]
@@ -248,9 +258,11 @@ def eliminate_aliases(equations: tuple[FlatEquation, ...], variables: dict[str, 
     merged = {name: merged[name] for name in variables if name in merged}
 
     substitution = {real_symbol(n): e for n, e in aliases.items()}
-    for eq in kept:
-        substitution.update(derivative_substitution(eq.residual.free_symbols, aliases, merged, substitution))
-    new_equations = tuple(FlatEquation(eq.residual.xreplace(substitution), eq.origin) for eq in kept)
+    for eq in kept:  # (derivative_substitution reads the derivatives only)
+        substitution.update(derivative_substitution(derivatives_in[eq.residual], aliases, merged, substitution))
+    new_equations = tuple(FlatEquation(substituted(eq.residual, substitution, memo.shapes, memo.substituted),
+                                       eq.origin)
+                          for eq in kept)
     return AliasResult(new_equations, aliases, merged, tuple(eliminated), tuple(fixed_constants))
 
 

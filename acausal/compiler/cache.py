@@ -73,6 +73,8 @@ class SpecialiseMemo:
 
     used: dict = field(default_factory=dict)  #: residual -> the discrete symbols in it
     forms: dict = field(default_factory=dict)  #: (residual, their values) -> specialised residual
+    #: the substitution once per shape (:func:`~acausal.compiler.canonical.substituted`)
+    shapes: dict = field(default_factory=dict)
 
 
 @dataclass(eq=False)

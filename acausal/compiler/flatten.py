@@ -24,7 +24,7 @@ import traceback
 import types
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -396,10 +396,26 @@ class _Flattener:
 
     # -- declarations ---------------------------------------------------------
 
+    def _per_template(self, eq: FlatEquation, memo: dict, test: Callable[[sp.Basic], Any]) -> Any:
+        """``test(eq.residual)``, once per equation of a template (:class:`_Template`): its
+        instances have one structure, their symbols renamed, so a test of the structure
+        (a function applied, a derivative read) holds for all or none."""
+        source = eq.origin.source
+        if getattr(self, "delays", None) or not isinstance(source, _Source):
+            return test(eq.residual)  # (delays extracted: the residuals are no longer the templates')
+        key = (id(source.template), source.entry)
+        found = memo.get(key)
+        if found is None:
+            found = memo[key] = test(eq.residual)
+        return found
+
     def _refuse_impure_calls(self) -> None:
         """An impure function (a hidden state, :class:`~acausal.functions.ImpureFunction`) is
         called at events only: in the discrete equations, never in a continuous one."""
+        memo: dict = {}
         for eq in (*self.equations, *self.initial_equations):
+            if not self._per_template(eq, memo, lambda r: bool(impure_applications(r))):
+                continue
             found = impure_applications(eq.residual)
             if found:
                 raise EquationError(
@@ -1058,7 +1074,8 @@ class _Flattener:
         elsewhere += [(r.origin, r.value) for r in self.reinits]
         elsewhere += [(e.origin, e.residual) for e in self.initial_equations]
         parameters = {n for n in self.parameters if n not in self.unknown_parameters}
-        if not any(e.residual.has(Delay) for e in self.equations) and not any(
+        memo: dict = {}
+        if not any(self._per_template(e, memo, lambda r: r.has(Delay)) for e in self.equations) and not any(
                 isinstance(x, sp.Basic) and x.has(Delay) for _, x in elsewhere):
             self.delays = []
             return
@@ -1241,8 +1258,10 @@ class _Flattener:
         variable), so that it is a state candidate, as Dymola and OpenModelica
         take it: index reduction then differentiates what determines it, and
         state selection weighs it with the others."""
-        differentiated = {parse(s.name).base for eq in self.equations for s in eq.residual.free_symbols
-                          if parse(s.name).kind == "derivative"}
+        memo: dict = {}
+        differentiated = {parse(s.name).base for eq in self.equations
+                          if self._per_template(eq, memo, _reads_derivatives)
+                          for s in eq.residual.free_symbols if parse(s.name).kind == "derivative"}
         self.differentiated = differentiated
         for name, variable in list(self.variables.items()):
             if (variable.kind != "continuous" or name in differentiated
@@ -2030,6 +2049,11 @@ class _Program:
                     state["_argset"] = frozenset(arguments)
             values[slot] = node
         return values
+
+
+def _reads_derivatives(expr: sp.Basic) -> bool:
+    """Whether ``expr`` reads a derivative ``der(x)``."""
+    return any(parse(s.name).kind == "derivative" for s in expr.free_symbols)
 
 
 class _Source:

@@ -28,6 +28,7 @@ from sympy.printing.repr import ReprPrinter
 from sympy.printing.str import StrPrinter
 
 from ..errors import ModelDefinitionError
+from .algebraic import _coefficient
 from .compiled import EXACT_MARGIN, RelationData  # noqa: F401 - EXACT_MARGIN: where it was
 from .flatten import DiscreteEquation, FlatEquation, FlatModel, _NotTemplatable, _Program, _Source, any_node
 from ..language import real_symbol, time
@@ -621,7 +622,7 @@ def exact_relations(equations: Sequence[FlatEquation], relations: Sequence[Relat
         name = names[0]
         residual = equations[i].residual
         symbol = next(sym for sym in residual.free_symbols if sym.name == name)
-        coefficient = residual.diff(symbol)
+        coefficient = _coefficient(residual, symbol)  # (= residual.diff(symbol), without sympy's machinery)
         if coefficient.has(symbol) or coefficient == 0:
             continue  # not assigned explicitly (iterated): it may carry the solver's noise
         known.add(name)
@@ -629,5 +630,14 @@ def exact_relations(equations: Sequence[FlatEquation], relations: Sequence[Relat
             left[j] -= 1
             if left[j] == 1:
                 queue.append(j)
-    return frozenset(rel.index for rel in relations
-                     if all(is_known(s.name) for s in (rel.lhs - rel.rhs).free_symbols))
+
+    def exact(rel: Relation) -> bool:
+        left, right = rel.lhs.free_symbols, rel.rhs.free_symbols
+        unknown = {s for s in left | right if not is_known(s.name)}
+        if not unknown:
+            return True
+        if not unknown <= (left & right):
+            return False  # a symbol on one side only cannot cancel in lhs - rhs
+        return all(is_known(s.name) for s in (rel.lhs - rel.rhs).free_symbols)
+
+    return frozenset(rel.index for rel in relations if exact(rel))

@@ -45,6 +45,7 @@ from ..errors import (
     StructuralError,
     UnderDeterminedError,
 )
+from .canonical import from_placeholders, shape, to_placeholders
 from .flatten import FlatEquation, FlatVariable, Origin
 from ..names import base_name, der_name, derivative_order, parse
 from ..functions import settle
@@ -212,6 +213,31 @@ def differentiate(residual: sp.Expr, parameters: set[str]) -> sp.Expr:
     for sym in sorted(partial, key=lambda s: s.name):
         result += sp.Add(*partial[sym]) * real_symbol(der_name(sym.name))
     return result
+
+
+def _differentiated(residual: sp.Expr, parameters: set[str], shapes: dict) -> sp.Expr:
+    """:func:`differentiate`, once per shape of the residual (with the derivatives it
+    may hold, and which of its symbols are parameters or time), renamed for the other
+    copies (:mod:`~acausal.compiler.canonical`)."""
+    found = shape((residual,))
+    if found is None:
+        return differentiate(residual, parameters)
+    _, order, symbols = found
+    kinds = tuple(2 if symbols[n] == time else 1 if n in parameters else 0 for n in order)
+    derivatives = [real_symbol(der_name(n)) for n, kind in zip(order, kinds) if kind == 0]
+    found = shape([residual, *derivatives])
+    if found is None:
+        return differentiate(residual, parameters)
+    key, order, symbols = found
+    key = (key, kinds)
+    template = shapes.get(key, False)
+    if template is False:
+        result = differentiate(residual, parameters)
+        shapes[key] = to_placeholders(result, order, symbols)
+        return result
+    if template is None:
+        return differentiate(residual, parameters)
+    return from_placeholders(template, order, symbols)
 
 
 # --------------------------------------------------------------------------
@@ -514,6 +540,7 @@ class StructureMemo:
     values: dict = field(default_factory=dict)  #: parameter symbol -> sympy Float
     derivatives: dict = field(default_factory=dict)  #: residual -> its time derivative
     settled: dict = field(default_factory=dict)  #: residual -> the same, settled (functions.settle)
+    shapes: dict = field(default_factory=dict)  #: shape -> time derivative (:func:`_differentiated`)
 
     def settle(self, residual: sp.Expr) -> sp.Expr:
         """``residual`` with functions of given derivatives replaced by their values (memoised)."""
@@ -688,7 +715,8 @@ def analyse(equations: Sequence[FlatEquation], variables: dict[str, FlatVariable
         # the time derivative of equation l becomes a new equation; its incidence
         derivative = derivative_of.get(eqs[l].residual)
         if derivative is None:
-            derivative = derivative_of[eqs[l].residual] = differentiate(eqs[l].residual, parameters)
+            derivative = derivative_of[eqs[l].residual] = _differentiated(eqs[l].residual, parameters,
+                                                                          memo.shapes)
         origin = eqs[l].origin
         new_origin = Origin(origin.component, origin.component_class, origin.declared_in,
                             origin.index, functools.partial(_derivative_text, origin))

@@ -31,6 +31,7 @@ from ..errors import ModelDefinitionError, SettingError, StructuralError, Struct
 from ..language import Component, structural_names, with_structural
 from ..names import is_derivative, parse
 from .cache import ModelCache
+from .canonical import substituted
 from .diskcache import DiskCache
 from .clusters import Clustering, ComposedSystem, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, FlatVariable, flatten, start_parameter
@@ -218,7 +219,8 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
             form_key = (eq.residual, tuple(subs[s] for s in used))
             residual = memo.forms.get(form_key)
             if residual is None:
-                residual = eq.residual.xreplace({s: subs[s] for s in used}) if used else eq.residual
+                residual = substituted(eq.residual, {s: subs[s] for s in used}, memo.shapes) if used \
+                    else eq.residual
                 leftover = [s.name for s in residual.free_symbols
                             if parse(s.name).kind in ("relation", "initial") or s.name in self._discrete_names]
                 if leftover:
