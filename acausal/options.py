@@ -1,14 +1,15 @@
 """How the engine works, as one value passed through :func:`translate` and :func:`simulate`.
 
 Every field switches a way of doing the same thing: the results are the same
-either way (tests compare both settings), only the work done differs.  They
+either way (tests compare both settings; ``parts_apart`` within the solver's
+tolerance), only the work done differs.  They
 exist so that a user, a test or a benchmark can see what each technique buys,
 for one call, without changing a module-level flag that every other call in
 the process would see.
 
 >>> from acausal import EngineOptions
 >>> EngineOptions(clusters=False)          # the whole model compiled per discrete state
-EngineOptions(clusters=False, templates=True, secant=True, incremental_events=True)
+EngineOptions(clusters=False, templates=True, secant=True, incremental_events=True, parts_apart=True)
 
 The compiler's fields (:attr:`EngineOptions.compiler_fields`) are part of the
 key of a translation in the in-process cache; the runtime's are read by each
@@ -46,12 +47,18 @@ class EngineOptions:
         Event iteration re-evaluates only the discrete equations downstream of
         what changed since its last pass; False evaluates every equation in
         every pass.
+    parts_apart : bool
+        Independent parts whose discrete part links no two of them are each
+        integrated with a solver of their own (:mod:`acausal.runtime.part_runs`);
+        False integrates all parts with one solver.  The results agree within
+        the solver's tolerance (the step sizes differ), not bit for bit.
     """
 
     clusters: bool = True
     templates: bool = True
     secant: bool = True
     incremental_events: bool = True
+    parts_apart: bool = True
 
     #: the fields that change what the compiler produces (the rest only how a run goes)
     compiler_fields = ("clusters", "templates")

@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import SolverError
 
 __all__ = ["FLOAT_FUNCTIONS", "CompiledFunctions", "newton_solve", "load_functions", "load_make", "vectorised",
-           "vectorised_of"]
+           "vectorised_of", "reset_warm_starts"]
 
 
 # -- floating-point semantics for the functions that overflow --------------------------------------
@@ -618,3 +618,17 @@ class CompiledFunctions:
         out = dict(zip(self.states, map(float, x)))
         out.update(zip(self.unknowns, self.outputs(t, x)))
         return out
+
+    def reset(self) -> None:
+        """A new run: the Newton solves start from the start values again (:func:`reset_warm_starts`)."""
+        reset_warm_starts(self.outputs)
+
+
+def reset_warm_starts(function: Callable) -> None:
+    """Forget the warm starts of the generated functions ``function`` was made with: each
+    Newton solve's last solution (its next first guess) and last Jacobian.  Within a run the
+    warm start saves iterations; across runs it would make the second run of a compiled
+    system start where the first ended, and so differ from it (or fail where it succeeded)."""
+    reset = getattr(function, "reset", None)  # functions not made by generated code have none
+    if reset is not None:
+        reset()

@@ -69,6 +69,7 @@ from .delays import at_start
 from .blt import BLTResult, sort_blt
 from .cache import ModelCache
 from .codegen import GeneratedCode, generate
+from .generated import reset_warm_starts
 from .flatten import FlatEquation, FlatVariable, Origin, start_parameter
 from .modes import ModeSystem, PassLog
 from .structure import augmenting_path, priority_matching
@@ -322,6 +323,10 @@ class InitialSystem:
     from_start: tuple[tuple[str, float], ...] = ()
     #: what the code assumes of the start values beyond the parameter vector (see bind_start_values)
     starts: StartDependence = StartDependence()
+
+    def reset(self) -> None:
+        """A new run: the Newton solves start from the start values again."""
+        reset_warm_starts(self.outputs)
 
     @property
     def seconds(self) -> float:

@@ -489,6 +489,9 @@ class PartModel:
     def delay_numbers(self) -> dict:
         return {}
 
+    def part_models(self) -> tuple[tuple, str]:
+        return (), "the model is one part"
+
     def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
         found = self._shared.get(("starts", start_time))
         if found is None:

@@ -31,7 +31,7 @@ from typing import Any, Callable, Mapping
 
 from ..options import EngineOptions
 from .compiled import DiscreteProgram, ModelData, SavedAssert, SavedReinit, SavedTermination
-from .generated import CompiledFunctions, load_functions, load_make
+from .generated import CompiledFunctions, load_functions, load_make, reset_warm_starts
 
 __all__ = ["SavedModel", "LoadedModel", "LoadedSystem", "LoadedInitialSystem"]
 
@@ -147,6 +147,10 @@ class LoadedInitialSystem:
     def sources(self) -> tuple[str, ...]:
         return (self.code.source,)
 
+    def reset(self) -> None:
+        """A new run: the Newton solves start from the start values again."""
+        reset_warm_starts(self.outputs)
+
 
 class LoadedModel:
     """A :class:`SavedModel` as the runtime's ``CompiledModel`` (see the module docstring).
@@ -258,6 +262,10 @@ class LoadedModel:
 
     def delay_numbers(self) -> dict[int, float]:
         return dict(self._timing["delay_numbers"])
+
+    def part_models(self) -> tuple[tuple, str]:
+        # a model compiled part by part is not saved (PersistentSystems.saved)
+        return (), "the model is one part"
 
     def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
         return self.translation.start_value_relations(start_time)

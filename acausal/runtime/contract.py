@@ -79,6 +79,11 @@ class CompiledSystem(Protocol):
         """The numpy form of ``crossings`` or ``outputs`` (``f(t, X)`` for many
         times at once, bit for bit the scalar function's values), or None."""
 
+    def reset(self) -> None:
+        """Forget what the functions keep between calls (each Newton solve's last
+        solution and Jacobian, its warm start): called when a run begins, so that
+        every run of a compiled model gives the same numbers."""
+
 
 @runtime_checkable
 class CompiledModel(Protocol):
@@ -98,7 +103,8 @@ class CompiledModel(Protocol):
     extras: dict
     #: the systems compiled so far, by discrete state
     systems: Mapping[tuple, CompiledSystem]
-    #: the initialization systems compiled so far
+    #: the initialization systems compiled so far (each answers ``outputs`` and ``reset()``
+    #: as a :class:`CompiledSystem` does)
     initial_systems: Mapping[tuple, Any]
 
     @property
@@ -131,6 +137,11 @@ class CompiledModel(Protocol):
 
     def delay_numbers(self) -> dict[int, float]:
         """Delay index -> its delay time (fixed) or its ``delayMax`` (variable)."""
+
+    def part_models(self) -> tuple[tuple, str]:
+        """The model's independent parts as compiled models of their own, to run each with
+        a solver of its own (:mod:`acausal.runtime.part_runs`), or ``((), why not)``:
+        ``"the model is one part"``, or what links the parts."""
 
     def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
         """Each relation evaluated with the start values (the initial guess of

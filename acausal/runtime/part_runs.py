@@ -36,24 +36,21 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ..errors import AcausalError, SimulationInterrupted
+from .contract import CompiledModel
 from .crossings import states_at
 from .recorder import Recorder
 from .result import Event, SimulationResult, describe_columns
 
-__all__ = ["ENABLED", "PartColumns", "StepHistory", "run_parts", "separate_parts"]
-
-#: Whether independent parts are integrated apart (False: one solver for every part, as
-#: before; the tests and the storm bench compare both ways in one process).
-ENABLED = True
+__all__ = ["PartColumns", "StepHistory", "run_parts", "separate_parts"]
 
 
-def separate_parts(translation, atol=None) -> tuple[tuple, str]:
+def separate_parts(translation: CompiledModel, atol=None, apart: bool = True) -> tuple[tuple, str]:
     """The parts of ``translation`` to run apart, or ``((), why not)`` (``why`` is empty
-    for a model of one part)."""
-    offered = getattr(translation, "part_models", None)
-    if offered is None or not ENABLED:
+    for a model of one part, and when ``apart`` is False:
+    :attr:`~acausal.options.EngineOptions.parts_apart`)."""
+    if not apart:
         return (), ""
-    models, why = offered()
+    models, why = translation.part_models()
     if not models:
         return (), "" if why == "the model is one part" else why
     if atol is not None and np.ndim(atol) > 0 and np.size(atol) > 1:

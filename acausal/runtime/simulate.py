@@ -305,7 +305,7 @@ def simulate(model: "Component | CompiledModel", *, start_time: float | None = N
                     chattering_events, options)
 
     # independent parts, each integrated with a solver of its own (acausal.runtime.part_runs)
-    models, why = separate_parts(translation, atol)
+    models, why = separate_parts(translation, atol, (translation.options if options is None else options).parts_apart)
     if models:
         wall = _time.perf_counter()
         result, why = run_parts(translation, models, make_run, t0, t1, float(interval), t_setup,
@@ -320,8 +320,7 @@ def simulate(model: "Component | CompiledModel", *, start_time: float | None = N
     run = make_run(translation)
     run.notes.extend(structural)
     if why:
-        count = len(getattr(getattr(translation, "clustering", None), "clusters", ())) or len(models)
-        run.notes.append(f"the {count} independent parts were integrated with one solver: {why}")
+        run.notes.append(f"the independent parts were integrated with one solver: {why}")
     run.max_steps, run.timeout = max_steps, timeout
     run.progress = reporter
     run.compile_seconds_before = compile_seconds_before
@@ -515,6 +514,10 @@ class _Run:
     # -- main loop ----------------------------------------------------------------
 
     def execute(self, t0: float, t1: float, interval: float, t_setup: float) -> SimulationResult:
+        # every run starts the compiled functions' Newton solves from the start values,
+        # not from where an earlier run of this translation left them: runs repeat exactly
+        for system in (*self.translation.systems.values(), *self.translation.initial_systems.values()):
+            system.reset()
         if self.delays is None:
             return self._execute(t0, t1, interval, t_setup)
         # the generated code of this thread reads this run's history (initialization,

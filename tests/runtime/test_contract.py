@@ -63,12 +63,11 @@ def test_a_translation_and_its_systems_satisfy_the_contract():
         assert isinstance(system, ModeSystem) and isinstance(system, CompiledSystem)
 
 
-def test_a_composed_system_satisfies_the_contract(monkeypatch):
-    from acausal.runtime import part_runs
+def test_a_composed_system_satisfies_the_contract():
+    from acausal import EngineOptions
 
-    monkeypatch.setattr(part_runs, "ENABLED", False)  # one solver for both parts: composed systems
     translation = translate(storm(2), cache=False)
-    simulate(translation, stop_time=0.5)
+    simulate(translation, stop_time=0.5, options=EngineOptions(parts_apart=False))  # composed systems
     composed = [s for s in translation.systems.values() if isinstance(s, ComposedSystem)]
     assert composed
     assert all(isinstance(s, CompiledSystem) for s in composed)

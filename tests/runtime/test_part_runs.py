@@ -19,8 +19,10 @@ from acausal.compiler.translate import translate
 from acausal.errors import StructuralError
 from acausal.library.blocks import Sine
 from acausal.library.rotational import BearingFriction, Inertia, Torque
-from acausal.runtime import part_runs
 from acausal.runtime.part_runs import PartColumns
+
+#: one solver for every part, as before the parts ran apart
+ONE_SOLVER = EngineOptions(parts_apart=False)
 
 SETTINGS = dict(stop_time=1.0, interval=0.01)
 
@@ -142,22 +144,14 @@ def test_an_event_in_one_part_leaves_the_other_parts_steps_untouched():
     for name in ca:
         np.testing.assert_array_equal(ca[name], cb[name], err_msg=name)
     # one solver for both: every event of unit 2 restarts unit 1's integration too
-    part_runs.ENABLED = False
-    try:
-        one = simulate(units((1, 2)), **SETTINGS, cache=False)
-    finally:
-        part_runs.ENABLED = True
+    one = simulate(units((1, 2)), **SETTINGS, cache=False, options=ONE_SOLVER)
     assert one.stats["steps"] > max(a.stats["part_steps"])
 
 
 def test_a_part_run_matches_one_solver_to_the_tolerance():
     translation = translate(units((1, 2, 3)), cache=False)
     apart = simulate(translation, **SETTINGS)
-    part_runs.ENABLED = False
-    try:
-        one = simulate(translation, **SETTINGS)
-    finally:
-        part_runs.ENABLED = True
+    one = simulate(translation, **SETTINGS, options=ONE_SOLVER)
     assert "parts" not in one.stats and not isinstance(one.columns, PartColumns)
     assert sorted(apart.names) == sorted(one.names)
     assert [(e.kind, e.changes) for e in apart.events] == [(e.kind, e.changes) for e in one.events]
