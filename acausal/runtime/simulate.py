@@ -962,6 +962,9 @@ class _Run:
                     if delays is not None and t_new > t_old:
                         delays.trim_last(t_e)
                     before = rows[rows < t_e]
+                    if self.evaluator.asserts:
+                        # the output points before the event are accepted values too
+                        self._asserts_in_step(before, at_rows[:len(before)], dense, x_e, t_e, system, discrete)
                     self._emit_rows(before, at_rows[:len(before)], system, discrete)
                     if history is not None:
                         history.add(t_old, t_e, dense, x_e, system, discrete)

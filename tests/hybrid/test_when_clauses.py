@@ -272,3 +272,25 @@ def test_an_output_demand_may_leave_out_discrete_reals():
     result = simulate(BodyRelation(), stop_time=0.35, interval=0.05, outputs=["held_a"])
     assert result.status == 0, result.message
     assert result["held_a"][-1] == pytest.approx(0.3) and "held_b" not in result
+
+
+def test_an_assertion_is_checked_at_the_output_points_of_a_step_that_ends_in_an_event():
+    """A falling ball: the speed passes -4 m/s only in the step that ends at the impact (the
+    step is long; the event truncates it). The output points before the event are checked."""
+
+    class FastBall(Model):
+        h = Variable(start=1.0, fixed=True)
+        v = Variable(start=0.0, fixed=True)
+
+        def equations(self):
+            return [Eq(der(self.h), self.v), Eq(der(self.v), -9.81),
+                    When(self.h <= 0, reinit(self.v, -0.8 * pre(self.v))),
+                    Assert(self.v > -4.0, "falling fast", level="warning")]
+
+    result = simulate(FastBall(), stop_time=0.6, interval=0.01)
+    assert result.success
+    t_fast = 4.0 / 9.81  # v = -4 here, before the impact at sqrt(2/9.81) = 0.4515
+    assert [n for n in result.notes if "falling fast" in n], result.notes
+    note = next(n for n in result.notes if "falling fast" in n)
+    t_note = float(note.split("t = ")[1].split(":")[0])
+    assert t_fast < t_note <= t_fast + 0.01 + 1e-12  # the first output point past it
