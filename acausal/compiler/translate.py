@@ -203,10 +203,19 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
 
     def specialise(self, key: tuple, equations=None) -> tuple[FlatEquation, ...]:
         """``equations`` (default: the model's) with the discrete symbols set to ``key``."""
-        subs = {s: _value_of(v) for s, v in zip(self.selectors, key)}
+        positions = self._selector_positions()
         # Parameters that are zero are structural zeros: the matching ignores
         # the terms they multiply, so the generated code must not contain them.
-        subs.update(self.cache.parameters.zeros)
+        zeros = self.cache.parameters.zeros
+        subs: dict = {}  # the values of the symbols these equations read (a part's equations
+        # read a few of a large model's selectors: the others are not looked at)
+
+        def value(s):
+            found = subs.get(s)
+            if found is None:
+                found = subs[s] = zeros[s] if s in zeros else _value_of(key[positions[s]])
+            return found
+
         source = self.partitioned.equations if equations is None else equations
         memo = self.cache.specialise
         out = []
@@ -215,8 +224,9 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
             # an equation is specialised once per combination of their values.
             used = memo.used.get(eq.residual)
             if used is None:
-                used = memo.used[eq.residual] = tuple(s for s in eq.residual.free_symbols if s in subs)
-            form_key = (eq.residual, tuple(subs[s] for s in used))
+                used = memo.used[eq.residual] = tuple(s for s in eq.residual.free_symbols
+                                                      if s in positions or s in zeros)
+            form_key = (eq.residual, tuple(value(s) for s in used))
             residual = memo.forms.get(form_key)
             if residual is None:
                 residual = substituted(eq.residual, {s: subs[s] for s in used}, memo.shapes) if used \
@@ -229,6 +239,13 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
                 memo.forms[form_key] = residual
             out.append(eq if residual is eq.residual else FlatEquation(residual, eq.origin))
         return tuple(out)
+
+    def _selector_positions(self) -> dict:
+        """Each selector symbol's position in a key (made once per partitioned model)."""
+        found = self.__dict__.get("_positions")
+        if found is None or found[0] is not self.partitioned:
+            found = self._positions = (self.partitioned, {s: i for i, s in enumerate(self.selectors)})
+        return found[1]
 
     # -- building systems -----------------------------------------------------
 
