@@ -114,6 +114,11 @@ class ModelCache:
     def for_cluster(self, parameter_names) -> "ModelCache":
         """The cache of one cluster's systems: its parameters, the model's identifiers and
         specialisations, its own stage memos (alias elimination's is tied to a set of
-        variables, the others to a set of parameter values)."""
+        variables, the others to a set of parameter values) but the model's work per shape
+        (:mod:`~acausal.compiler.canonical`: independent of names and values, so N equal
+        units compiled apart are derived once and renamed)."""
         return ModelCache(self.parameters.restricted(parameter_names), self.identifiers,
-                          specialise=self.specialise)
+                          specialise=self.specialise, alias=AliasMemo(shapes=self.alias.shapes),
+                          structure=StructureMemo(shapes=self.structure.shapes),
+                          algebraic=AlgebraicMemo(shapes=self.algebraic.shapes),
+                          codegen=CodegenMemo(templates=self.codegen.templates))

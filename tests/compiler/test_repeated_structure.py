@@ -202,3 +202,30 @@ def test_code_per_shape_is_the_code_copy_by_copy(monkeypatch, odd):
     assert with_shapes.names == copy_by_copy.names
     for name in ("inertia1.w", "inertia5.w", "inertia12.phi", "bearing5.tau"):
         assert (with_shapes[name] == copy_by_copy[name]).all(), name
+
+
+def test_equal_parts_compiled_apart_share_the_work_per_shape(monkeypatch):
+    """Independent parts have caches of their own but the model's work per shape: the units of
+    a storm are derived once and renamed, and the generated code is what each part's own
+    derivation gives, character for character."""
+    from acausal.compiler.cache import ModelCache
+    from acausal.tools.bench import suite
+
+    def sources():
+        translation = translate(suite().storm_model(4), cache=False)
+        simulate(translation, stop_time=0.5)
+        return translation, sorted((repr(k), s.code.source) for k, s in translation.parts.items())
+
+    shared, with_sharing = sources()
+    assert len(shared.parts) > 4
+    # the parts' solutions and printed steps landed in the model's memos per shape
+    assert shared.cache.algebraic.shapes and shared.cache.codegen.templates
+
+    def own_memos(self, parameter_names):  # each part derives everything itself
+        return ModelCache(self.parameters.restricted(parameter_names), self.identifiers,
+                          specialise=self.specialise)
+
+    monkeypatch.setattr(ModelCache, "for_cluster", own_memos)
+    apart, without_sharing = sources()
+    assert not apart.cache.algebraic.shapes
+    assert with_sharing == without_sharing
