@@ -435,6 +435,25 @@ SCALING_DESCRIPTION = ("Drive train of N units Inertia–BearingFriction–Sprin
                        "sine-driven, all bearings sliding")
 SCALING_SIZE_LABEL = "N (units Inertia–BearingFriction–SpringDamper)"
 
+def add_storm_unit(model: Model, k: int, f: float, names: tuple[str, str, str, str] = ("sine", "torque",
+                   "inertia", "bearing"), w_fixed: bool = True) -> None:
+    """Add unit ``k`` of a storm to ``model`` (in its ``build``): Sine(amplitude 2, ``f``) ->
+    Torque -> Inertia(J = 1, at rest) -> BearingFriction(tau0 = 1, peak 1.2), its components
+    named ``<names[i]><k>`` (the start speed not fixed with ``w_fixed=False``)."""
+    from acausal.library.blocks import Sine
+    from acausal.library.rotational import BearingFriction, Inertia, Torque
+
+    sine = Sine(amplitude=2.0, f=f)
+    torque = Torque()
+    inertia = Inertia(J=1.0, phi=dict(start=0.0, fixed=True), w=dict(start=0.0, fixed=w_fixed))
+    bearing = BearingFriction(tau_pos=[[0.0, 1.0]], peak=1.2)
+    for name, component in zip(names, (sine, torque, inertia, bearing)):
+        setattr(model, f"{name}{k}", component)
+    model.connect(sine.y, torque.tau)
+    model.connect(torque.flange, inertia.flange_a)
+    model.connect(inertia.flange_b, bearing.flange_a)
+
+
 def storm_model(n: int) -> Model:
     """``n`` independent units, each Sine -> Torque -> Inertia -> BearingFriction.
 
@@ -450,21 +469,8 @@ def storm_model(n: int) -> Model:
         experiment = Experiment(start_time=0.0, stop_time=STORM_STOP_TIME, interval=STORM_INTERVAL)
 
         def build(self):
-            from acausal.library.blocks import Sine
-            from acausal.library.rotational import BearingFriction, Inertia, Torque
-
             for k in range(1, n + 1):
-                sine = Sine(amplitude=2.0, f=1.0 + 0.13 * k)
-                torque = Torque()
-                inertia = Inertia(J=1.0, phi=dict(start=0.0, fixed=True), w=dict(start=0.0, fixed=True))
-                bearing = BearingFriction(tau_pos=[[0.0, 1.0]], peak=1.2)
-                setattr(self, f"sine{k}", sine)
-                setattr(self, f"torque{k}", torque)
-                setattr(self, f"inertia{k}", inertia)
-                setattr(self, f"bearing{k}", bearing)
-                self.connect(sine.y, torque.tau)
-                self.connect(torque.flange, inertia.flange_a)
-                self.connect(inertia.flange_b, bearing.flange_a)
+                add_storm_unit(self, k, 1.0 + 0.13 * k)
 
     Storm.__name__ = Storm.__qualname__ = f"Storm{n}"
     return Storm()

@@ -17,6 +17,7 @@ from acausal.compiler.translate import translate
 from acausal.errors import StructuralError
 from acausal.library.blocks import Sine
 from acausal.library.rotational import BearingFriction, Inertia, Torque
+from examples.benchmarks import add_storm_unit
 from examples.coupled_clutches import CoupledClutches
 
 
@@ -26,18 +27,8 @@ def storm(n: int, extra_equation: bool = False, coupled_start: bool = False) -> 
     class Storm(Model):
         def build(self):
             for k in range(n):
-                sine = Sine(amplitude=2.0, f=1.0 + 0.13 * k)
-                torque = Torque()
-                inertia = Inertia(J=1.0, phi=dict(start=0.0, fixed=True),
-                                  w=dict(start=0.0, fixed=not (coupled_start and k == 1)))
-                bearing = BearingFriction(tau_pos=[[0.0, 1.0]], peak=1.2)
-                setattr(self, f"s{k}", sine)
-                setattr(self, f"t{k}", torque)
-                setattr(self, f"j{k}", inertia)
-                setattr(self, f"f{k}", bearing)
-                self.connect(sine.y, torque.tau)
-                self.connect(torque.flange, inertia.flange_a)
-                self.connect(inertia.flange_b, bearing.flange_a)
+                add_storm_unit(self, k, 1.0 + 0.13 * k, names=("s", "t", "j", "f"),
+                               w_fixed=not (coupled_start and k == 1))
 
         def equations(self):
             # an equation too many for unit 1 only

@@ -17,9 +17,8 @@ import pytest
 from acausal import EngineOptions, Eq, Integer, Model, When, pre, simulate
 from acausal.compiler.translate import translate
 from acausal.errors import StructuralError
-from acausal.library.blocks import Sine
-from acausal.library.rotational import BearingFriction, Inertia, Torque
 from acausal.runtime.part_runs import PartColumns
+from examples.benchmarks import add_storm_unit
 
 #: one solver for every part, as before the parts ran apart
 ONE_SOLVER = EngineOptions(parts_apart=False)
@@ -38,18 +37,7 @@ def units(ks, *, frequency=None, counter: bool = False, extra_equation: bool = F
     class Units(Model):
         def build(self):
             for k in ks:
-                f = (frequency or {}).get(k, 1.0 + 0.13 * k)
-                sine = Sine(amplitude=2.0, f=f)
-                torque = Torque()
-                inertia = Inertia(J=1.0, phi=dict(start=0.0, fixed=True), w=dict(start=0.0, fixed=True))
-                bearing = BearingFriction(tau_pos=[[0.0, 1.0]], peak=1.2)
-                setattr(self, f"s{k}", sine)
-                setattr(self, f"t{k}", torque)
-                setattr(self, f"j{k}", inertia)
-                setattr(self, f"f{k}", bearing)
-                self.connect(sine.y, torque.tau)
-                self.connect(torque.flange, inertia.flange_a)
-                self.connect(inertia.flange_b, bearing.flange_a)
+                add_storm_unit(self, k, (frequency or {}).get(k, 1.0 + 0.13 * k), names=("s", "t", "j", "f"))
 
         def equations(self):
             a, b = (getattr(self, f"j{k}") for k in ks[:2]) if len(ks) > 1 else (None, None)
