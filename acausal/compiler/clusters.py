@@ -303,11 +303,6 @@ class ComposedSystem:
             found = self._made["alias_plan"] = tuple(chain.from_iterable([p.alias_plan for p in self.parts]))
         return found
 
-    def reset(self) -> None:
-        """A new run: every part's Newton solves start from the start values again."""
-        for part in self.parts:
-            part.reset()
-
     def crossings_for(self, relations: tuple[int, ...]) -> Callable:
         """A ``crossings`` that computes only the values of ``relations`` (the model's
         indices; the other values are NaN): it calls the parts that own them only."""
@@ -413,11 +408,6 @@ class ComposedInitialSystem:
     @property
     def sources(self) -> tuple[str, ...]:
         return tuple(p.code.source for p in self.parts)
-
-    def reset(self) -> None:
-        """A new run: every part's Newton solves start from the start values again."""
-        for part in self.parts:
-            part.reset()
 
 
 def _state_slices(parts: Sequence[ModeSystem]) -> list[slice]:

@@ -492,6 +492,10 @@ class PartModel:
     def part_models(self) -> tuple[tuple, str]:
         return (), "the model is one part"
 
+    def reset_warm_starts(self) -> None:
+        for system in (*self.systems.values(), *self.initial_systems.values()):
+            system.reset()
+
     def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
         found = self._shared.get(("starts", start_time))
         if found is None:

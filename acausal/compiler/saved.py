@@ -263,6 +263,10 @@ class LoadedModel:
     def delay_numbers(self) -> dict[int, float]:
         return dict(self._timing["delay_numbers"])
 
+    def reset_warm_starts(self) -> None:
+        for system in (*self.systems.values(), *self.initial_systems.values()):
+            system.reset()
+
     def part_models(self) -> tuple[tuple, str]:
         # a model compiled part by part is not saved (PersistentSystems.saved)
         return (), "the model is one part"

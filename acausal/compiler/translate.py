@@ -33,7 +33,7 @@ from ..names import is_derivative, parse
 from .cache import ModelCache
 from .canonical import substituted
 from .diskcache import DiskCache
-from .clusters import Clustering, ComposedSystem, compose_initial, find_clusters
+from .clusters import Clustering, ComposedInitialSystem, ComposedSystem, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, FlatVariable, flatten, start_parameter
 from .initial import InitialSystem, compile_initial_system, start_value_relations
 from .modes import ModeSystem, PassLog, RelaxedConstraints, compile_mode, describe_key, shared_system
@@ -416,6 +416,14 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
     def delay_numbers(self) -> dict[int, float]:
         """Delay index -> delay time or ``delayMax`` (:func:`~acausal.compiler.timing.delay_numbers`)."""
         return delay_numbers(self.flat.delays, self.cache.parameters.symbols)
+
+    def reset_warm_starts(self) -> None:
+        """Every system compiled so far forgets its warm starts (a run begins): the whole
+        model's and the parts' (a composed system is made of the parts' systems, each reset once)."""
+        for table in (self.systems, self.initial_systems, self.parts, self.initial_parts):
+            for system in table.values():
+                if not isinstance(system, (ComposedSystem, ComposedInitialSystem)):
+                    system.reset()
 
     def start_value_relations(self, start_time: float) -> tuple[bool, ...]:
         """Each relation evaluated with the start values of the variables

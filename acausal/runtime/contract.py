@@ -79,11 +79,6 @@ class CompiledSystem(Protocol):
         """The numpy form of ``crossings`` or ``outputs`` (``f(t, X)`` for many
         times at once, bit for bit the scalar function's values), or None."""
 
-    def reset(self) -> None:
-        """Forget what the functions keep between calls (each Newton solve's last
-        solution and Jacobian, its warm start): called when a run begins, so that
-        every run of a compiled model gives the same numbers."""
-
 
 @runtime_checkable
 class CompiledModel(Protocol):
@@ -137,6 +132,11 @@ class CompiledModel(Protocol):
 
     def delay_numbers(self) -> dict[int, float]:
         """Delay index -> its delay time (fixed) or its ``delayMax`` (variable)."""
+
+    def reset_warm_starts(self) -> None:
+        """Every system compiled so far forgets what its functions keep between calls (each
+        Newton solve's last solution and Jacobian, its warm start): called when a run
+        begins, so that every run of a compiled model gives the same numbers."""
 
     def part_models(self) -> tuple[tuple, str]:
         """The model's independent parts as compiled models of their own, to run each with

@@ -516,8 +516,7 @@ class _Run:
     def execute(self, t0: float, t1: float, interval: float, t_setup: float) -> SimulationResult:
         # every run starts the compiled functions' Newton solves from the start values,
         # not from where an earlier run of this translation left them: runs repeat exactly
-        for system in (*self.translation.systems.values(), *self.translation.initial_systems.values()):
-            system.reset()
+        self.translation.reset_warm_starts()
         if self.delays is None:
             return self._execute(t0, t1, interval, t_setup)
         # the generated code of this thread reads this run's history (initialization,
