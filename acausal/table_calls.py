@@ -35,6 +35,9 @@ class SegmentTable:
 
     def __init__(self, xs: tuple, ys: tuple, slopes: tuple) -> None:
         self.xs, self.ys, self.slopes = tuple(xs), tuple(ys), tuple(slopes)
+        # what every call reads (generated code calls it in the right-hand side)
+        self._last = len(self.xs) - 2
+        self._x_last, self._y_last, self._s_last = self.xs[-1], self.ys[-1], self.slopes[-1]
         self._arrays = None
 
     def __getstate__(self) -> dict:
@@ -49,24 +52,24 @@ class SegmentTable:
         return self.scalar(float(x))
 
     def scalar(self, x: float) -> float:
-        xs, slopes = self.xs, self.slopes
+        xs = self.xs
         i = bisect_right(xs, x) - 1
-        if i > len(xs) - 2:  # at or beyond the last breakpoint: anchor at the last row
-            return self.ys[-1] + slopes[-1] * (x - xs[-1])
+        if i > self._last:  # at or beyond the last breakpoint: anchor at the last row
+            return self._y_last + self._s_last * (x - self._x_last)
         if i < 0:
             i = 0
-        return self.ys[i] + slopes[i] * (x - xs[i])
+        return self.ys[i] + self.slopes[i] * (x - xs[i])
 
     def vector(self, x):
         if self._arrays is None:
             self._arrays = (np.array(self.xs), np.array(self.ys), np.array(self.slopes))
         xa, ya, sa = self._arrays
-        last = len(self.xs) - 2
+        last = self._last
         arr = np.asarray(x, dtype=float)
         i = np.searchsorted(xa, arr, side="right") - 1
         high = i > last
         i = np.clip(i, 0, last)
-        y = np.where(high, self.ys[-1] + self.slopes[-1] * (arr - self.xs[-1]), ya[i] + sa[i] * (arr - xa[i]))
+        y = np.where(high, self._y_last + self._s_last * (arr - self._x_last), ya[i] + sa[i] * (arr - xa[i]))
         return float(y) if y.ndim == 0 else y
 
 

@@ -36,7 +36,7 @@ from ..errors import InitializationError
 from ..language import real_symbol
 from ..table_calls import TABLE_CALLS
 from .run_context import delayed_value
-from .timing import held_time_event_source
+from .timing import held_time_event_source, time_event_roots
 from ..tables import TableFunction, _table_class
 from .algebraic import NewtonSolve
 from .cache import ModelCache
@@ -252,7 +252,7 @@ class PersistentSystems:
         for found, what in reasons:
             if found:
                 return f"the model has {what}"
-        roots, _held = self.time_events()
+        roots = time_event_roots(partitioned.relations, self.cache.parameters.symbols)
         held_source, held_items = held_time_event_source(partitioned.relations, self.cache.parameters.symbols)
         timing = {"roots": tuple(roots), "held_source": held_source, "held": held_items,
                   "clock_ticks": self.clock_ticks(), "delay_numbers": self.delay_numbers()}
