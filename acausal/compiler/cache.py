@@ -10,6 +10,7 @@ valid for one flat model and its parameter values only, like the
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -58,13 +59,23 @@ class ParameterTable:
                    {real_symbol(n): sp.Integer(0) for n, v in values.items() if v == 0})
 
     def restricted(self, names) -> "ParameterTable":
-        """The table of ``names`` only (in this table's order): the parameters of one cluster."""
-        chosen = set(names)
-        kept = tuple(n for n in self.names if n in chosen)
+        """The table of ``names`` only (in this table's order): the parameters of one cluster.
+
+        Its cost follows ``names``, not the whole table: a model of N parts
+        restricts it N times."""
+        position, symbol_of = self._lookup
+        kept = tuple(sorted(set(names), key=position.__getitem__))
         values = {n: self.values[n] for n in kept}
+        symbols = [symbol_of[n] for n in kept]
+        zeros = self.zeros
         return ParameterTable(kept, values, tuple(values[n] for n in kept),
-                              {s: v for s, v in self.symbols.items() if s.name in chosen},
-                              {s: v for s, v in self.zeros.items() if s.name in chosen})
+                              {s: self.symbols[s] for s in symbols},
+                              {s: zeros[s] for s in symbols if s in zeros})
+
+    @functools.cached_property
+    def _lookup(self) -> tuple[dict[str, int], dict[str, sp.Symbol]]:
+        """Each name's position and symbol (made once: :meth:`restricted` is called per part)."""
+        return ({n: k for k, n in enumerate(self.names)}, {s.name: s for s in self.symbols})
 
 
 @dataclass(eq=False)

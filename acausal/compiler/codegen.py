@@ -20,6 +20,7 @@ text for the same model every time.
 
 from __future__ import annotations
 
+import collections
 import keyword
 import math
 import re
@@ -227,8 +228,11 @@ def generate(steps: Sequence, states: Sequence[str], derivatives: Sequence[str],
                              f"naming every variable")
         identifiers.update(python_identifiers(missing, set(identifiers.values())))
         missing = []
-    local = {**identifiers, **python_identifiers(missing, set(identifiers.values()))}
-    local["time"] = "t"
+    # the model's table is not copied (a model of N parts generates ~4N systems from one table
+    # of every name): names new to it and time go in front of it
+    own = python_identifiers(missing, set(identifiers.values())) if missing else {}
+    own["time"] = "t"
+    local = collections.ChainMap(own, identifiers)
     memo = CodegenMemo() if memo is None else memo
     step_memo = memo.steps
     functions: dict = memo.functions
