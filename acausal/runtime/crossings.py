@@ -100,12 +100,31 @@ def sample_times(t_old: float, t_new: float, interval: float, grid: np.ndarray) 
 def _samples(t_old: float, t_new: float, interval: float, grid: np.ndarray) -> tuple[np.ndarray, int, int]:
     """:func:`sample_times`, and the output points among them: ``grid[lo:hi]``."""
     n = min(max(4, int(math.ceil((t_new - t_old) / interval))), MAX_SAMPLES)
-    samples = np.linspace(t_old, t_new, n + 1)[1:]
+    samples = _linspace(t_old, t_new, n + 1)[1:]
     lo_i = int(np.searchsorted(grid, t_old, side="right"))
     hi_i = int(np.searchsorted(grid, t_new, side="left"))
     if hi_i > lo_i:
         samples = _union(samples, grid[lo_i:hi_i])
     return samples, lo_i, hi_i
+
+
+def _linspace(start: float, stop: float, num: int) -> np.ndarray:
+    """``np.linspace(start, stop, num)`` for two floats and ``num >= 2``, bit for bit: the
+    same operations as numpy's (``arange(num) * step + start``, the last point set to
+    ``stop``), without the layers of conversion that cost more than the arithmetic at
+    every step."""
+    div = num - 1
+    delta = float(stop) - float(start)
+    step = delta / div
+    y = np.arange(num, dtype=float)
+    if step == 0:  # denormal steps, as numpy (gh-5437)
+        y /= div
+        y *= delta
+    else:
+        y *= step
+    y += start
+    y[-1] = stop
+    return y
 
 
 def _union(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -129,8 +148,14 @@ def step_samples(t_old: float, t_new: float, interval: float, grid: np.ndarray, 
     point the dense output (the step's end included: the caller decides).
     """
     samples, lo_i, hi_i = _samples(t_old, t_new, interval, grid)
-    before = samples < t_new
-    inside = samples[before]
+    # the samples increase to t_new: as a rule only the last is not before it (a step a
+    # few ulps long may round several onto it)
+    last_only = len(samples) < 2 or samples[-2] < t_new
+    if last_only:
+        inside = samples[:-1]
+    else:
+        before = samples < t_new
+        inside = samples[before]
     rows = grid[first_row:stop_row]
     if first_row >= stop_row or (lo_i <= first_row and stop_row <= hi_i):
         times = inside  # every output point is a sample
@@ -138,9 +163,14 @@ def step_samples(t_old: float, t_new: float, interval: float, grid: np.ndarray, 
         times = np.union1d(inside, rows)
     states = states_at(dense, times)
     at_samples = np.empty((len(samples), len(y_new)))
-    at_samples[before] = states if times is inside else states[np.searchsorted(times, inside)]
-    at_samples[~before] = y_new
-    at_rows = states[np.searchsorted(times, rows)]
+    at_inside = states if times is inside else states[np.searchsorted(times, inside)]
+    if last_only:
+        at_samples[:-1] = at_inside
+        at_samples[-1] = y_new
+    else:
+        at_samples[before] = at_inside
+        at_samples[~before] = y_new
+    at_rows = states[np.searchsorted(times, rows)] if len(rows) else states[:0]
     return samples, at_samples, at_rows
 
 
@@ -329,6 +359,7 @@ def state_at(dense: Callable, t: float) -> np.ndarray:
 
 
 def _rk_point(d, t):
+    """scipy's ``RkDenseOutput`` and acausal's ``QuarticDenseOutput`` at one instant."""
     x = (t - d.t_old) / d.h
     p = [x]
     for _ in range(d.order):  # np.cumprod of the repeated x, one product at a time
@@ -378,7 +409,8 @@ def _powers(x: np.ndarray, k: int) -> np.ndarray:
 
 
 def _rk_states(d, t):
-    """scipy's ``RkDenseOutput`` (RK23, RK45) at instants one by one."""
+    """scipy's ``RkDenseOutput`` (RK23, RK45), and acausal's ``QuarticDenseOutput``, at
+    instants one by one."""
     y = d.h * _gemv_rows(d.Q, _powers((t - d.t_old) / d.h, d.order + 1))
     y += d.y_old
     return y
@@ -432,9 +464,10 @@ def _point_kinds() -> dict:
 # one instant gives (checked once per process all the same); scipy's kinds are added
 # when a scipy solver's dense output first comes (a run with an explicit method never
 # imports scipy)
-_BATCHED: dict = {explicit_rk.QuarticDenseOutput: [_columns_as_rows, None],
+_BATCHED: dict = {explicit_rk.QuarticDenseOutput: [_rk_states, None],
                   explicit_rk.Dop853DenseOutput: [_columns_as_rows, None]}
-_POINT: dict = {}
+# (the quartic of acausal's RK45 has the attributes and arithmetic of scipy's RkDenseOutput)
+_POINT: dict = {explicit_rk.QuarticDenseOutput: [_rk_point, None]}
 _SCIPY_KINDS = [False]  # whether scipy's kinds were looked up
 
 

@@ -225,6 +225,12 @@ class DiscreteEvaluator:
         (:meth:`RelationEvaluator.distance_to_first_flip`)."""
         return self.relation_evaluator.distance_to_first_flip(system, relations, candidates)
 
+    def flip_search(self, system: CompiledSystem, relations, candidates,
+                    with_distance: bool = True) -> tuple[Callable, Callable | None]:
+        """``(flipped, distance)`` for the search of the first flip of ``candidates``, from
+        one evaluation per instant (:meth:`RelationEvaluator.flip_search`)."""
+        return self.relation_evaluator.flip_search(system, relations, candidates, with_distance)
+
     def relevant_relations(self, discrete: Mapping, relations) -> tuple[int, ...]:
         """State relations whose flip could change something in this discrete state
         (:meth:`RelevanceAnalysis.relevant_relations`, with the twins found from the

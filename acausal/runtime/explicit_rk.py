@@ -517,7 +517,8 @@ def _rms(x) -> np.float64:
 def _check_tolerances(rtol, atol, n):
     """``(rtol, atol)`` made usable: rtol at least ``100 * eps`` (with a warning),
     atol a non-negative scalar or an array of shape ``(n,)``."""
-    if np.any(np.asarray(rtol) < 100 * EPS):
+    # (the methods of the arrays rather than np.any: a solver is made at every event)
+    if (np.asarray(rtol) < 100 * EPS).any():
         warnings.warn(f"At least one element of `rtol` is too small. Setting `rtol = np.maximum(rtol, "
                       f"{100 * EPS})`.", stacklevel=4)
         rtol = np.maximum(rtol, 100 * EPS)
@@ -525,7 +526,7 @@ def _check_tolerances(rtol, atol, n):
     atol = np.asarray(atol, dtype=float)
     if atol.ndim > 0 and atol.shape != (n,):
         raise ValueError("`atol` has wrong shape.")
-    if np.any(atol < 0):
+    if (atol < 0).any():
         raise ValueError("`atol` must be positive.")
     return rtol, (float(atol) if atol.ndim == 0 else atol)
 

@@ -162,7 +162,6 @@ class Recorder:
         discretes = np.fromiter(map(id, map(itemgetter(3), rows)), np.uint64, n)
         starts = np.flatnonzero((systems[1:] != systems[:-1]) | (discretes[1:] != discretes[:-1])) + 1
         plans, bad, part_plans = {}, None, {}
-        names_of = {ident: name for name, ident in model.identifiers.items()}
         stretches = [(a, b) for a, b in zip([0, *starts.tolist()], [*starts.tolist(), n]) if a < b]
         if _fill_by_part(data, rows, times, stretches, index, part_plans):
             # every value computed and finite, part by part: the discrete values stretch by stretch
@@ -172,9 +171,9 @@ class Recorder:
         for start, stop in stretches:
             _, system, _, discrete = rows[start]
             if system.key not in plans:
-                plans[system.key] = fill_plan(system, index, part_plans)
+                plans[system.key] = _kept_plan(translation, system, names, index, part_plans)
             found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key],
-                          names_of, times[start:stop])
+                          model.identifiers, times[start:stop])
             if found is not None and bad is None:
                 bad = (start + found[0], found[1], found[2])
         columns = {n: data[:, k] for n, k in index.items()}
@@ -188,8 +187,23 @@ class Recorder:
 _ADD = Recorder.add
 
 
+def _kept_plan(translation: CompiledModel, system: CompiledSystem, names: list[str], index: dict[str, int],
+               memo: dict):
+    """:func:`fill_plan` of ``system`` for the columns ``names`` (``index``), kept with the
+    translation for its next run whose columns are the same (a warm run enters the
+    systems of the runs before it)."""
+    kept = getattr(translation, "extras", None)
+    if kept is None:
+        return fill_plan(system, index, memo)
+    plans = kept.setdefault("fill_plans", {})
+    found = plans.get(system.key)
+    if found is None or found[0] is not system or found[1] != names:
+        found = plans[system.key] = (system, list(names), fill_plan(system, index, memo))
+    return found[2]
+
+
 def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem, discrete: dict,
-          plan, names_of: dict[str, str],
+          plan, identifiers: dict[str, str],
           times: np.ndarray | None = None) -> tuple[int, list[str], str] | None:
     """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
 
@@ -201,7 +215,8 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem
     m = len(rows)
     values = np.full((m, n_states + len(system.unknowns)), np.nan)
     if n_states:
-        values[:, :n_states] = np.array(list(map(itemgetter(2), rows)), dtype=float).reshape(m, n_states)
+        # (one concatenation of the rows' state vectors: cheaper than an array of arrays)
+        values[:, :n_states] = np.concatenate(list(map(itemgetter(2), rows))).reshape(m, n_states)
     failed = None
     # the unknowns of all rows in one numpy call where the code allows it; rows whose
     # values are not all finite (or all rows, if it raises) are computed row by row
@@ -228,6 +243,8 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem
             # constants; the unknowns of this row stay NaN
             values[r, n_states:] = np.nan
             if failed is None:
+                # (model name -> identifier, turned round only for a failure's message)
+                names_of = {ident: name for name, ident in identifiers.items()}
                 name, line = _failing_line(exc, system, names_of)
                 failed = (r, [name], f"{type(exc).__name__}: {exc}" + (f", in: {line}" if line else ""))
     finite = np.isfinite(values)

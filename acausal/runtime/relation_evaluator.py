@@ -51,6 +51,9 @@ _FEW_RELATIONS = 8
 #: step are decided in one numpy call rather than sample by sample.
 _MANY_FROM = 40
 
+#: How many numpy plans of the crossing watch are kept (the oldest goes first).
+_PLANS_KEPT = 32
+
 
 class RelationEvaluator:
     """The decisions about a model's relations (see the module docstring).
@@ -86,6 +89,8 @@ class RelationEvaluator:
         self._margin_arrays: tuple | None = None
         self._scalar_plan: tuple | None = None
         self._vector_plan: tuple | None = None
+        #: the numpy plans by (watched, relation values), for the next segment with the same
+        self._vector_plans: dict[tuple, tuple] = {}
 
     # -- at an event ----------------------------------------------------------------
 
@@ -212,6 +217,55 @@ class RelationEvaluator:
 
         return distance
 
+    def flip_search(self, system: CompiledSystem, relations, candidates,
+                    with_distance: bool = True) -> tuple[Callable, Callable | None]:
+        """``(flipped, distance)`` for the search of the instant at which the first of
+        ``candidates`` flips: :meth:`flipped_relations` restricted to them, and
+        :meth:`distance_to_first_flip` (None without ``with_distance``).
+
+        The search asks both at each trial point, one after the other with the same
+        state (:func:`~acausal.runtime.crossings.bisect_flip`): here they share one
+        evaluation of the crossing functions and of the margin-shifted values
+        (a memo of the last instant), with the same arithmetic as the two methods.
+        Many candidates go to those methods themselves (their numpy path).
+        """
+        if len(candidates) >= _VECTORISE_FROM:
+            def flipped_many(t, x):
+                return self.flipped_relations(system, t, x, relations, candidates)
+            return flipped_many, (self.distance_to_first_flip(system, relations, candidates)
+                                  if with_distance else None)
+        crossings = system.crossings_for(tuple(sorted(candidates)))
+        terms = []
+        for k in candidates:
+            d, strict, timed = self.kinds[k]
+            previous = bool(relations[k])
+            terms.append((k, 2 * k, d, strict, timed, previous, self.margins[k], self.floors[k]))
+        last: list = [None, None, None]  # t, x and the shifted values there
+
+        def shifted_at(t, x) -> list[float]:
+            if x is last[1] and t == last[0]:  # the same state object: the same values
+                return last[2]
+            raw = crossings(t, x)
+            values = [shifted(d, previous, raw[i], raw[i + 1], epsilon, floor, timed)
+                      for _k, i, d, _strict, timed, previous, epsilon, floor in terms]
+            last[:] = (t, x, values)
+            return values
+
+        def flipped(t, x) -> tuple[int, ...]:
+            return tuple([term[0] for term, value in zip(terms, shifted_at(t, x))
+                          if holds(value, term[3]) != term[5]])
+
+        def distance(t, x) -> float:
+            best = -math.inf
+            for term, value in zip(terms, shifted_at(t, x)):
+                # negative while the relation keeps its value, positive once it has flipped
+                value = (-1.0 if term[5] else 1.0) * value
+                if value > best:
+                    best = value
+            return best
+
+        return flipped, (distance if with_distance else None)
+
     def first_flip(self, system: CompiledSystem, times, states, relations,
                    watched: tuple[int, ...]) -> tuple[int, tuple[int, ...]] | None:
         """The first of ``times`` at which a watched relation has flipped.
@@ -312,6 +366,11 @@ class RelationEvaluator:
         columns for many instants), made again only for other watched or relation tuples."""
         plan = self._vector_plan
         if plan is None or plan[0] is not watched or plan[1] is not relations:
+            # a segment brings new tuples, but as a rule the values of one seen before
+            kept = self._vector_plans.get((watched, relations))
+            if kept is not None:
+                plan = self._vector_plan = (watched, relations, *kept)
+                return kept
             w = np.array(watched, dtype=int)
             d = np.array([self.kinds[k][0] for k in watched], dtype=float)
             strict = np.array([self.kinds[k][1] for k in watched], dtype=bool)
@@ -322,4 +381,7 @@ class RelationEvaluator:
             vectors = (d, strict, previous, epsilon, floor, timed)
             plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, vectors,
                                         tuple(a[:, None] for a in vectors), bool(timed.any()))
+            if len(self._vector_plans) >= _PLANS_KEPT:
+                self._vector_plans.pop(next(iter(self._vector_plans)))  # the oldest out
+            self._vector_plans[(watched, relations)] = plan[2:]
         return plan[2:]

@@ -33,6 +33,10 @@ __all__ = ["RelevanceAnalysis"]
 #: of one component and direction (made once) rather than by grouping.
 _TWINS_WITH_NUMPY_FROM = 48
 
+#: How many answers of :meth:`RelevanceAnalysis.relevant_relations` are kept (the oldest
+#: goes first): the discrete states a run goes through, again at every warm run.
+_ANSWERS_KEPT = 256
+
 
 class RelevanceAnalysis:
     """The relations worth watching in a discrete state (see the module docstring).
@@ -76,6 +80,9 @@ class RelevanceAnalysis:
         self._always: frozenset | None = None
         self._pairs: tuple | None | bool = False
         self._watch_plan: list | None = None
+        #: the answers by (discrete values, relations, twins), with the ``_last_answers``
+        #: they left (see :meth:`relevant_relations`)
+        self._answered: dict[tuple, tuple] = {}
 
     def _downstream_equations(self) -> dict[int, list[int]]:
         """For each relation, the discrete equations (in order) its value can reach."""
@@ -100,6 +107,16 @@ class RelevanceAnalysis:
         """
         if sides is not self._twins_from:
             self._twins, self._twins_from = self._twins_at(sides), sides
+        program = self.program
+        key = None
+        if program.incremental and not program.hybrid:
+            # the answer is a function of these alone (no clocks, no continuous values): a
+            # state the run (or a run before it) has been in is answered as it was then
+            key = (tuple(discrete.items()), tuple(relations), tuple(self._twins.items()))
+            found = self._answered.get(key)
+            if found is not None:
+                self._last_answers = found[0]
+                return found[1]
         selector_names = self._selectors
         always = self._always_watched()
         checked = self._relevance_again(discrete, relations)
@@ -122,7 +139,12 @@ class RelevanceAnalysis:
         if plan is None:
             plan = self._watch_plan = [(k, rel.name in selector_names) for k, rel in enumerate(self.relations)
                                        if not rel.is_time_event]
-        return tuple([k for k, selects in plan if selects or checked[k]])
+        found = tuple([k for k, selects in plan if selects or checked[k]])
+        if key is not None:
+            if len(self._answered) >= _ANSWERS_KEPT:
+                self._answered.pop(next(iter(self._answered)))  # the oldest out
+            self._answered[key] = (self._last_answers, found)
+        return found
 
     def _always_watched(self) -> frozenset:
         """Relations whose flip reaches a discrete equation that reads continuous values

@@ -496,6 +496,8 @@ class _Run:
         for k, rel in enumerate(self.relations):
             self._relations_of_text[rel.text] = (*self._relations_of_text.get(rel.text, ()), k)
         self._warned: set = set()
+        #: per system entered: (system, its states' nominal values, their derivatives' names)
+        self._per_system: dict[int, tuple] = {}
         #: the accepted steps with their dense output, kept for rows at other instants (a part
         #: integrated apart, :mod:`acausal.runtime.part_runs`); None: not kept
         self.history = None
@@ -877,6 +879,17 @@ class _Run:
                             "relation named (a threshold that its own switching crosses)", *own)),
             components=owners)
 
+    def _names_of(self, system: CompiledSystem) -> tuple[np.ndarray, list[str]]:
+        """The nominal values of ``system``'s states and the names of their derivatives,
+        made once per system in a run (a run enters the same few modes again and again)."""
+        found = self._per_system.get(id(system))
+        if found is None or found[0] is not system:
+            variables = self.translation.data.variable_map
+            found = self._per_system[id(system)] = (
+                system, np.array([variables[base_name(s)].nominal for s in system.states]),
+                [der_name(s) for s in system.states])
+        return found[1], found[2]
+
     def _segment(self, system: CompiledSystem, t: float, x, t_bound: float, discrete, relations):
         """Integrate one mode until t_bound or the first crossing.
 
@@ -884,12 +897,11 @@ class _Run:
         """
         recorder = self.recorder
         states = system.states
-        nominal = np.array([self.translation.data.variable_map[base_name(s)].nominal for s in states])
+        nominal, derivative_names = self._names_of(system)
         atol = self.rtol * nominal if self.atol is None else self.atol
         # A derivative that is not finite at the start would give the solver a
         # NaN first step, and some of scipy's solvers then never return.
         _check_finite(t, states, x, "the states")
-        derivative_names = [der_name(s) for s in states]
         _check_finite(t, derivative_names, system.derivatives(t, x), "the derivatives")
         evaluator = self.evaluator
         watched = evaluator.relevant_relations(discrete, relations)
@@ -909,10 +921,7 @@ class _Run:
             return evaluator.first_flip(system, times, states, relations, watched)
 
         def narrow(candidates):
-            def flipped_among(tt, xx):
-                return evaluator.flipped_relations(system, tt, xx, relations, candidates)
-            return flipped_among, (evaluator.distance_to_first_flip(system, relations, candidates)
-                                   if self.secant else None)
+            return evaluator.flip_search(system, relations, candidates, self.secant)
 
         try:
             while True:
@@ -1067,10 +1076,28 @@ class _Run:
                                 describe_columns(translation.data, list(columns)))
 
 
+def _all_finite(values) -> bool:
+    """Whether every one of ``values`` is finite: the tuple of a few floats a generated
+    function returns is checked in Python (a numpy call costs more than the check),
+    anything else with numpy."""
+    if type(values) is tuple and len(values) <= _FEW_VALUES:
+        try:
+            return all(map(math.isfinite, values))
+        except TypeError:  # not plain numbers: numpy decides (or raises) as below
+            pass
+    return bool(np.isfinite(np.asarray(values, dtype=float)).all())
+
+
+#: Up to this many values, :func:`_all_finite` checks a tuple in Python.
+_FEW_VALUES = 64
+
+
 def _check_finite(t: float, names, values, what: str) -> None:
     """Stop the run when some of ``values`` (named ``names``) are not finite."""
+    if _all_finite(values):
+        return
     values = np.asarray(values, dtype=float)
-    if values.size and not np.all(np.isfinite(values)):
+    if values.size:
         bad = [(n, v) for n, v in zip(names, values.tolist()) if not math.isfinite(v)]
         raise SolverError(f"at t = {t:.12g} {what} are not finite: "
                           f"{', '.join(f'{n} = {v}' for n, v in bad[:8])}",
@@ -1081,9 +1108,10 @@ def _check_finite(t: float, names, values, what: str) -> None:
 
 def _check_crossings(t: float, system: CompiledSystem, x, watched, relations) -> None:
     """The sides of the watched relations must be finite: NaN makes every relation false."""
-    raw = np.asarray(system.crossings(t, x), dtype=float)
-    if np.all(np.isfinite(raw)):
+    raw = system.crossings(t, x)
+    if _all_finite(raw):
         return
+    raw = np.asarray(raw, dtype=float)
     bad = [relations[k].text for k in watched
            if not (math.isfinite(raw[2 * k]) and math.isfinite(raw[2 * k + 1]))]
     if bad:
