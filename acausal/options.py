@@ -52,6 +52,11 @@ class EngineOptions:
         integrated with a solver of their own (:mod:`acausal.runtime.part_runs`);
         False integrates all parts with one solver.  The results agree within
         the solver's tolerance (the step sizes differ), not bit for bit.
+    part_shapes : bool
+        A part equal to an earlier one up to its names takes the earlier
+        part's generated code, bound to its own parameters
+        (:mod:`acausal.compiler.part_shapes`); False compiles every part for
+        itself.  The results are the same bit for bit.
     """
 
     clusters: bool = True
@@ -59,9 +64,10 @@ class EngineOptions:
     secant: bool = True
     incremental_events: bool = True
     parts_apart: bool = True
+    part_shapes: bool = True
 
     #: the fields that change what the compiler produces (the rest only how a run goes)
-    compiler_fields = ("clusters", "templates")
+    compiler_fields = ("clusters", "templates", "part_shapes")
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -148,8 +148,9 @@ def rename(expr: sp.Basic, mapping: dict) -> sp.Basic:
 
     Sums and products are rebuilt with their arguments in the order they have (the
     canonical order, which such a renaming keeps), without sympy's evaluation, the
-    slow part of ``xreplace``; powers without evaluation too (a renamed base is a
-    symbol of the same assumptions); other nodes as sympy builds them.
+    slow part of ``xreplace``; powers and applied functions without evaluation too
+    (a renamed argument is a symbol of the same assumptions); other nodes as sympy
+    builds them.
     """
     return _renamed(expr, mapping, {})
 
@@ -173,6 +174,10 @@ def _renamed(node, mapping: dict, done: dict):
         out = kind._from_args(new, node.is_commutative)
     elif kind is sp.Pow:
         out = sp.Pow(*new, evaluate=False)
+    elif isinstance(node, sp.Function):
+        # an applied function (sin, a table) as it was built for the first copy: its
+        # evaluation decided on arguments that compare as these do
+        out = node.func(*new, evaluate=False)
     else:
         out = node.func(*new)
     done[node] = out

@@ -156,6 +156,11 @@ class ModeSystem(CompiledFunctions):
     relaxed : RelaxedConstraints or None
         For a state that constrains one motion twice: what was left out to
         make it solvable (None: nothing).
+    shape_of : tuple or None
+        For a part of a model renamed from an earlier part of the same shape
+        (:mod:`~acausal.compiler.part_shapes`): that part's cluster and
+        discrete state.  Such a system has the loaded form (code and
+        functions, no stage outputs).
     """
 
     key: tuple
@@ -176,6 +181,7 @@ class ModeSystem(CompiledFunctions):
     shares: tuple | None = None
     loaded_derivatives: tuple[str, ...] | None = None
     relaxed: RelaxedConstraints | None = None
+    shape_of: tuple | None = None
 
     @property
     def timings(self) -> dict[str, float]:

@@ -31,6 +31,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import StructuralError
+from ..language import time as model_time
 from ..names import is_derivative, parse, pre_name, relation_name
 from .cache import ModelCache
 from .clusters import Cluster, ComposedInitialSystem, ComposedSystem, compose
@@ -38,6 +39,7 @@ from .compiled import DiscreteProgram
 from .flatten import start_parameter
 from .initial import InitialSystem, compile_initial_system
 from .modes import ModeSystem, PassLog, compile_mode, describe_key, shared_system
+from .part_shapes import part_shape, renamed_initial, renamed_mode, twin_of
 from .rebinding import _bind_mode
 
 __all__ = ["PartModel", "PartSystem", "PartSystems"]
@@ -108,14 +110,19 @@ class PartSystems:
         self._store(table, key, system)
         return system
 
-    def _build_part(self, cluster: Cluster, key: tuple, cache: ModelCache) -> ModeSystem:
-        """Compile (or rebind, or share) the system of ``cluster`` for ``key``."""
+    def _build_part(self, cluster: Cluster, key: tuple, cache: ModelCache, rename: bool = True) -> ModeSystem:
+        """Compile (or rebind, or share, or rename) the system of ``cluster`` for ``key``
+        (``rename``: False when its stages are needed, see :meth:`_build_initial_part`)."""
         subkey = cluster.project(key)
         rebound = self._rebind_part(cluster, key, cache)
         if rebound is not None:
             return rebound
         selectors = [self.selectors[i] for i in cluster.selectors]
         description = describe_key(selectors, subkey, self._relation_texts())
+        if rename:
+            renamed = self._renamed_part(cluster, subkey, description, cache)
+            if renamed is not None:
+                return renamed
         context = f"{self.flat.name} [cluster {cluster.index + 1}: {description}]"
         passes = PassLog()
         with passes.run("specialise"):
@@ -123,12 +130,54 @@ class PartSystems:
         signature = (cluster.index, tuple(eq.residual for eq in equations))
         twin = self._by_equations.get(signature)
         if twin is not None:
-            return shared_system(twin, subkey, description, context, passes)
-        system = compile_mode(subkey, description, context, equations, passes, self.partitioned,
-                              {n: self.continuous[n] for n in cluster.variables}, cache,
-                              self._cluster_demand(cluster), cluster.relations)
-        self._by_equations[signature] = system
+            system = shared_system(twin, subkey, description, context, passes)
+        else:
+            system = self._by_equations[signature] = compile_mode(
+                subkey, description, context, equations, passes, self.partitioned,
+                {n: self.continuous[n] for n in cluster.variables}, cache, self._cluster_demand(cluster),
+                cluster.relations)
+        found = self._cluster_shape(cluster, cache)
+        if found is not None and system.relaxed is None:
+            # the first system of this shape and state: the parts of its shape are renamed from it
+            self._by_shape.setdefault((found[0], subkey), (cluster.index, key, found[1:], system))
         return system
+
+    def _renamed_part(self, cluster: Cluster, subkey: tuple, description: str,
+                      cache: ModelCache) -> ModeSystem | None:
+        """The system of an earlier part of ``cluster``'s shape in state ``subkey``, renamed
+        and bound to this part's parameters (:mod:`~acausal.compiler.part_shapes`); None
+        when there is none, or it does not serve this part."""
+        if not self.options.part_shapes:
+            return None
+        started = _time.perf_counter()
+        found = self._cluster_shape(cluster, cache)
+        earlier = None if found is None else self._by_shape.get((found[0], subkey))
+        if earlier is None or earlier[0] == cluster.index:
+            return None
+        renaming = twin_of(earlier[2], earlier[0], earlier[1], earlier[3], found[1:], self._renamings)
+        system = renamed_mode(renaming, subkey, description, (), cache.parameters, started)
+        if system is not None:
+            self._renamed[(cluster.index, subkey)] = renaming
+        return system
+
+    def _cluster_shape(self, cluster: Cluster, cache: ModelCache):
+        """:func:`~acausal.compiler.part_shapes.part_shape` of ``cluster`` (made once; None:
+        it is not renamed)."""
+        if cluster.index in self._cluster_shapes:
+            return self._cluster_shapes[cluster.index]
+        partitioned = self.partitioned
+        relations = [(r.op, r.lhs, r.rhs) for r in (partitioned.relations[k] for k in cluster.relations)]
+        continuous = self.continuous
+        attributes = tuple((v.kind, v.start, v.fixed, v.nominal, v.state_select)
+                           for v in (continuous[n] for n in cluster.variables))
+        names = cache.parameters.names
+        values = cache.parameters.values
+        found = self._cluster_shapes[cluster.index] = part_shape(
+            [partitioned.equations[i].residual for i in cluster.equations],
+            [partitioned.initial_equations[i].residual for i in cluster.initial_equations], relations,
+            cluster.variables, names, [values[n] == 0 for n in names],
+            [self.selectors[i] for i in cluster.selectors], self._cluster_demand(cluster), attributes)
+        return found
 
     def _relation_texts(self) -> dict[str, str]:
         """Relation indicator name -> its text (for descriptions), made once."""
@@ -162,8 +211,15 @@ class PartSystems:
     def _build_initial_part(self, cluster: Cluster, key: tuple, cache: ModelCache) -> InitialSystem:
         subkey = cluster.project(key)
         mode = self._part(cluster, key)
-        if mode.structure is None:  # loaded from disk: its stages are needed here
-            mode = self._build_part(cluster, key, cache)
+        renaming = self._renamed.get((cluster.index, subkey))
+        if renaming is not None and mode.shape_of is not None:
+            # renamed from an earlier part of its shape: so is its initialization problem
+            source = self._initial_part(self.clustering.clusters[renaming.cluster], renaming.key)
+            renamed = renamed_initial(renaming, source, subkey, cache.parameters)
+            if renamed is not None:
+                return renamed
+        if mode.structure is None:  # loaded from disk or renamed: its stages are needed here
+            mode = self._build_part(cluster, key, cache, rename=False)
             self._store(self.parts, (cluster.index, subkey), mode)
         source_translation = self.rebound_from
         source = (source_translation._initial_part(cluster, key)
@@ -512,8 +568,8 @@ def _free_sides(translation, ks: list[int]) -> tuple[Callable, Callable]:
     (of time and parameters alone), laid end to end."""
     import sympy as sp
 
+    time = model_time
     symbols = translation.cache.parameters.symbols
-    time = sp.Symbol("time")
     sides = []
     for k in ks:
         rel = translation.partitioned.relations[k]

@@ -120,9 +120,9 @@ class PersistentSystems:
         disk = self._disk_cache()
         if disk is None:
             return
-        if system.passes[:1] and system.passes[0][0] == "rebind":
-            # compiled for other parameter values: a compilation for these could make
-            # other numeric choices; only what was compiled for the key is stored
+        if system.passes[:1] and system.passes[0][0] in ("rebind", "rename part"):
+            # compiled for other parameter values (or another part): a compilation for these could
+            # make other numeric choices; only what was compiled for the key is stored
             return
         payload = self._payload(system, fields)
         if payload is not None:
@@ -165,6 +165,8 @@ class PersistentSystems:
             return None
 
     def _save_mode(self, entry: str, system: ModeSystem, cache: ModelCache) -> None:
+        if system.shape_of is not None:
+            return  # renamed from another part (part_shapes): only what a part compiled is stored
         # what other start values are checked against (the key leaves them out, see _disk_cache)
         fields = {**_mode_fields(system), **self._guess_fields(system, cache),
                   "fixed_constants": _fixed_constants_field(system.aliases)}

@@ -111,6 +111,12 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
         #: adds them to the result's notes
         self.notes: list[str] = []
         self._by_equations: dict[tuple, ModeSystem] = {}
+        #: parts compiled for themselves by shape (:mod:`~acausal.compiler.part_shapes`), and the
+        #: renaming of each part renamed from one: (cluster, key) -> PartTwin
+        self._by_shape: dict[tuple, tuple] = {}
+        self._renamed: dict[tuple, object] = {}
+        self._cluster_shapes: dict[int, tuple | None] = {}
+        self._renamings: dict[tuple, tuple] = {}
         self._discrete_names = frozenset(partitioned.discrete_variables)
         if flat.delays:
             # a delayed value links the equations that read it to its expression's
@@ -440,8 +446,9 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
     @property
     def compiled_systems(self) -> int:
         """How many systems were compiled (discrete states with equal equations share one;
-        with clusters, each cluster's systems count)."""
-        return sum(s.shares is None for s in self.mode_systems())
+        with clusters, each cluster's systems count, but not those renamed from a part of
+        the same shape)."""
+        return sum(s.shares is None and s.shape_of is None for s in self.mode_systems())
 
     @property
     def translation_seconds(self) -> float:

@@ -113,7 +113,9 @@ def test_composed_run_equals_whole_model_run_on_a_storm():
 def test_compiled_systems_grow_linearly_with_the_units():
     counts = {}
     for n in (2, 4):
-        translation = translate(storm(n), cache=False)
+        # every part compiled for itself (equal parts are compiled once with part_shapes,
+        # tests/compiler/test_part_shapes.py)
+        translation = translate(storm(n), cache=False, options=EngineOptions(part_shapes=False))
         simulate(translation, stop_time=1.0, interval=0.01)
         counts[n] = translation.compiled_systems
         # each part is compiled for its own modes only
