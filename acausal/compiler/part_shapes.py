@@ -115,12 +115,12 @@ def part_shape(equations: Sequence[sp.Expr], initial_equations: Sequence[sp.Expr
     return shape(roots, head=head)
 
 
-def twin_of(found: tuple, cluster: int, key: tuple, mode: ModeSystem, this: tuple,
+def twin_of(found: tuple, cluster: int, key: tuple, mode: ModeSystem, this: tuple, this_cluster: int,
             renamings: dict) -> PartTwin:
-    """The renaming from an earlier part (``found``: its ``(order, symbols)`` of
-    :func:`part_shape`) to this one (``this``: the same of this part); the maps of
-    names are made once per pair of parts (``renamings``, by the two orders' ids)."""
-    pair = (id(found), id(this))
+    """The renaming from an earlier part, cluster ``cluster`` (``found``: its ``(order,
+    symbols)`` of :func:`part_shape`), to this one, cluster ``this_cluster`` (``this``: the
+    same of this part); the maps of names are made once per pair of parts (``renamings``)."""
+    pair = (cluster, this_cluster)
     maps = renamings.get(pair)
     if maps is None:
         order, symbols = found

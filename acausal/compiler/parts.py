@@ -154,7 +154,8 @@ class PartSystems:
         earlier = None if found is None else self._by_shape.get((found[0], subkey))
         if earlier is None or earlier[0] == cluster.index:
             return None
-        renaming = twin_of(earlier[2], earlier[0], earlier[1], earlier[3], found[1:], self._renamings)
+        renaming = twin_of(earlier[2], earlier[0], earlier[1], earlier[3], found[1:], cluster.index,
+                           self._renamings)
         system = renamed_mode(renaming, subkey, description, (), cache.parameters, started)
         if system is not None:
             self._renamed[(cluster.index, subkey)] = renaming

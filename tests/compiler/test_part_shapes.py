@@ -64,8 +64,8 @@ def unit_of(translation, index: int) -> str:
 
 
 def test_equal_units_are_renamed_and_give_what_their_own_compilation_gives():
-    shared, result = run(storm(6))
-    compiled, expected = run(storm(6), COMPILED)
+    shared, result = run(storm(10))
+    compiled, expected = run(storm(10), COMPILED)
     assert_same(result, expected)
     # every unit after the first of each state is renamed, none when switched off
     assert len(renamed_units(shared)) >= 4
