@@ -478,7 +478,7 @@ class PartModel:
             tuple((r, [rename(a) for a in fa], ff, [rename(a) for a in va], vf) for r, fa, ff, va, vf in reinits),
             (), tuple((a, [rename(n) for n in args], f) for a, args, f in asserts))
         self._shared = shared
-        self._template = [False] * len(model.selectors)
+        self._n_selectors = len(model.selectors)
         # the part's crossing vector from its system's (the cluster's relations, in order)
         # and the relations of time alone it reads besides
         in_system = {k: j for j, k in enumerate(cluster.relations)}
@@ -507,13 +507,10 @@ class PartModel:
         """The part's systems in force so far (the translation counts the model's)."""
         return len(self.systems)
 
-    def _full_key(self, key: tuple) -> tuple:
+    def _full_key(self, key: tuple) -> "_KeyOfPart":
         """A key of the whole model whose projection on this part is ``key`` (the
         part's equations read nothing else)."""
-        full = list(self._template)
-        for i, value in zip(self.cluster.selectors, key):
-            full[i] = value
-        return tuple(full)
+        return _KeyOfPart(dict(zip(self.cluster.selectors, key)), self._n_selectors)
 
     def system(self, key: tuple):
         found = self.systems.get(key)
@@ -562,6 +559,24 @@ class PartModel:
     def __repr__(self) -> str:
         return (f"<PartModel part {self.cluster.index + 1} of {self.data.name}: {len(self.cluster.variables)} "
                 f"variables, {len(self.relations)} relations>")
+
+
+class _KeyOfPart:
+    """A key of the whole model read at one part's selectors: their values, False at every
+    other position (which the part's equations do not read).  Indexed as a tuple, without
+    building one as long as the model's selectors for each of N parts' systems."""
+
+    __slots__ = ("values", "length")
+
+    def __init__(self, values: dict[int, Any], length: int) -> None:
+        self.values = values
+        self.length = length
+
+    def __getitem__(self, i: int):
+        return self.values.get(i, False)
+
+    def __len__(self) -> int:
+        return self.length
 
 
 def _free_sides(translation, ks: list[int]) -> tuple[Callable, Callable]:
