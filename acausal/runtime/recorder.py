@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import itertools
 import math
-from operator import itemgetter
 from typing import Callable
 
 import numpy as np
@@ -48,10 +47,24 @@ class Recorder:
         self.interval = interval
         self.rows: list[tuple] = []
         self.next_grid = 0
+        # The same rows as chunks ``(times, system, states, discrete)``, the states of a
+        # chunk as the rows of one array (a step writes its output points as one): the
+        # columns are assembled from them, not from the rows one by one.  They stand
+        # for ``rows`` while it is the same list and ``_count`` its length (rows set or
+        # added otherwise are read one by one).
+        self._chunks: list[tuple] = []
+        self._count = 0
+        self._chunked = self.rows
 
     @property
     def last_time(self) -> float | None:
         return self.rows[-1][0] if self.rows else None
+
+    def _chunk(self, times: np.ndarray, system: CompiledSystem, states: np.ndarray, discrete: dict) -> None:
+        """Rows just appended to ``rows``, as a chunk (``states`` owned by the recorder)."""
+        if self._chunked is self.rows and self._count == len(self.rows) - len(times):
+            self._chunks.append((times, system, states, discrete))
+            self._count += len(times)
 
     @property
     def grid_left(self) -> bool:
@@ -61,7 +74,9 @@ class Recorder:
     def add(self, t: float, system: CompiledSystem, x, discrete: dict) -> None:
         """A row at ``t`` (an event's limit, a segment's end, the start)."""
         x = x.copy() if type(x) is np.ndarray and x.dtype == np.float64 else np.array(x, dtype=float)
-        self.rows.append((float(t), system, x, self._snapshot(discrete)))
+        row = (float(t), system, x, self._snapshot(discrete))
+        self.rows.append(row)
+        self._chunk(np.array([row[0]]), system, x.reshape(1, -1), row[3])
 
     def skip_grid_through(self, t: float, round_off: bool = True) -> None:
         """Output points up to ``t`` (with ``round_off``, a relative 1e-14 above it too)
@@ -120,6 +135,7 @@ class Recorder:
             block = np.array(states[first:], dtype=float)
             rows.extend(zip(times[first:].tolist(), itertools.repeat(system), block,
                             itertools.repeat(snapshot)))
+            self._chunk(np.array(times[first:], dtype=float), system, block.reshape(len(block), -1), snapshot)
         self.next_grid += len(times)
 
     def _snapshot(self, discrete: dict) -> dict:
@@ -152,31 +168,31 @@ class Recorder:
         if translation.demand is not None:
             names = [n for n in names if n in translation.demand] + discrete_names
         index = {n: k for k, n in enumerate(names)}
-        rows = self.rows
-        n = len(rows)
-        data = np.full((n, len(names)), np.nan)
-        times = np.fromiter(map(itemgetter(0), rows), float, n)
+        if not (self._chunked is self.rows and self._count == len(self.rows)):
+            # rows set or added otherwise: their chunks, made here
+            self._chunks, self._count, self._chunked = _chunks_of(self.rows), len(self.rows), self.rows
+        n = self._count
+        # one row per column (each column of the result is then one contiguous row of it)
+        data = np.full((len(names), n), np.nan)
+        chunks = self._chunks
+        times = np.concatenate([c[0] for c in chunks]) if chunks else np.empty(0)
         # Rows come in stretches with one system and one set of discrete
         # values (between events): each stretch is filled column by column.
-        systems = np.fromiter(map(id, map(itemgetter(1), rows)), np.uint64, n)
-        discretes = np.fromiter(map(id, map(itemgetter(3), rows)), np.uint64, n)
-        starts = np.flatnonzero((systems[1:] != systems[:-1]) | (discretes[1:] != discretes[:-1])) + 1
+        stretches = _stretches(chunks)
         plans, bad, part_plans = {}, None, {}
-        stretches = [(a, b) for a, b in zip([0, *starts.tolist()], [*starts.tolist(), n]) if a < b]
-        if _fill_by_part(data, rows, times, stretches, index, part_plans):
+        if _fill_by_part(data, times, stretches, index, part_plans):
             # every value computed and finite, part by part: the discrete values stretch by stretch
-            for start, stop in stretches:
-                _fill_discrete(data[start:stop], index, rows[start][3])
+            for start, stop, _, _, discrete in stretches:
+                _fill_discrete(data[:, start:stop], index, discrete)
             stretches = []
-        for start, stop in stretches:
-            _, system, _, discrete = rows[start]
+        for start, stop, system, states, discrete in stretches:
             if system.key not in plans:
                 plans[system.key] = _kept_plan(translation, system, names, index, part_plans)
-            found = _fill(data[start:stop], index, rows[start:stop], system, discrete, plans[system.key],
-                          model.identifiers, times[start:stop])
+            found = _fill(data[:, start:stop], index, times[start:stop], states, system, discrete,
+                          plans[system.key], model.identifiers)
             if found is not None and bad is None:
                 bad = (start + found[0], found[1], found[2])
-        columns = {n: data[:, k] for n, k in index.items()}
+        columns = {n: data[k] for n, k in index.items()}
         for p in model.parameters:
             if translation.demand is None or p.name in translation.demand:
                 columns[p.name] = np.full(len(times), p.value)
@@ -202,46 +218,81 @@ def _kept_plan(translation: CompiledModel, system: CompiledSystem, names: list[s
     return found[2]
 
 
-def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem, discrete: dict,
-          plan, identifiers: dict[str, str],
-          times: np.ndarray | None = None) -> tuple[int, list[str], str] | None:
-    """Write the values of ``rows`` (all of ``system`` and ``discrete``) into ``block``.
+def _chunks_of(rows) -> list[tuple]:
+    """``rows`` as chunks: the consecutive rows of one system and one set of discrete
+    values (the same objects) make one."""
+    chunks = []
+    start = 0
+    for k in range(1, len(rows) + 1):
+        if k == len(rows) or not (rows[k][1] is rows[start][1] and rows[k][3] is rows[start][3]):
+            run = rows[start:k]
+            states = np.array([np.asarray(r[2], dtype=float).reshape(-1) for r in run], dtype=float)
+            chunks.append((np.array([r[0] for r in run], dtype=float), run[0][1],
+                           states.reshape(len(run), -1), run[0][3]))
+            start = k
+    return chunks
+
+
+def _stretches(chunks) -> list[tuple[int, int, CompiledSystem, np.ndarray, dict]]:
+    """The rows of ``chunks`` in stretches of one system and one set of discrete values
+    (the same objects): ``(start, stop, system, states, discrete)``, the states as rows
+    (those of one system have one length)."""
+    out = []
+    start = 0
+    run: list = []
+    for chunk in chunks:
+        if run and not (chunk[1] is run[0][1] and chunk[3] is run[0][3]):
+            stop = start + sum(len(c[0]) for c in run)
+            out.append((start, stop, run[0][1], _joined(run), run[0][3]))
+            start, run = stop, []
+        run.append(chunk)
+    if run:
+        out.append((start, start + sum(len(c[0]) for c in run), run[0][1], _joined(run), run[0][3]))
+    return out
+
+
+def _joined(run) -> np.ndarray:
+    return run[0][2] if len(run) == 1 else np.concatenate([c[2] for c in run])
+
+
+def _fill(block: np.ndarray, index: dict[str, int], times: np.ndarray, states: np.ndarray,
+          system: CompiledSystem, discrete: dict, plan, identifiers: dict[str, str]) -> tuple[int, list[str], str] | None:
+    """Write the values of the rows at ``times`` with ``states`` (as rows; all of ``system``
+    and ``discrete``) into ``block`` (one row per column of the result, one column per row).
 
     Returns ``(row, names, reason)`` for the first row whose values could not
     all be computed or are not finite, else None.
     """
     targets, sources, aliases = plan
     n_states = len(system.states)
-    m = len(rows)
-    values = np.full((m, n_states + len(system.unknowns)), np.nan)
+    m = len(times)
+    # (a row per value, a column per row of the result, as ``block``)
+    values = np.full((n_states + len(system.unknowns), m), np.nan)
     if n_states:
-        # (one concatenation of the rows' state vectors: cheaper than an array of arrays)
-        values[:, :n_states] = np.concatenate(list(map(itemgetter(2), rows))).reshape(m, n_states)
+        values[:n_states] = states.T
     failed = None
     # the unknowns of all rows in one numpy call where the code allows it; rows whose
     # values are not all finite (or all rows, if it raises) are computed row by row
     redo = range(m)
     many = system.vectorised("outputs") if m > 1 and system.unknowns else None
     if many is not None:
-        if times is None:
-            times = np.fromiter(map(itemgetter(0), rows), float, m)
         try:
             # a division by zero or an invalid operation (where Python's floats could
             # raise): every row by the scalar function
             with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
-                out = many(times, values[:, :n_states].T)
-            values[:, n_states:] = out.T
+                out = many(times, values[:n_states])
+            values[n_states:] = out
             redo = np.flatnonzero(~np.isfinite(out).all(axis=0)).tolist()
         except Exception:  # the scalar function raises where it should, or not at all
             redo = range(m)
     for r in redo:
-        t, _, x, _ = rows[r]
+        t, x = float(times[r]), states[r]
         try:
-            values[r, n_states:] = system.outputs(t, x)
+            values[n_states:, r] = system.outputs(t, x)
         except (SimulationError, ArithmeticError, ValueError) as exc:
             # the states are still known, and so are their aliases and the
             # constants; the unknowns of this row stay NaN
-            values[r, n_states:] = np.nan
+            values[n_states:, r] = np.nan
             if failed is None:
                 # (model name -> identifier, turned round only for a failure's message)
                 names_of = {ident: name for name, ident in identifiers.items()}
@@ -249,29 +300,28 @@ def _fill(block: np.ndarray, index: dict[str, int], rows, system: CompiledSystem
                 failed = (r, [name], f"{type(exc).__name__}: {exc}" + (f", in: {line}" if line else ""))
     finite = np.isfinite(values)
     if not finite.all():
-        r = int(np.argmax(~finite.all(axis=1)))
+        r = int(np.argmax(~finite.all(axis=0)))
         if failed is None or r < failed[0]:
             own = list(system.states) + list(system.unknowns)
-            names = [own[k] for k in np.flatnonzero(~finite[r])]
-            failed = (r, names, ", ".join(f"{n} = {values[r, own.index(n)]}" for n in names[:4]))
-    block[:, targets] = values[:, sources]
+            names = [own[k] for k in np.flatnonzero(~finite[:, r])]
+            failed = (r, names, ", ".join(f"{n} = {values[own.index(n), r]}" for n in names[:4]))
+    block[targets] = values[sources]
     (const_cols, const_vals), (var_cols, var_coeffs, var_srcs) = aliases
-    block[:, const_cols] = const_vals
-    block[:, var_cols] = var_coeffs * values[:, var_srcs]
+    block[const_cols] = const_vals[:, None]
+    block[var_cols] = var_coeffs[:, None] * values[var_srcs]
     _fill_discrete(block, index, discrete)
     return failed
 
 
 def _fill_discrete(block: np.ndarray, index: dict[str, int], discrete: dict) -> None:
-    """The discrete values' columns of ``block``."""
+    """The discrete values' columns of ``block`` (its rows)."""
     chosen = [(index[name], float(v)) for name, v in discrete.items() if name in index]
     if chosen:  # (with an output demand, only the discrete values demanded have columns)
         columns, values_ = zip(*chosen)
-        block[:, list(columns)] = np.array(values_)
+        block[list(columns)] = np.array(values_)[:, None]
 
 
-def _fill_by_part(data: np.ndarray, rows, times: np.ndarray, stretches, index: dict[str, int],
-                  memo: dict) -> bool:
+def _fill_by_part(data: np.ndarray, times: np.ndarray, stretches, index: dict[str, int], memo: dict) -> bool:
     """The continuous columns of rows of composed systems, filled part by part: one
     evaluation of a part's outputs for all the consecutive rows in which the part is the
     same (a storm of events changes one part at a time, so that is once per event of
@@ -281,16 +331,13 @@ def _fill_by_part(data: np.ndarray, rows, times: np.ndarray, stretches, index: d
     """
     if not stretches:
         return False
-    systems = [rows[a][1] for a, _ in stretches]
+    systems = [stretch[2] for stretch in stretches]
     parts0 = systems[0].parts
     if parts0 is None or any(s.parts is None or len(s.parts) != len(parts0) for s in systems):
         return False
-    try:
-        states = np.array(list(map(itemgetter(2), rows)), dtype=float)
-    except ValueError:  # rows with state vectors of different lengths
+    if len({stretch[3].shape[1] for stretch in stretches}) != 1:  # state vectors of different lengths
         return False
-    if states.ndim != 2:
-        return False
+    states = np.concatenate([stretch[3] for stretch in stretches])
     # where each part's states start in each system's state vector (once per system)
     offsets = {}
     for system in systems:
@@ -298,7 +345,7 @@ def _fill_by_part(data: np.ndarray, rows, times: np.ndarray, stretches, index: d
             offsets[id(system)] = list(itertools.accumulate((len(q.states) for q in system.parts), initial=0))
     for p in range(len(parts0)):
         run_start, run_part, run_offset = None, None, None
-        for (a, b), system in zip(stretches, systems):
+        for (a, b, *_), system in zip(stretches, systems):
             part = system.parts[p]
             offset = offsets[id(system)][p]
             if part is run_part and offset == run_offset:
@@ -320,25 +367,25 @@ def _fill_part(data, start: int, stop: int, part, offset: int, states, times, in
     targets, sources, ((const_cols, const_vals), (var_cols, var_coeffs, var_srcs)) = found[1]
     n_states = len(part.states)
     m = stop - start
-    values = np.empty((m, n_states + len(part.unknowns)))
-    values[:, :n_states] = states[start:stop, offset:offset + n_states]
+    values = np.empty((n_states + len(part.unknowns), m))  # (a row per value, as ``data``)
+    values[:n_states] = states[start:stop, offset:offset + n_states].T
     if part.unknowns:
         many = part.vectorised("outputs") if m > 1 else None
         try:
             if many is not None:
                 with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
-                    values[:, n_states:] = many(times[start:stop], values[:, :n_states].T).T
+                    values[n_states:] = many(times[start:stop], values[:n_states])
             else:
                 for r in range(m):
-                    values[r, n_states:] = part.outputs(float(times[start + r]), values[r, :n_states])
+                    values[n_states:, r] = part.outputs(float(times[start + r]), values[:n_states, r])
         except Exception:
             return False
     if not np.isfinite(values).all():
         return False
-    block = data[start:stop]
-    block[:, targets] = values[:, sources]
-    block[:, const_cols] = const_vals
-    block[:, var_cols] = var_coeffs * values[:, var_srcs]
+    block = data[:, start:stop]
+    block[targets] = values[sources]
+    block[const_cols] = const_vals[:, None]
+    block[var_cols] = var_coeffs[:, None] * values[var_srcs]
     return True
 
 

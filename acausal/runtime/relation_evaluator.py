@@ -356,10 +356,11 @@ class RelationEvaluator:
         instant a column; or one instant as a vector).  Callers silence numpy's
         warnings: inf/NaN sides decide as in Python."""
         w, left, right, vectors, columns, any_timed = self._plan(relations, watched)
-        d, strict, previous, epsilon, floor, timed = columns if values.ndim == 2 else vectors
+        d, strict, previous, epsilon, floor, timed, toward, all_strict = columns if values.ndim == 2 else vectors
         # (a time event gets no margin: its instant is computed in closed form)
-        v = shifted_many(d, previous, values[left], values[right], epsilon, floor, timed if any_timed else None)
-        return w, holds_many(v, strict) != previous
+        v = shifted_many(d, previous, values[left], values[right], epsilon, floor, timed if any_timed else None,
+                         toward=toward)
+        return w, holds_many(v, strict if all_strict is None else all_strict) != previous
 
     def _plan(self, relations, watched):
         """The watched relations' indices and kinds as numpy arrays (as vectors, and as
@@ -378,9 +379,13 @@ class RelationEvaluator:
             epsilon = np.array([self.margins[k] for k in watched], dtype=float)
             floor = np.array([self.floors[k] for k in watched], dtype=float)
             timed = np.array([self.kinds[k][2] for k in watched], dtype=bool)
-            vectors = (d, strict, previous, epsilon, floor, timed)
-            plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, vectors,
-                                        tuple(a[:, None] for a in vectors), bool(timed.any()))
+            # the direction of each margin, and whether all or none are strict (one
+            # comparison then), kept with the plan rather than made at every step
+            toward = np.where(previous, d, -d)
+            all_strict = True if strict.all() else False if not strict.any() else None
+            vectors = (d, strict, previous, epsilon, floor, timed, toward)
+            plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, (*vectors, all_strict),
+                                        (*(a[:, None] for a in vectors), all_strict), bool(timed.any()))
             if len(self._vector_plans) >= _PLANS_KEPT:
                 self._vector_plans.pop(next(iter(self._vector_plans)))  # the oldest out
             self._vector_plans[(watched, relations)] = plan[2:]

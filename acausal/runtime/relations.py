@@ -87,11 +87,15 @@ def shifted(d: float, previous: bool, lhs: float, rhs: float, epsilon: float, fl
     return d * ((lhs - rhs) + (d if previous else -d) * margin(epsilon, floor, lhs, rhs))
 
 
-def shifted_many(d, previous, lhs: np.ndarray, rhs: np.ndarray, epsilon, floor, plain=None) -> np.ndarray:
+def shifted_many(d, previous, lhs: np.ndarray, rhs: np.ndarray, epsilon, floor, plain=None,
+                 toward=None) -> np.ndarray:
     """:func:`shifted` with numpy; ``plain`` None (a margin everywhere) or a mask (callers
-    silence numpy's warnings: inf/NaN sides decide as in Python)."""
+    silence numpy's warnings: inf/NaN sides decide as in Python).  ``toward``: the
+    direction of the margin, ``np.where(previous, d, -d)``, when the caller keeps it."""
     g = lhs - rhs
-    moved = g + np.where(previous, d, -d) * margin_many(epsilon, floor, lhs, rhs)
+    if toward is None:
+        toward = np.where(previous, d, -d)
+    moved = g + toward * margin_many(epsilon, floor, lhs, rhs)
     return d * (moved if plain is None else np.where(plain, g, moved))
 
 
@@ -101,7 +105,9 @@ def holds(value: float, strict: bool) -> bool:
 
 
 def holds_many(value: np.ndarray, strict) -> np.ndarray:
-    """:func:`holds` with numpy."""
+    """:func:`holds` with numpy (``strict`` an array, or one bool for all)."""
+    if strict is True or strict is False:
+        return value > 0 if strict else value >= 0
     return np.where(strict, value > 0, value >= 0)
 
 
