@@ -171,3 +171,35 @@ def test_a_singular_linear_block_raises_a_solver_error_naming_its_equations():
     with pytest.raises(SolverError) as info:
         derivatives(0.0, (1.0, 1.0))
     assert "e0" in str(info.value) and "e1" in str(info.value)
+
+
+def test_equal_expressions_are_printed_once_per_shape_with_the_same_text():
+    """functions_source prints the first copy of a shape and renames the text for the
+    others: each function's text equals the text of that expression printed alone."""
+    from acausal.compiler.codegen import functions_source
+
+    def unit(k: int):
+        w, tau, peak = (real_symbol(f"bearing{k}.{n}") for n in ("w", "tau", "peak"))
+        started = sp.Symbol(f"pre(bearing{k}.startForward)")
+        return (sp.Piecewise((1, sp.And(started, w > 0)), (-1, tau < -peak * 2), (0, True)),
+                sp.sin(2 * sp.pi * tau * time) + sp.exp(w) / peak)
+
+    expressions = [e for k in (1, 2, 13) for e in unit(k)]
+    arguments = [sorted(s.name for s in e.free_symbols) for e in expressions]
+    together, _ = functions_source(arguments, expressions)
+    bodies = together.split("\n")[1:]
+    for k, (args, expr) in enumerate(zip(arguments, expressions)):
+        alone, _ = functions_source([args], [expr])
+        # (the identifiers are made from all arguments: these names give the same ones)
+        assert bodies[2 * k + 1] == alone.split("\n")[2]
+    # and each renamed copy computes what its own expression says
+    from acausal.compiler.generated import load_functions
+
+    functions = load_functions(together, len(expressions), "test", {})
+    values = {"time": 0.25}
+    for k in (1, 2, 13):
+        values.update({f"bearing{k}.w": 0.3 * k, f"bearing{k}.tau": 1.5 / k, f"bearing{k}.peak": 0.7 + k})
+    for k in (3, 5):  # the second expression of units 2 and 13: printed from unit 1's text
+        expected = float(expressions[k].subs({real_symbol(n) if n != "time" else time: v
+                                              for n, v in values.items()}))
+        assert functions[k](*[values[a] for a in arguments[k]]) == pytest.approx(expected, rel=1e-14)
