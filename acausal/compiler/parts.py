@@ -116,6 +116,7 @@ class PartSystems:
         subkey = cluster.project(key)
         rebound = self._rebind_part(cluster, key, cache)
         if rebound is not None:
+            self._add_shape(cluster, key, subkey, rebound, cache)
             return rebound
         selectors = [self.selectors[i] for i in cluster.selectors]
         description = describe_key(selectors, subkey, self._relation_texts())
@@ -136,11 +137,16 @@ class PartSystems:
                 subkey, description, context, equations, passes, self.partitioned,
                 {n: self.continuous[n] for n in cluster.variables}, cache, self._cluster_demand(cluster),
                 cluster.relations)
-        found = self._cluster_shape(cluster, cache)
-        if found is not None and system.relaxed is None:
-            # the first system of this shape and state: the parts of its shape are renamed from it
-            self._by_shape.setdefault((found[0], subkey), (cluster.index, key, found[1:], system))
+        self._add_shape(cluster, key, subkey, system, cache)
         return system
+
+    def _add_shape(self, cluster: Cluster, key: tuple, subkey: tuple, system: ModeSystem,
+                   cache: ModelCache) -> None:
+        """The first system of its shape and state (with its stages): the parts of that
+        shape are renamed from it."""
+        found = self._cluster_shape(cluster, cache) if self.options.part_shapes else None
+        if found is not None and system.relaxed is None and system.structure is not None:
+            self._by_shape.setdefault((found[0], subkey), (cluster.index, key, found[1:], system))
 
     def _renamed_part(self, cluster: Cluster, subkey: tuple, description: str,
                       cache: ModelCache) -> ModeSystem | None:
@@ -194,6 +200,8 @@ class PartSystems:
         if source_translation is None or source_translation.clustering is not self.clustering:
             return None
         source = source_translation._part(cluster, key)
+        if source.shape_of is not None:
+            return None  # renamed there: renamed here too, from this translation's part of its shape
         if source.structure is None:  # loaded from disk: compiled once, then every value rebinds
             source = source_translation._build_part(cluster, key, source_translation._cluster_cache(cluster))
             source_translation._store(source_translation.parts, (cluster.index, cluster.project(key)), source)

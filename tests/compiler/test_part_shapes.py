@@ -152,3 +152,27 @@ def test_equal_units_are_compiled_once_whatever_their_number():
     # units 1.. are equal up to their names (unit 0 also holds the relations of time alone)
     assert counts[6, True] == counts[3, True]
     assert counts[6, False] > counts[3, False] > counts[3, True]
+
+
+def test_a_new_parameter_value_rebinds_one_part_of_each_shape_and_renames_the_others():
+    base = translate(storm(6))
+    simulate(base, stop_time=1.0)
+    compiled_before = base.compiled_systems
+    rebound = translate(storm(6), parameters={"inertia3.J": 0.5})
+    assert rebound.rebound_from is base
+    result = simulate(rebound, stop_time=1.0)
+    kinds = {system.passes[0][0] for system in rebound.parts.values()}
+    assert kinds <= {"rebind", "rename part", "specialise"}  # (specialise: a state sharing another's)
+    assert "rename part" in kinds and "rebind" in kinds
+    assert rebound.compiled_systems == sum(1 for s in rebound.parts.values()
+                                           if s.shares is None and s.shape_of is None)
+    # nothing compiled anew: every system rebound, renamed or shared
+    assert not [s.description for s in rebound.parts.values() if "alias" in dict(s.passes)]
+    assert compiled_before == base.compiled_systems
+    fresh = simulate(translate(storm(6), cache=False, parameters={"inertia3.J": 0.5},
+                               options=COMPILED), stop_time=1.0)
+    assert_same(result, fresh)
+    # the new inertia changes unit 3 only
+    _, untouched = run(storm(6))
+    assert not np.allclose(result["inertia3.w"], np.interp(result.time, untouched.time, untouched["inertia3.w"]))
+    assert np.array_equal(result["inertia4.w"][:5], untouched["inertia4.w"][:5])
