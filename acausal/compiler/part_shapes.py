@@ -198,6 +198,29 @@ def renamed_initial(twin: PartTwin, source: InitialSystem, subkey: tuple, parame
     return dataclasses.replace(bound, passes=(("rename part", _time.perf_counter() - started),))
 
 
+def renamed_stage_fields(twin: PartTwin, source_initial: InitialSystem | None = None):
+    """What shipping a renamed part to another process needs of the stages it has not
+    got (:meth:`~acausal.compiler.persist.PersistentSystems.export`): the earlier part's
+    aliases and fixed constants (an object with ``aliases`` and ``fixed_constants``) and
+    the expressions its solution divides by (an object with ``nonzero``), in this part's
+    names; of its initialization problem ``source_initial`` when given.  KeyError: a name
+    does not map."""
+    mode = twin.mode
+    aliases = _Aliases({twin.name(n): twin.expression(e) for n, e in mode.aliases.aliases.items()},
+                       tuple((twin.name(n), twin.expression(e), start)
+                             for n, e, start in mode.aliases.fixed_constants))
+    algebraic = mode.algebraic if source_initial is None else source_initial.algebraic
+    return aliases, _Guards(tuple(twin.expression(g) for g in algebraic.nonzero))
+
+
+@dataclasses.dataclass(frozen=True)
+class _Guards:
+    """The field of an :class:`~acausal.compiler.algebraic.AlgebraicResult` that shipping
+    a system reads: the expressions its solution divides by."""
+
+    nonzero: tuple
+
+
 @dataclasses.dataclass(frozen=True)
 class _Aliases:
     """The two fields of an :class:`~acausal.compiler.alias.AliasResult` that

@@ -48,6 +48,7 @@ from .flatten import FlatModel, Origin
 from .initial import (InitialSystem, StartDependence, StartValues, bind_start_values, check_fixed_constants,
                       newton_guesses)
 from .modes import ModeSystem, RelaxedConstraints, alias_plan
+from .part_shapes import renamed_stage_fields
 from .partition import PartitionedModel, partition
 
 __all__ = ["PersistentSystems", "TranslationBundle"]
@@ -319,6 +320,11 @@ class PersistentSystems:
                     if entry.startswith("part ") else self.cache
                 add(entry, system, {**_mode_fields(system), **_bound_fields(system.aliases, system.algebraic),
                                     **self._guess_fields(system, cache)})
+            elif isinstance(system, ModeSystem) and system.shape_of is not None:
+                # renamed from another part (part_shapes): that part's stages, in this one's names
+                fields = self._renamed_fields(entry, system)
+                if fields is not None:
+                    add(entry, system, {**_mode_fields(system), **fields})
         initials = [(f"initial {k!r}", s, self.systems.get(k)) for k, s in self.initial_systems.items()]
         initials += [(f"initial-part {i} {k!r}", s, self.parts.get((i, k)))
                      for (i, k), s in self.initial_parts.items()]
@@ -326,10 +332,40 @@ class PersistentSystems:
             if isinstance(system, InitialSystem) and system.algebraic is not None \
                     and isinstance(mode, ModeSystem) and mode.aliases is not None:
                 add(entry, system, {**_initial_fields(system), **_bound_fields(mode.aliases, system.algebraic)})
+            elif isinstance(system, InitialSystem) and isinstance(mode, ModeSystem) and mode.shape_of is not None:
+                fields = self._renamed_fields(entry, mode, initial=True)
+                if fields is not None:
+                    add(entry, system, {**_initial_fields(system), **fields})
         pickler_output = io.BytesIO()
         _BundlePickler(pickler_output, protocol=pickle.HIGHEST_PROTOCOL).dump(
             (self.flat, self.partitioned, self.clustering))
         return TranslationBundle(pickler_output.getvalue(), self.demand, self.redundant_constraints, payloads)
+
+    def _renamed_fields(self, entry: str, mode: ModeSystem, initial: bool = False) -> dict | None:
+        """The bound fields (and Newton guesses) of the part renamed from another
+        (:mod:`~acausal.compiler.part_shapes`) that ``entry`` names, from the other part's
+        stages renamed; None when they cannot be had (the part is then left out)."""
+        index, key = int(entry.split()[1]), mode.key  # ("part 3 (...)", "initial-part 3 (...)")
+        renaming = self._renamed.get((index, key))
+        if renaming is None or renaming.mode.aliases is None:
+            return None
+        try:
+            source_initial = None
+            if initial:
+                source_initial = self.initial_parts.get((renaming.cluster, renaming.mode.key))
+                if source_initial is None or source_initial.algebraic is None:
+                    return None
+            aliases, guards = renamed_stage_fields(renaming, source_initial)
+            fields = _bound_fields(aliases, guards)
+            if not initial and any(isinstance(s, NewtonSolve) for s in renaming.mode.algebraic.steps):
+                twin_cache = self._cluster_cache(self.clustering.clusters[renaming.cluster])
+                starts = StartValues(renaming.mode.aliases.aliases, renaming.mode.aliases.variables,
+                                     self.continuous, twin_cache.parameters.symbols)
+                fields["guesses"] = [[renaming.name(n), sp.srepr(renaming.expression(e)), v]
+                                     for n, e, v in newton_guesses(renaming.mode.algebraic, starts)]
+        except KeyError:
+            return None
+        return fields
 
     @classmethod
     def from_bundle(cls, bundle: "TranslationBundle", flat: FlatModel | None = None,

@@ -176,3 +176,29 @@ def test_a_new_parameter_value_rebinds_one_part_of_each_shape_and_renames_the_ot
     _, untouched = run(storm(6))
     assert not np.allclose(result["inertia3.w"], np.interp(result.time, untouched.time, untouched["inertia3.w"]))
     assert np.array_equal(result["inertia4.w"][:5], untouched["inertia4.w"][:5])
+
+
+def test_a_bundle_ships_the_renamed_parts_and_a_worker_compiles_nothing():
+    import dataclasses
+    import pickle
+
+    from acausal.compiler.translate import Translation
+
+    translation = translate(storm(5), cache=False)
+    expected = simulate(translation, stop_time=1.0)
+    assert renamed_units(translation)
+    bundle = pickle.loads(pickle.dumps(translation.export()))
+    entries = {k for k in bundle.payloads}
+    assert {f"part {i} {k!r}" for (i, k) in translation.parts} <= entries
+    assert {f"initial-part {i} {k!r}" for (i, k) in translation.initial_parts} <= entries
+    flat = bundle.unpacked()[0]
+    loaded = Translation.from_bundle(bundle, flat)
+    assert_same(simulate(loaded, stop_time=1.0), expected)
+    assert all(s.passes[0][0] == "load" for s in [*loaded.parts.values(), *loaded.initial_parts.values()])
+    # other values of a renamed unit's parameters: its shipped system rebinds to them
+    other = dataclasses.replace(flat, parameters=tuple(
+        dataclasses.replace(p, value=0.5) if p.name == "inertia3.J" else p for p in flat.parameters))
+    worker = simulate(Translation.from_bundle(bundle, other), stop_time=1.0)
+    fresh = simulate(translate(storm(5), cache=False, parameters={"inertia3.J": 0.5}, options=COMPILED),
+                     stop_time=1.0)
+    assert_same(worker, fresh)
