@@ -13,6 +13,7 @@ bundle) runs with this module and numpy alone.
 from __future__ import annotations
 
 import ast
+import copy
 import itertools
 import math
 import weakref
@@ -262,7 +263,7 @@ class _NotVectorisable(Exception):
     """A construct :func:`vectorised` does not translate."""
 
 
-def vectorised(function: Callable, source: str) -> Callable | None:
+def vectorised(function: Callable, source: str, rows: tuple[int, ...] | None = None) -> Callable | None:
     """A numpy version of the generated function ``function`` (``crossings`` or ``outputs``).
 
     ``f(t, X)`` takes ``m`` times and the states as the rows of ``X`` (``n x m``) and
@@ -285,16 +286,14 @@ def vectorised(function: Callable, source: str) -> Callable | None:
     that an operation Python's floats could refuse (``x / 0.0``) makes it raise too.
     None when the function holds a construct that is not translated (a Newton
     iteration, a linear system of three or more unknowns).
+
+    With ``rows`` (positions in the returned tuple), ``f`` gives only those values, in
+    that order, and computes only what they need (:func:`_live_statements`); it exists
+    exactly when the whole function's numpy version does, and its rows equal that
+    version's rows ``rows`` bit for bit.
     """
     name = function.__name__
-    key = (source, name)
-    translated = _VECTOR_CODE.get(key, _MISSING)
-    if translated is _MISSING:
-        # the translation depends on the text only: other parameter values (a sweep,
-        # a rebound translation) bind the same code to their own closure
-        translated = _VECTOR_CODE[key] = _vector_code(source, name, function.__code__.co_filename)
-        while len(_VECTOR_CODE) > _VECTOR_CODE_SIZE:
-            _VECTOR_CODE.pop(next(iter(_VECTOR_CODE)))
+    translated = _translated(source, name, function.__code__.co_filename, rows)
     if translated is None:
         return None
     code, constants = translated
@@ -307,8 +306,21 @@ def vectorised(function: Callable, source: str) -> Callable | None:
     return namespace[f"{name}_many"]
 
 
-#: Translated numpy functions by (source, name): a code object and the constants it reads,
-#: or None where the function cannot be translated.  Bounded, oldest out first.
+def _translated(source: str, name: str, filename: str, rows: tuple[int, ...] | None):
+    """:func:`_vector_code`'s answer, kept in ``_VECTOR_CODE``."""
+    key = (source, name, rows)
+    translated = _VECTOR_CODE.get(key, _MISSING)
+    if translated is _MISSING:
+        # the translation depends on the text only: other parameter values (a sweep,
+        # a rebound translation) bind the same code to their own closure
+        translated = _VECTOR_CODE[key] = _vector_code(source, name, filename, rows)
+        while len(_VECTOR_CODE) > _VECTOR_CODE_SIZE:
+            _VECTOR_CODE.pop(next(iter(_VECTOR_CODE)))
+    return translated
+
+
+#: Translated numpy functions by (source, name, rows): a code object and the constants it
+#: reads, or None where the function cannot be translated.  Bounded, oldest out first.
 _VECTOR_CODE: dict = {}
 _VECTOR_CODE_SIZE = 256
 _MISSING = object()
@@ -317,30 +329,52 @@ _MISSING = object()
 #: generated function -> its numpy version (or False): made once per compiled function
 _VECTORISED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
+#: generated function -> {rows: its numpy version for those rows (or False)}
+_VECTORISED_ROWS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
-def vectorised_of(system, name: str) -> Callable | None:
+#: How many row selections of one function keep their numpy versions (the oldest goes
+#: first): a run watches the relations of its few discrete states.
+_ROWS_KEPT = 64
+
+
+def vectorised_of(system, name: str, rows: tuple[int, ...] | None = None) -> Callable | None:
     """The numpy version (:func:`vectorised`) of ``system.<name>`` (``crossings``,
     ``outputs``) of a system compiled from its own :class:`GeneratedCode`, made once
-    per function; None where the code does not allow one."""
+    per function (and per ``rows``, the values it gives: all without); None where the
+    code does not allow one."""
     function = getattr(system, name)
     try:
-        found = _VECTORISED.get(function)
+        if rows is None:
+            found = _VECTORISED.get(function)
+        else:
+            kept = _VECTORISED_ROWS.get(function)
+            found = None if kept is None else kept.get(rows)
     except TypeError:  # not weakly referable: not a generated function
         return None
     if found is None:
         code = getattr(system, "code", None)
         source = getattr(code, "source", None)
-        found = (vectorised(function, source) if isinstance(source, str) else None) or False
+        found = (vectorised(function, source, rows) if isinstance(source, str) else None) or False
         try:
-            _VECTORISED[function] = found
+            if rows is None:
+                _VECTORISED[function] = found
+            else:
+                kept = _VECTORISED_ROWS.setdefault(function, {})
+                if len(kept) >= _ROWS_KEPT:
+                    kept.pop(next(iter(kept)))  # the oldest out
+                kept[rows] = found
         except TypeError:
             pass
     return found or None
 
 
-def _vector_code(source: str, name: str, filename: str):
+def _vector_code(source: str, name: str, filename: str, rows: tuple[int, ...] | None = None):
     """The compiled module defining ``<name>_many`` and its constants, or None (see
-    :func:`vectorised`)."""
+    :func:`vectorised`); with ``rows``, returning those values only."""
+    if rows is not None and _translated(source, name, filename, None) is None:
+        # a function with a construct not translated has no numpy version for any rows
+        # either (the constructs are not pruned, see _live_statements)
+        return None
     try:
         tree = ast.parse(source)
     except SyntaxError:
@@ -351,6 +385,11 @@ def _vector_code(source: str, name: str, filename: str):
         (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
     if found is None or not found.body or not isinstance(found.body[-1], ast.Return):
         return None
+    if rows is not None:
+        live = _live_statements(found.body, rows)
+        if live is None:
+            return None
+        found.body = live
     varying = _varying_names(found.body)
     constants: dict = {}
     try:
@@ -361,6 +400,57 @@ def _vector_code(source: str, name: str, filename: str):
     module.body[0].body = body
     ast.fix_missing_locations(module)
     return compile(module, filename.rstrip(">") + f" {name}_many>", "exec"), constants
+
+
+def _live_statements(body: list, rows: tuple[int, ...]) -> list | None:
+    """The statements of a generated function's straight-line ``body`` that the values
+    ``rows`` of its returned tuple need, and a return of those values; None where the
+    body is not of the forms :func:`_vector_statement` translates.
+
+    Backward liveness: from the returned values, a statement is kept if a kept
+    statement after it or the returned values read what it assigns (names may be
+    assigned again: the temporaries of a linear solve, ``_a``, ``_det``).  The kept
+    statements are the original ones, so their values are computed as in the whole
+    function, bit for bit.
+
+    A guard ``if <test>: raise`` (a singular linear solve) is kept if its test reads
+    a name that a kept statement after it reads: it guards values the rows need,
+    where the scalar function raises (and the numpy version raises too, sending the
+    instants to the scalar function).  A guard of a solve whose values no kept
+    statement reads guards nothing the rows need, and goes with the solve.
+    """
+    returned = body[-1].value
+    if not isinstance(returned, ast.Tuple) or any(not 0 <= r < len(returned.elts) for r in rows):
+        return None
+    items = [copy.deepcopy(returned.elts[r]) for r in rows]  # (a row asked twice: two nodes)
+    live = set().union(*(_reads(item) for item in items))
+    kept = []
+    for position in range(len(body) - 2, -1, -1):
+        stmt = body[position]
+        if isinstance(stmt, ast.Assign) and len(stmt.targets) == 1 and isinstance(stmt.targets[0], ast.Name):
+            target = stmt.targets[0].id
+            if target not in live:
+                continue
+            live.discard(target)
+            live |= _reads(stmt.value)
+        elif isinstance(stmt, ast.Assign) and position == 0:
+            pass  # the states, ``a, b, = x``: kept (they read ``x`` only)
+        elif (isinstance(stmt, ast.If) and not stmt.orelse and len(stmt.body) == 1
+              and isinstance(stmt.body[0], ast.Raise)):
+            reads = _reads(stmt.test)
+            if not reads & live:
+                continue
+            live |= reads
+        else:
+            return None
+        kept.append(stmt)
+    kept.reverse()
+    return [*kept, ast.Return(ast.Tuple(items, ast.Load()))]
+
+
+def _reads(node) -> set[str]:
+    """The names an expression reads."""
+    return {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
 
 
 def _varying_names(body) -> set[str]:
@@ -612,6 +702,16 @@ class CompiledFunctions:
         columns equal the scalar function's values bit for bit (:func:`vectorised`);
         None where the code does not allow one."""
         return vectorised_of(self, name)
+
+    def vectorised_crossings_for(self, relations: tuple[int, ...]) -> Callable | None:
+        """The numpy version of ``crossings`` for ``relations`` only (the watched ones):
+        ``f(t, X)`` gives a ``2 len(relations) x m`` array whose rows ``2j`` and ``2j + 1``
+        are the sides of ``relations[j]``, bit for bit the rows ``2k``, ``2k + 1`` of
+        :meth:`vectorised` ``("crossings")``, computed without what they do not need
+        (made once per system and ``relations``); None where the code does not allow one.
+        (Mirrors ``crossings_for``; a system of parts has none.)"""
+        rows = tuple(2 * k + side for k in relations for side in (0, 1))
+        return vectorised_of(self, "crossings", rows)
 
     def values(self, t: float, x) -> dict[str, float]:
         """Continuous variables and derivatives at ``(t, x)`` (aliases: see ``alias_plan``)."""

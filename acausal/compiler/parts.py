@@ -662,6 +662,13 @@ class PartSystem:
             return self.mode.crossings
         return self.crossings
 
+    def vectorised_crossings_for(self, relations: tuple[int, ...]) -> Callable | None:
+        """The mode's numpy crossings of ``relations`` only, when the mode computes them at
+        their places (as :meth:`crossings_for`); None otherwise (the whole function is used)."""
+        if relations and max(relations) < self._same_places:
+            return self.mode.vectorised_crossings_for(relations)
+        return None
+
     def values(self, t: float, x) -> dict[str, float]:
         return self.mode.values(t, x)
 

@@ -79,6 +79,12 @@ class CompiledSystem(Protocol):
         """The numpy form of ``crossings`` or ``outputs`` (``f(t, X)`` for many
         times at once, bit for bit the scalar function's values), or None."""
 
+    # Optional, and looked up on the system's class (not a member here: a system of parts
+    # has none): ``vectorised_crossings_for(relations)``, the numpy form of ``crossings``
+    # giving the sides of ``relations`` only (rows 2j, 2j + 1 for ``relations[j]``), bit
+    # for bit those rows of ``vectorised("crossings")``, or None.  The crossing watch
+    # checks a step's samples with it (RelationEvaluator.first_flip).
+
 
 @runtime_checkable
 class CompiledModel(Protocol):

@@ -40,31 +40,47 @@ class Recorder:
         The output points.
     interval : float
     rows : list of (t, CompiledSystem, x, discrete)
+        The rows (made from the chunks the recorder keeps; assign to replace them).
     """
 
     def __init__(self, t0: float, t1: float, interval: float) -> None:
         self.grid = output_grid(t0, t1, interval)
         self.interval = interval
-        self.rows: list[tuple] = []
         self.next_grid = 0
-        # The same rows as chunks ``(times, system, states, discrete)``, the states of a
-        # chunk as the rows of one array (a step writes its output points as one): the
-        # columns are assembled from them, not from the rows one by one.  They stand
-        # for ``rows`` while it is the same list and ``_count`` its length (rows set or
-        # added otherwise are read one by one).
-        self._chunks: list[tuple] = []
+        # The rows are kept as chunks ``(times, system, states, discrete)``, the states
+        # of a chunk as the rows of one array: a step writes its output points as one
+        # chunk, and the columns are assembled from the chunks (a row at a time, each
+        # its own tuple and state view, cost more than the values' own computation).
+        self._chunks: list[tuple[np.ndarray, CompiledSystem, np.ndarray, dict]] = []
         self._count = 0
-        self._chunked = self.rows
+        self._last: tuple[float, dict] | None = None  # the last row's time and discrete values
+
+    @property
+    def rows(self) -> list[tuple]:
+        """The rows ``(t, system, x, discrete)`` (a new list: assign to replace them)."""
+        return [(t, system, x, discrete) for times, system, states, discrete in self._chunks
+                for t, x in zip(times.tolist(), states)]
+
+    @rows.setter
+    def rows(self, rows) -> None:
+        self._chunks, self._count, self._last = [], 0, None
+        for t, system, x, discrete in rows:
+            self._append(np.array([float(t)]), system, np.array(x, dtype=float).reshape(1, -1), discrete)
+
+    def _append(self, times: np.ndarray, system: CompiledSystem, states: np.ndarray, discrete: dict) -> None:
+        """A chunk of rows: increasing ``times``, ``states`` (owned by the recorder) as rows."""
+        self._chunks.append((times, system, states, discrete))
+        self._count += len(times)
+        self._last = (float(times[-1]), discrete)
+
+    @property
+    def row_count(self) -> int:
+        """How many rows there are."""
+        return self._count
 
     @property
     def last_time(self) -> float | None:
-        return self.rows[-1][0] if self.rows else None
-
-    def _chunk(self, times: np.ndarray, system: CompiledSystem, states: np.ndarray, discrete: dict) -> None:
-        """Rows just appended to ``rows``, as a chunk (``states`` owned by the recorder)."""
-        if self._chunked is self.rows and self._count == len(self.rows) - len(times):
-            self._chunks.append((times, system, states, discrete))
-            self._count += len(times)
+        return self._last[0] if self._last is not None else None
 
     @property
     def grid_left(self) -> bool:
@@ -74,9 +90,8 @@ class Recorder:
     def add(self, t: float, system: CompiledSystem, x, discrete: dict) -> None:
         """A row at ``t`` (an event's limit, a segment's end, the start)."""
         x = x.copy() if type(x) is np.ndarray and x.dtype == np.float64 else np.array(x, dtype=float)
-        row = (float(t), system, x, self._snapshot(discrete))
-        self.rows.append(row)
-        self._chunk(np.array([row[0]]), system, x.reshape(1, -1), row[3])
+        t = float(t)
+        self._append(np.array([t]), system, x.reshape(1, -1), self._snapshot(discrete))
 
     def skip_grid_through(self, t: float, round_off: bool = True) -> None:
         """Output points up to ``t`` (with ``round_off``, a relative 1e-14 above it too)
@@ -97,7 +112,7 @@ class Recorder:
             if check is not None:
                 check()
             tg = grid[self.next_grid]
-            if not (self.rows and self.rows[-1][0] == tg):
+            if not (self._last is not None and self._last[0] == tg):
                 self.add(tg, system, x_at(tg), discrete)
             self.next_grid += 1
 
@@ -120,28 +135,25 @@ class Recorder:
         times = np.asarray(times, dtype=float)
         if check is not None:
             check()
-        rows = self.rows
         if type(self).add is not _ADD:
             add = self.add
             for tg, x in zip(times.tolist(), states):
-                if not (rows and rows[-1][0] == tg):
+                if not (self._last is not None and self._last[0] == tg):
                     add(tg, system, x, discrete)
                 self.next_grid += 1
             return
-        first = 1 if (len(times) and rows and rows[-1][0] == times[0]) else 0
+        first = 1 if (len(times) and self._last is not None and self._last[0] == times[0]) else 0
         if len(times) > first:
             # the points are increasing: only the first can fall on the last row's time
             snapshot = self._snapshot(discrete)
             block = np.array(states[first:], dtype=float)
-            rows.extend(zip(times[first:].tolist(), itertools.repeat(system), block,
-                            itertools.repeat(snapshot)))
-            self._chunk(np.array(times[first:], dtype=float), system, block.reshape(len(block), -1), snapshot)
+            self._append(np.array(times[first:], dtype=float), system, block.reshape(len(block), -1), snapshot)
         self.next_grid += len(times)
 
     def _snapshot(self, discrete: dict) -> dict:
         """A copy of the discrete values for a row, shared by the rows that have
         the same values (a large model has thousands of them)."""
-        last = self.rows[-1][3] if self.rows else None
+        last = self._last[1] if self._last is not None else None
         if last is not None and last == discrete:
             return last
         return dict(discrete)
@@ -168,9 +180,6 @@ class Recorder:
         if translation.demand is not None:
             names = [n for n in names if n in translation.demand] + discrete_names
         index = {n: k for k, n in enumerate(names)}
-        if not (self._chunked is self.rows and self._count == len(self.rows)):
-            # rows set or added otherwise: their chunks, made here
-            self._chunks, self._count, self._chunked = _chunks_of(self.rows), len(self.rows), self.rows
         n = self._count
         # one row per column (each column of the result is then one contiguous row of it)
         data = np.full((len(names), n), np.nan)
@@ -216,21 +225,6 @@ def _kept_plan(translation: CompiledModel, system: CompiledSystem, names: list[s
     if found is None or found[0] is not system or found[1] != names:
         found = plans[system.key] = (system, list(names), fill_plan(system, index, memo))
     return found[2]
-
-
-def _chunks_of(rows) -> list[tuple]:
-    """``rows`` as chunks: the consecutive rows of one system and one set of discrete
-    values (the same objects) make one."""
-    chunks = []
-    start = 0
-    for k in range(1, len(rows) + 1):
-        if k == len(rows) or not (rows[k][1] is rows[start][1] and rows[k][3] is rows[start][3]):
-            run = rows[start:k]
-            states = np.array([np.asarray(r[2], dtype=float).reshape(-1) for r in run], dtype=float)
-            chunks.append((np.array([r[0] for r in run], dtype=float), run[0][1],
-                           states.reshape(len(run), -1), run[0][3]))
-            start = k
-    return chunks
 
 
 def _stretches(chunks) -> list[tuple[int, int, CompiledSystem, np.ndarray, dict]]:

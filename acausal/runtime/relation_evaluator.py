@@ -91,6 +91,9 @@ class RelationEvaluator:
         self._vector_plan: tuple | None = None
         #: the numpy plans by (watched, relation values), for the next segment with the same
         self._vector_plans: dict[tuple, tuple] = {}
+        #: the numpy crossings of the last segment's watch: (system, watched, function,
+        #: whether it gives the watched relations' sides only)
+        self._watch_many: tuple | None = None
 
     # -- at an event ----------------------------------------------------------------
 
@@ -276,10 +279,10 @@ class RelationEvaluator:
         time in turn gives (the first flip, and any error on the way).
 
         The relations are decided for all times at once, with numpy
-        (:meth:`_flips`), on the crossing functions' values: from one numpy call
+        (:meth:`_decide`), on the crossing functions' values: from one numpy call
         when the system's code allows it
-        (the system's ``vectorised("crossings")``; from an instant
-        whose values are not all finite on, or if it raises, the scalar function
+        (:meth:`_watched_many`; from an instant at which a watched relation's sides
+        are not all finite on, or if it raises, the scalar function
         decides instant by instant), else from the scalar function at each time.
         A few samples of few relations are decided one by one: a numpy call has
         a fixed cost of some tens of microseconds.
@@ -289,9 +292,9 @@ class RelationEvaluator:
             return None
         start = 0
         if m * (len(watched) + 2) >= _MANY_FROM:
-            many = system.vectorised("crossings")
+            many, only_watched = self._watched_many(system, watched)
             if many is not None:
-                found, start = self._first_flip_many(many, times, states, relations, watched)
+                found, start = self._first_flip_many(many, only_watched, times, states, relations, watched)
             else:
                 found, start = self._first_flip_collected(system, times, states, relations, watched)
             if found is not None or start >= m:
@@ -302,19 +305,55 @@ class RelationEvaluator:
                 return i, hit
         return None
 
-    def _first_flip_many(self, many, times, states, relations, watched):
-        """``(first flip, None)`` or ``(None, index to go on from)`` with the numpy crossings."""
+    def _watched_many(self, system: CompiledSystem, watched: tuple[int, ...]) -> tuple[Callable | None, bool]:
+        """``(f, only_watched)``: the system's numpy crossings for the samples of a step,
+        giving the sides of the ``watched`` relations only (``only_watched``) where the
+        system offers that, else every relation's (None: no numpy form).
+
+        The unwatched relations are not evaluated at the samples at all: the relevance
+        analysis decided that no flip of theirs can change anything in this discrete
+        state, so their values cannot stop the step (and, as in ``_check_crossings``,
+        their sides need not be finite).  A system of generated code computes the
+        watched relations' sides without the statements only the others need (for
+        StickSlip sliding, the sine input the watched relations of the speed do not
+        read); so an unwatched side that cannot be computed at a sample raises nothing
+        here, while the scalar path (from a watched side that is not finite, or where
+        the numpy function raises) and the check at the step's end still compute the
+        whole function.  Kept for the last segment's system and watched tuple (asked
+        at every step).
+        """
+        last = self._watch_many
+        if last is not None and last[0] is system and last[1] is watched:
+            return last[2], last[3]
+        # looked up on the class: a system that hands other attributes on to its mode's
+        # (a part's system, whose crossing vector is not its mode's) has none of its own
+        method = getattr(type(system), "vectorised_crossings_for", None)
+        many = method(system, watched) if method is not None else None
+        only_watched = many is not None
+        if many is None:
+            many = system.vectorised("crossings")
+        self._watch_many = (system, watched, many, only_watched)
+        return many, only_watched
+
+    def _first_flip_many(self, many, only_watched: bool, times, states, relations, watched):
+        """``(first flip, None)`` or ``(None, index to go on from)`` with the numpy crossings
+        (``many``; ``only_watched``: it gives the watched relations' sides only)."""
         m = len(times)
+        plan = self._plan(relations, watched)
         try:
             # a division by zero or an invalid operation (where Python's floats could
             # raise) leaves the instants to the scalar function
             with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
                 raw = many(np.asarray(times, dtype=float), np.asarray(states, dtype=float).T)
+            if not only_watched:
+                raw = raw[plan[3]]  # the watched relations' sides, ``lhs, rhs`` of each in turn
             with np.errstate(all="ignore"):
-                w, flips = self._flips(raw, relations, watched)
+                flips = self._decide(raw[0::2], raw[1::2], plan, True)
         except Exception:  # the scalar function raises where it should, or not at all
             return None, 0
+        w = plan[0]
         stop = flips.any(axis=0)
+        # (the watched relations' sides only: the others do not matter here, see _watched_many)
         finite = np.isfinite(raw)
         unsure = None if finite.all() else ~finite.all(axis=0)
         if unsure is not None:
@@ -355,12 +394,18 @@ class RelationEvaluator:
         flipped at each column of ``values`` (the crossing functions' values, one
         instant a column; or one instant as a vector).  Callers silence numpy's
         warnings: inf/NaN sides decide as in Python."""
-        w, left, right, vectors, columns, any_timed = self._plan(relations, watched)
-        d, strict, previous, epsilon, floor, timed, toward, all_strict = columns if values.ndim == 2 else vectors
+        plan = self._plan(relations, watched)
+        return plan[0], self._decide(values[plan[1]], values[plan[2]], plan, values.ndim == 2)
+
+    @staticmethod
+    def _decide(lhs: np.ndarray, rhs: np.ndarray, plan, many_instants: bool) -> np.ndarray:
+        """Whether each watched relation has flipped, from its sides (a row per relation
+        of ``plan``, a column per instant with ``many_instants``; else vectors)."""
+        _w, _left, _right, _sides, vectors, columns, any_timed = plan
+        d, strict, previous, epsilon, floor, timed, toward, all_strict = columns if many_instants else vectors
         # (a time event gets no margin: its instant is computed in closed form)
-        v = shifted_many(d, previous, values[left], values[right], epsilon, floor, timed if any_timed else None,
-                         toward=toward)
-        return w, holds_many(v, strict if all_strict is None else all_strict) != previous
+        v = shifted_many(d, previous, lhs, rhs, epsilon, floor, timed if any_timed else None, toward=toward)
+        return holds_many(v, strict if all_strict is None else all_strict) != previous
 
     def _plan(self, relations, watched):
         """The watched relations' indices and kinds as numpy arrays (as vectors, and as
@@ -384,7 +429,10 @@ class RelationEvaluator:
             toward = np.where(previous, d, -d)
             all_strict = True if strict.all() else False if not strict.any() else None
             vectors = (d, strict, previous, epsilon, floor, timed, toward)
-            plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, (*vectors, all_strict),
+            # (and both sides of each in turn: the rows the watched relations' own numpy
+            # crossings give, taken from a function that gives every relation's)
+            sides = np.stack([2 * w, 2 * w + 1], axis=1).reshape(-1)
+            plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, sides, (*vectors, all_strict),
                                         (*(a[:, None] for a in vectors), all_strict), bool(timed.any()))
             if len(self._vector_plans) >= _PLANS_KEPT:
                 self._vector_plans.pop(next(iter(self._vector_plans)))  # the oldest out

@@ -560,7 +560,7 @@ class _Run:
             except StructuralError as exc:
                 # a discrete state reached during the run cannot be solved: stop
                 # with the reason, keeping what was computed
-                t_fail = self.recorder.last_time if self.recorder.rows else t0
+                t_fail = self.recorder.last_time if self.recorder.row_count else t0
                 raise SolverError(f"at t = {t_fail:.12g} the model entered a discrete state it "
                                   f"cannot solve: {exc.message}", hint=exc.hint,
                                   components=exc.components) from exc
@@ -569,7 +569,7 @@ class _Run:
         except SimulationError as exc:
             error = exc
         except KeyboardInterrupt:
-            t_now = self.recorder.last_time if self.recorder.rows else t0
+            t_now = self.recorder.last_time if self.recorder.row_count else t0
             error = SimulationInterrupted(f"interrupted at t = {t_now:.12g} (Ctrl-C); the result "
                                           f"holds what was computed until then")
             status = -2
@@ -584,7 +584,7 @@ class _Run:
             message = f"terminate() at t = {t_end:.12g}: {'; '.join(reasons)}"
             status = 1
         if self.progress is not None:
-            self.progress(self.recorder.last_time if self.recorder.rows else t0, t0, t1)
+            self.progress(self.recorder.last_time if self.recorder.row_count else t0, t0, t1)
             if isinstance(self.progress, TerminalProgress):
                 self.progress.close()
         result = self._result(t_setup, message, error, status)
@@ -1018,7 +1018,7 @@ class _Run:
         }
         shares["integrating"] = max(wall - sum(shares.values()), 0.0)
         counts = {"compiling discrete states": f"{len(self.translation.systems)} states compiled",
-                  "writing output points": f"{len(self.recorder.rows)} rows",
+                  "writing output points": f"{self.recorder.row_count} rows",
                   "event iteration": f"{len(self.events)} events",
                   "integrating": f"{self.steps} steps"}
         hints = {"compiling discrete states": "many discrete states are visited; each new combination "

@@ -1,0 +1,302 @@
+"""The numpy crossings of the watched relations only, and the recorder's rows as blocks.
+
+Between events a step's samples are checked for flips with a numpy crossing
+function that gives the watched relations' sides only
+(:meth:`~acausal.compiler.generated.CompiledFunctions.vectorised_crossings_for`),
+made from the whole function's generated text without the statements the
+watched sides do not need.  Its rows must equal the whole numpy function's
+rows bit for bit, and the flip it finds must be the one the scalar
+definition finds on the watched relations.
+"""
+
+from __future__ import annotations
+
+import math
+import types
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from acausal import simulate, translate
+from acausal.compiler.algebraic import Assign, LinearSolve
+from acausal.compiler.codegen import generate
+from acausal.compiler.generated import CompiledFunctions, vectorised
+from acausal.errors import SolverError
+from acausal.language import real_symbol, time
+from acausal.runtime.events import evaluator_for
+from acausal.runtime.recorder import Recorder
+from examples.benchmarks import StickSlip
+from examples.coupled_clutches import CoupledClutches
+from examples.friction import Friction
+
+S = real_symbol
+x1, x2, k, a, b, c, d = (S(n) for n in ("x1", "x2", "k", "a", "b", "c", "d"))
+KNIFE = st.sampled_from([0.0, -0.0, 1.0, -1.0, 2.0, 0.5, 1e-300, 3.0, math.pi])
+VALUE = KNIFE | st.floats(-5, 5, allow_nan=False, allow_infinity=False)
+
+
+def same(p, q) -> bool:
+    """Bit for bit (NaN equal to NaN, -0.0 not equal to 0.0)."""
+    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+    return p.shape == q.shape and np.array_equal(p.view(np.int64), q.view(np.int64))
+
+
+def rows_of(relations) -> list[int]:
+    return [2 * j + side for j in relations for side in (0, 1)]
+
+
+class _Compiled(types.SimpleNamespace, CompiledFunctions):
+    """A compiled stand-in for a ModeSystem: its generated functions and text, with the
+    numpy forms a ModeSystem has (CompiledFunctions')."""
+
+    parts = None
+
+
+def _system(steps, crossings, unknowns, states=("x1", "x2"), name="w") -> _Compiled:
+    code = generate(steps, states, (), unknowns, ("k",), crossings=crossings, name=name)
+    _derivatives, crossing_fn, outputs = code.make([1.5])
+    return _Compiled(crossings=crossing_fn, outputs=outputs, code=code, states=states)
+
+
+# -- the function: the whole function's rows, computed without the rest ---------------------------
+
+
+@pytest.mark.parametrize("model", [StickSlip, Friction, CoupledClutches])
+def test_watched_rows_equal_the_whole_numpy_functions_rows_on_a_run(model):
+    translation = translate(model())
+    result = simulate(translation)
+    rng = np.random.default_rng(11)
+    n = len(translation.data.relations)
+    subsets = [(j,) for j in range(n)] + [tuple(sorted(rng.choice(n, size=rng.integers(1, n + 1),
+                                                                  replace=False).tolist()))
+                                          for _ in range(6)] + [tuple(range(n))]
+    for system in translation.systems.values():
+        X = np.array([result[s] for s in system.states])
+        X = np.concatenate([X, X * rng.choice([0.0, -1.0, 1.0 + 1e-9], size=X.shape)], axis=1)
+        t = np.concatenate([result.time, result.time])
+        full = system.vectorised("crossings")
+        with np.errstate(all="ignore"):
+            whole = full(t, X)
+            for relations in subsets:
+                watched = system.vectorised_crossings_for(relations)
+                assert watched is system.vectorised_crossings_for(relations)  # made once
+                assert same(watched(t, X), whole[rows_of(relations)]), (system.description, relations)
+
+
+def _steps():
+    # two 1x1 linear solves (their guards, the temporary ``_a`` assigned twice), a
+    # function called element by element, a Piecewise: each relation reads some of them
+    return [
+        Assign("a", sp.Piecewise((x1 ** 2 + sp.sin(time), x1 > 0), (sp.exp(-x2), True)), None),
+        LinearSolve(("c",), ((x1,),), (x2,), (), ("e1",)),
+        LinearSolve(("d",), ((x2 - 1,),), (x1 + k,), (), ("e2",)),
+        Assign("b", sp.Max(x1, x2) + c * d, None),
+    ]
+
+
+_CROSSINGS = (a, x2, c, time, d, k, b, sp.Float(0.5), x1 ** 3 - x2 / 3, sp.sqrt(k + x2 ** 2))
+
+
+@settings(max_examples=60, derandomize=True, deadline=None)
+@given(xs=st.lists(st.tuples(VALUE, VALUE, st.floats(0, 3)), min_size=1, max_size=8),
+       relations=st.lists(st.integers(0, len(_CROSSINGS) // 2 - 1), min_size=1, max_size=5, unique=True))
+def test_watched_rows_equal_the_whole_functions_rows_and_the_scalar_values(xs, relations):
+    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    relations = tuple(relations)
+    t = np.array([p[2] for p in xs])
+    X = np.array([[p[0] for p in xs], [p[1] for p in xs]])
+    rows = rows_of(relations)
+
+    def run(f):
+        try:
+            with np.errstate(all="ignore"):
+                return f(t, X)
+        except SolverError as exc:  # a guard: a singular solve at some column
+            return exc
+
+    whole = run(system.vectorised("crossings"))
+    watched = run(system.vectorised_crossings_for(relations))
+    if not isinstance(whole, Exception):
+        # the same statements: the same values, and no guard the whole function passes raises
+        assert not isinstance(watched, Exception) and same(watched, whole[rows])
+    singular = []
+    for j in range(len(t)):
+        try:
+            expected = np.array(system.crossings(t[j], X[:, j]), dtype=float)[rows]
+        except (SolverError, ArithmeticError, ValueError):
+            singular.append(j)
+            continue
+        if not isinstance(watched, Exception):
+            assert same(watched[:, j], expected), j
+    if isinstance(watched, Exception):
+        assert singular  # a kept guard raises only where the scalar function does
+
+
+def test_a_guard_goes_with_a_solve_no_watched_relation_needs():
+    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    t = np.zeros(2)
+    X = np.array([[0.0, 2.0], [3.0, 4.0]])  # x1 = 0: the solve for c is singular in column 0
+    with pytest.raises(SolverError):
+        system.vectorised("crossings")(t, X)
+    # relation 2 reads d alone (the second solve, whose temporary _a is assigned again)
+    got = system.vectorised_crossings_for((2,))(t, X)
+    assert same(got, [[(0.0 + 1.5) / (3.0 - 1), (2.0 + 1.5) / (4.0 - 1)], [1.5, 1.5]])
+    # relation 1 reads c: its guard is kept, and raises as the scalar function does
+    with pytest.raises(SolverError):
+        system.vectorised_crossings_for((1,))(t, X)
+    with pytest.raises(SolverError):
+        system.crossings(0.0, X[:, 0])
+
+
+def test_what_the_watched_rows_do_not_need_is_not_computed():
+    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    source = system.code.source
+    only_k = vectorised(system.crossings, source, (5, 4))  # k, d: rows in the order asked
+    assert only_k.__code__.co_names.count("_v_map") == 0  # no math.sin, no exp, no power
+    got = only_k(np.zeros(1), np.array([[1.0], [3.0]]))
+    assert same(got, [[1.5], [(1.0 + 1.5) / 2.0]])
+    with_sine = vectorised(system.crossings, source, (0,))
+    assert "_v_map" in with_sine.__code__.co_names
+
+
+def test_no_numpy_version_for_any_rows_without_one_for_the_whole():
+    z = [S(n) for n in ("z0", "z1", "z2")]
+    zero, one, two = sp.Integer(0), sp.Integer(1), sp.Integer(2)
+    steps = [LinearSolve(("z0", "z1", "z2"), ((two, one, zero), (one, two, one), (zero, one, two + x1 ** 2)),
+                         (x1, x2, k), (), ("e0", "e1", "e2"))]
+    system = _system(steps, (z[0], x1, x2, k), ("z0", "z1", "z2"))
+    assert system.vectorised("crossings") is None
+    assert system.vectorised_crossings_for((1,)) is None  # relation 1 needs no solve, but still
+
+
+# -- the samples of a step decided with it ----------------------------------------------------------
+
+_EVALUATOR = evaluator_for(translate(CoupledClutches()))
+_RELATIONS = _EVALUATOR.relations
+
+
+def _definition_flips(raw, relations, watched):
+    """flipped_relations as defined by Relation.holds_with_hysteresis."""
+    out = []
+    for j in watched:
+        lhs, rhs = raw[2 * j], raw[2 * j + 1]
+        eps = _RELATIONS[j].margin(lhs, rhs, _EVALUATOR.epsilon)
+        if _RELATIONS[j].holds_with_hysteresis(lhs - rhs, relations[j], eps) != relations[j]:
+            out.append(j)
+    return tuple(out)
+
+
+class _WatchedOnly(_Compiled):
+    """A stand-in whose scalar ``crossings_for`` computes the relations asked for only (NaN
+    elsewhere, as a system of parts gives them): the scalar path's definition of the watch."""
+
+    def crossings_for(self, relations):
+        made = self.made  # (each relation's own generated function, made once)
+        for j in relations:
+            if j not in made:
+                made[j] = _system([], tuple(self.sides[2 * j:2 * j + 2]), ()).crossings
+        own = {j: made[j] for j in relations}
+
+        def crossings(t, x):
+            out = [math.nan] * len(self.sides)
+            for j, f in own.items():
+                out[2 * j:2 * j + 2] = f(t, x)
+            return out
+
+        return crossings
+
+
+@settings(max_examples=40, derandomize=True, deadline=None)
+@given(data=st.data())
+def test_first_flip_with_the_watched_crossings_equals_the_definition_on_the_watched(data):
+    """Sides with poles and roots of negative numbers among the unwatched relations do not
+    matter; among the watched ones, the scalar path decides from there on, as before."""
+    n = len(_RELATIONS)
+    pool = [x1 - time, 1 / x1, x2 ** 2 - k, sp.sqrt(x2), x1 * x2, -x2, sp.Float(0.5), time - 1, x1 / x2]
+    sides = [pool[data.draw(st.integers(0, len(pool) - 1))] for _ in range(2 * n)]
+    whole = _system([], tuple(sides), ())
+    system = _WatchedOnly(crossings=whole.crossings, outputs=whole.outputs, code=whole.code,
+                          states=whole.states, sides=sides, made={})
+    m = data.draw(st.integers(1, 30))
+    states = np.array(data.draw(st.lists(st.tuples(KNIFE, KNIFE), min_size=m, max_size=m)),
+                      dtype=float).reshape(m, 2)
+    times = np.linspace(0.0, 2.0, m)
+    relations = tuple(data.draw(st.lists(st.booleans(), min_size=n, max_size=n)))
+    watched = tuple(sorted(data.draw(st.sets(st.integers(0, n - 1), min_size=1, max_size=6))))
+    scalar = system.crossings_for(watched)
+    expected = None
+    with np.errstate(all="ignore"):
+        try:
+            for j in range(m):
+                hit = _definition_flips(scalar(times[j], states[j]), relations, watched)
+                if hit:
+                    expected = (j, hit)
+                    break
+        except (ArithmeticError, ValueError) as exc:
+            expected = exc
+        try:
+            got = _EVALUATOR.relation_evaluator.first_flip(system, times, states, relations, watched)
+        except (ArithmeticError, ValueError) as exc:
+            got = exc
+    assert _EVALUATOR.relation_evaluator._watched_many(system, watched)[1]  # the watched rows only
+    if isinstance(expected, Exception):
+        assert type(got) is type(expected)
+    else:
+        assert got == expected
+
+
+def test_a_system_that_forwards_its_attributes_is_not_asked_for_watched_crossings():
+    """A part's system hands unknown attributes on to its mode's, whose crossing vector is
+    not the part's: the watched crossings are looked up on its class, which has none."""
+    inner = _system([], (x1, x2, x2, x1), ())
+
+    class Forwarding:
+        parts = None
+
+        def crossings(self, t, x):  # the mode's relations in the other order
+            return [x[1], x[0], x[0], x[1]]
+
+        def crossings_for(self, relations):
+            return self.crossings
+
+        def vectorised(self, name):
+            return lambda t, X: np.array([X[1], X[0], X[0], X[1]])
+
+        def __getattr__(self, name):
+            return getattr(inner, name)
+
+    system = Forwarding()
+    assert system.vectorised_crossings_for  # (what the trap would hand out)
+    evaluator = _EVALUATOR.relation_evaluator
+    many, only_watched = evaluator._watched_many(system, (0, 1))
+    assert not only_watched
+    times = np.linspace(0.0, 1.0, 30)
+    states = np.column_stack([np.linspace(-1.0, 1.0, 30), np.zeros(30)])
+    relations = tuple([False] * len(_RELATIONS))
+    with np.errstate(all="ignore"):
+        expected = next(((j, hit) for j in range(30)
+                         if (hit := _definition_flips(system.crossings(times[j], states[j]),
+                                                      relations, (0, 1)))), None)
+        assert evaluator.first_flip(system, times, states, relations, (0, 1)) == expected
+
+
+# -- the recorder: blocks only, rows on demand ------------------------------------------------------
+
+
+def test_rows_set_and_read_back_and_the_last_row():
+    recorder = Recorder(0.0, 1.0, 0.5)
+    assert recorder.row_count == 0 and recorder.last_time is None and recorder.rows == []
+    discrete = {"m": 1}
+    recorder.add(0.0, "s", [1.0, 2.0], discrete)
+    recorder.emit_rows(np.array([0.0, 0.5, 1.0]), np.arange(6.0).reshape(3, 2), "s", discrete)
+    rows = recorder.rows
+    assert [r[0] for r in rows] == [0.0, 0.5, 1.0] and recorder.row_count == 3 and recorder.last_time == 1.0
+    assert same(rows[0][2], [1.0, 2.0]) and same(rows[2][2], [4.0, 5.0])
+    assert rows[1][3] is rows[0][3] == discrete and rows[0][3] is not discrete  # one snapshot
+    other = Recorder(0.0, 1.0, 0.5)
+    other.rows = rows
+    assert other.row_count == 3 and other.last_time == 1.0
+    assert all(p[0] == q[0] and same(p[2], q[2]) and p[3] is q[3] for p, q in zip(other.rows, rows))
