@@ -368,11 +368,18 @@ def _expression_template(expr, key: tuple, order: Sequence[str], printer) -> str
     again = shape((renamed,), (), ("expression",))
     if again is None or again[0] != key or list(again[1]) != [names[n] for n in order]:
         return None
+    return _format_string(printer, names, order, lambda tokens: printer.doprint(renamed))
+
+
+def _format_string(printer, names: dict[str, str], order: Sequence[str], write) -> str:
+    """The text ``write(tokens)`` prints with ``printer`` when each placeholder name
+    (``names[n]`` for ``n`` of ``order``) prints as ``{k}``, ``k`` its position in
+    ``order``: a format string of the identifiers (the text's own braces escaped)."""
     tokens = {names[n]: f"@{k}@" for k, n in enumerate(order)}
     saved = printer.local
     printer.local = tokens
     try:
-        text = printer.doprint(renamed)
+        text = write(tokens)
     finally:
         printer.local = saved
     return re.sub(r"@(\d+)@", r"{\1}", text.replace("{", "{{").replace("}", "}}"))
@@ -489,15 +496,8 @@ def _template(step, key: tuple, order: Sequence[str], printer) -> str | None:
     again = _step_shape(renamed)
     if again is None or again[0] != key or list(again[1]) != [names[n] for n in order]:
         return None
-    tokens = {names[n]: f"@{k}@" for k, n in enumerate(order)}
-    saved = printer.local
-    printer.local = tokens
-    try:
-        text = "\n".join(_step_code(renamed, printer, tokens))
-    finally:
-        printer.local = saved
-    text = text.replace("{", "{{").replace("}", "}}").replace(repr(_WHAT), "{w}")
-    return re.sub(r"@(\d+)@", r"{\1}", text)
+    text = _format_string(printer, names, order, lambda tokens: "\n".join(_step_code(renamed, printer, tokens)))
+    return text.replace(repr(_WHAT), "{w}")
 
 
 def _step_code(step, printer, local) -> list[str]:
