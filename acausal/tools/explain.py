@@ -34,6 +34,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import textwrap
 from dataclasses import dataclass
@@ -530,8 +531,10 @@ def _write_parts(w: _Writer, translation: Translation, clustering, main: ModeSys
                 "compiles one system per part and per discrete state of that part, and puts them "
                 "together: the sections above show the whole model's system, which is the same "
                 "computation in one piece.  Each part in the discrete state explained:")
+    # every part compiled for itself (not renamed from an equal part), so that its stages show
     parts = Translation(translation.flat, translation.partitioned, translation.flatten_seconds,
-                        translation.demand, clustering=clustering, disk=False)
+                        translation.demand, clustering=clustering, disk=False,
+                        options=dataclasses.replace(translation.options, part_shapes=False))
     for cluster in clustering.clusters[:MAX_PARTS_LISTED]:
         system = parts._part(cluster, main.key)
         st, blt, alg = system.structure, system.blt, system.algebraic
