@@ -23,8 +23,8 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["FLOAT_FUNCTIONS", "CompiledFunctions", "newton_solve", "load_functions", "load_make", "vectorised",
-           "vectorised_of", "reset_warm_starts"]
+__all__ = ["FLOAT_FUNCTIONS", "CompiledFunctions", "newton_solve", "load_functions", "load_make", "rows_function",
+           "rows_function_of", "vectorised", "vectorised_of", "reset_warm_starts"]
 
 
 # -- floating-point semantics for the functions that overflow --------------------------------------
@@ -402,6 +402,100 @@ def _vector_code(source: str, name: str, filename: str, rows: tuple[int, ...] | 
     return compile(module, filename.rstrip(">") + f" {name}_many>", "exec"), constants
 
 
+# -- scalar versions of the generated functions that give some of their values ----------------------
+
+def rows_function(function: Callable, source: str, rows: tuple[int, ...]) -> Callable | None:
+    """A version of the generated function ``function`` (``crossings``) that gives only its
+    values ``rows`` (positions in the returned tuple), in that order, and computes only the
+    statements they need (:func:`_live_statements`).
+
+    ``f(t, x)`` returns, bit for bit, ``tuple(function(t, x)[r] for r in rows)``: the kept
+    statements are the function's own, taken from its generated text (``source``), in
+    their order, and bound to the same values: the function's closure (its parameters,
+    and the constants made with them) becomes the closure of ``f`` (read as the
+    function reads it), its globals ``f``'s globals.  What ``f`` leaves out cannot raise
+    in it: an exception (a singular solve's guard, ``math.log`` of a negative number) of
+    a statement only the other values need is the whole function's alone.  None where
+    the function's body is not straight-line code (a Newton iteration, which keeps a warm
+    start between calls and so must run with every call; a dense linear solve).
+    """
+    name = function.__name__
+    freevars = function.__code__.co_freevars
+    code = _rows_code(source, name, function.__code__.co_filename, rows, freevars)
+    if code is None:
+        return None
+    namespace = dict(function.__globals__)
+    exec(code, namespace)
+    cells = function.__closure__ or ()
+    return namespace[f"_make_{name}_rows"](*(cell.cell_contents for cell in cells))
+
+
+def _rows_code(source: str, name: str, filename: str, rows: tuple[int, ...], freevars: tuple[str, ...]):
+    """The compiled module defining ``_make_<name>_rows(<freevars>)``, which returns the
+    function of :func:`rows_function`; None where there is none.  Kept in ``_ROWS_CODE``
+    (the code depends on the text only: other parameter values bind it to theirs, and
+    systems of one text share it, the file name of the first among them, as
+    :func:`vectorised`'s code)."""
+    key = (source, name, rows, freevars)
+    found = _ROWS_CODE.get(key, _MISSING)
+    if found is not _MISSING:
+        return found
+    found = None
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        tree = None
+    make = None if tree is None else next(
+        (node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"), None)
+    function = None if make is None else next(
+        (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
+    if function is not None and function.body and isinstance(function.body[-1], ast.Return):
+        live = _live_statements(function.body, rows)
+        if live is not None:
+            # the values the function reads from its closure are the factory's arguments,
+            # so that the new function reads them from its closure too (as fast, the same)
+            module = ast.parse(f"def _make_{name}_rows({', '.join(freevars)}):\n"
+                               f"    def {name}_rows(t, x):\n        pass\n    return {name}_rows\n")
+            module.body[0].body[0].body = live
+            ast.fix_missing_locations(module)
+            found = compile(module, filename.rstrip(">") + f" {name}_rows>", "exec")
+    _ROWS_CODE[key] = found
+    while len(_ROWS_CODE) > _VECTOR_CODE_SIZE:
+        _ROWS_CODE.pop(next(iter(_ROWS_CODE)))
+    return found
+
+
+#: The code of :func:`rows_function` by (source, name, rows, closure names), or None where
+#: there is none.  Bounded, oldest out first.
+_ROWS_CODE: dict = {}
+
+#: generated function -> {rows: its version for those rows (or False)}
+_ROWS_FUNCTIONS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def rows_function_of(system, name: str, rows: tuple[int, ...]) -> Callable | None:
+    """:func:`rows_function` of ``system.<name>`` for a system compiled from its own
+    :class:`GeneratedCode`, made once per function and ``rows`` (the last
+    ``_ROWS_KEPT`` of them); None where the code does not allow one."""
+    function = getattr(system, name)
+    try:
+        kept = _ROWS_FUNCTIONS.get(function)
+    except TypeError:  # not weakly referable: not a generated function
+        return None
+    found = None if kept is None else kept.get(rows)
+    if found is None:
+        code = getattr(system, "code", None)
+        source = getattr(code, "source", None)
+        found = (rows_function(function, source, rows)
+                 if isinstance(source, str) and hasattr(function, "__code__") else None) or False
+        if kept is None:
+            kept = _ROWS_FUNCTIONS[function] = {}
+        if len(kept) >= _ROWS_KEPT:
+            kept.pop(next(iter(kept)))  # the oldest out
+        kept[rows] = found
+    return found or None
+
+
 def _live_statements(body: list, rows: tuple[int, ...]) -> list | None:
     """The statements of a generated function's straight-line ``body`` that the values
     ``rows`` of its returned tuple need, and a return of those values; None where the
@@ -712,6 +806,16 @@ class CompiledFunctions:
         (Mirrors ``crossings_for``; a system of parts has none.)"""
         rows = tuple(2 * k + side for k in relations for side in (0, 1))
         return vectorised_of(self, "crossings", rows)
+
+    def crossings_of(self, relations: tuple[int, ...]) -> Callable | None:
+        """``crossings`` for ``relations`` only (the watched ones): ``f(t, x)`` gives the
+        tuple ``(lhs, rhs)`` of ``relations[0]``, then of ``relations[1]`` ..., bit for bit
+        those values of ``crossings(t, x)``, computed without what they do not need
+        (:func:`rows_function`; made once per system and ``relations``); None where the
+        code does not allow one.  (The scalar twin of :meth:`vectorised_crossings_for`;
+        a system of parts has none.)"""
+        rows = tuple(2 * k + side for k in relations for side in (0, 1))
+        return rows_function_of(self, "crossings", rows)
 
     def values(self, t: float, x) -> dict[str, float]:
         """Continuous variables and derivatives at ``(t, x)`` (aliases: see ``alias_plan``)."""

@@ -669,6 +669,13 @@ class PartSystem:
             return self.mode.vectorised_crossings_for(relations)
         return None
 
+    def crossings_of(self, relations: tuple[int, ...]) -> Callable | None:
+        """The mode's scalar crossings of ``relations`` only, when the mode computes them at
+        their places (as :meth:`crossings_for`); None otherwise (the whole function is used)."""
+        if relations and max(relations) < self._same_places:
+            return self.mode.crossings_of(relations)
+        return None
+
     def values(self, t: float, x) -> dict[str, float]:
         return self.mode.values(t, x)
 

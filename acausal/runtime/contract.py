@@ -83,7 +83,11 @@ class CompiledSystem(Protocol):
     # has none): ``vectorised_crossings_for(relations)``, the numpy form of ``crossings``
     # giving the sides of ``relations`` only (rows 2j, 2j + 1 for ``relations[j]``), bit
     # for bit those rows of ``vectorised("crossings")``, or None.  The crossing watch
-    # checks a step's samples with it (RelationEvaluator.first_flip).
+    # checks a step's samples with it (RelationEvaluator.first_flip).  Likewise
+    # ``crossings_of(relations)``: the scalar ``crossings`` giving the sides of
+    # ``relations`` only (``lhs, rhs`` of each in turn), bit for bit those values of
+    # ``crossings``, or None; the watch decides single instants with it (a step's few
+    # samples, the step's end, the trial points of the search of a flip instant).
 
 
 @runtime_checkable

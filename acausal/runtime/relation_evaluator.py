@@ -94,6 +94,12 @@ class RelationEvaluator:
         #: the numpy crossings of the last segment's watch: (system, watched, function,
         #: whether it gives the watched relations' sides only)
         self._watch_many: tuple | None = None
+        #: the scalar crossings of the last segment's watch: (system, watched, function,
+        #: whether it gives the watched relations' sides only)
+        self._watch_scalar: tuple | None = None
+        #: the systems' scalar crossings of some relations (``crossings_of``) by (id of the
+        #: system, relations): (system, function or None); asked at every segment and flip
+        self._crossings_of: dict[tuple, tuple] = {}
 
     # -- at an event ----------------------------------------------------------------
 
@@ -167,22 +173,43 @@ class RelationEvaluator:
         """The watched relations whose value at ``(t, x)`` differs from ``relations``.
 
         The hot path of event detection: only the watched relations are
-        evaluated (with hysteresis against their current values).
+        evaluated (with hysteresis against their current values), and only their
+        sides are computed where the system offers that (:meth:`_watched_scalar`).
         """
         if not watched:
             return ()
-        raw = (system.crossings_for(watched) if len(watched) <= _FEW_RELATIONS else system.crossings)(t, x)
+        crossings, only_watched = self._watched_scalar(system, watched)
+        raw = crossings(t, x)
         if len(watched) >= _VECTORISE_FROM:
             with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
-                w, flips = self._flips(np.asarray(raw, dtype=float), relations, watched)
+                if only_watched:
+                    plan = self._plan(relations, watched)
+                    raw = np.asarray(raw, dtype=float)
+                    w, flips = plan[0], self._decide(raw[0::2], raw[1::2], plan, False)
+                else:
+                    w, flips = self._flips(np.asarray(raw, dtype=float), relations, watched)
             return tuple(w[flips].tolist())
+        return self._flipped_at(raw, self._scalar_entries(relations, watched, only_watched))
+
+    def _scalar_entries(self, relations, watched: tuple[int, ...], only_watched: bool) -> list[tuple]:
+        """What the scalar watch decides each watched relation from: ``(k, position of its
+        lhs in the crossings' values, d, strict, timed, previous value, epsilon, floor)``,
+        made again only for other watched or relation tuples."""
         plan = self._scalar_plan
-        if plan is None or plan[0] is not watched or plan[1] is not relations:
-            plan = self._scalar_plan = (watched, relations, [
-                (k, 2 * k, *self.kinds[k], bool(relations[k]), self.margins[k], self.floors[k])
-                for k in watched])
+        if plan is None or plan[0] is not watched or plan[1] is not relations or plan[2] is not only_watched:
+            # (the sides of watched[j] are at 2j in the watched relations' own values,
+            # at 2k for relation k in every relation's)
+            plan = self._scalar_plan = (watched, relations, only_watched, [
+                (k, 2 * j if only_watched else 2 * k, *self.kinds[k], bool(relations[k]), self.margins[k],
+                 self.floors[k])
+                for j, k in enumerate(watched)])
+        return plan[3]
+
+    @staticmethod
+    def _flipped_at(raw, entries) -> tuple[int, ...]:
+        """The relations of ``entries`` (:meth:`_scalar_entries`) flipped, by their sides in ``raw``."""
         out = []
-        for k, i, d, strict, timed, previous, epsilon, floor in plan[2]:
+        for k, i, d, strict, timed, previous, epsilon, floor in entries:
             if holds(shifted(d, previous, raw[i], raw[i + 1], epsilon, floor, timed), strict) != previous:
                 out.append(k)
         return tuple(out)
@@ -202,12 +229,12 @@ class RelationEvaluator:
         the flip instant takes its trial points from it when several relations flip in
         one step (twins of one component, or several parts of a storm) instead of
         halving alone."""
-        crossings = system.crossings_for(tuple(sorted(candidates)))
+        crossings, at = self._candidates_crossings(system, candidates)
         terms = []
         for k in candidates:
             d, _strict, timed = self.kinds[k]
             previous = bool(relations[k])
-            terms.append((2 * k, -1.0 if previous else 1.0, d, previous, timed, self.margins[k], self.floors[k]))
+            terms.append((at[k], -1.0 if previous else 1.0, d, previous, timed, self.margins[k], self.floors[k]))
 
         def distance(t, x) -> float:
             raw = crossings(t, x)
@@ -237,12 +264,12 @@ class RelationEvaluator:
                 return self.flipped_relations(system, t, x, relations, candidates)
             return flipped_many, (self.distance_to_first_flip(system, relations, candidates)
                                   if with_distance else None)
-        crossings = system.crossings_for(tuple(sorted(candidates)))
+        crossings, at = self._candidates_crossings(system, candidates)
         terms = []
         for k in candidates:
             d, strict, timed = self.kinds[k]
             previous = bool(relations[k])
-            terms.append((k, 2 * k, d, strict, timed, previous, self.margins[k], self.floors[k]))
+            terms.append((k, at[k], d, strict, timed, previous, self.margins[k], self.floors[k]))
         last: list = [None, None, None]  # t, x and the shifted values there
 
         def shifted_at(t, x) -> list[float]:
@@ -269,6 +296,60 @@ class RelationEvaluator:
 
         return flipped, (distance if with_distance else None)
 
+    def _watched_scalar(self, system: CompiledSystem, watched: tuple[int, ...]) -> tuple[Callable, bool]:
+        """``(f, only_watched)``: the scalar crossings the watch calls between events,
+        ``f(t, x)`` giving the sides of the ``watched`` relations only (``only_watched``:
+        ``lhs, rhs`` of ``watched[0]``, then of ``watched[1]`` ...) where the system
+        offers that (``crossings_of``), else every relation's at their places (a system
+        of parts: those of the parts that own the watched ones, see ``crossings_for``).
+
+        As for the numpy crossings of a step's samples (:meth:`_watched_many`), the
+        unwatched relations' sides are not computed: the relevance analysis decided
+        that no flip of theirs changes anything in this discrete state, so between
+        events neither their values nor their failures matter (``_check_crossings``
+        reports only the watched ones' sides that are not finite).  A side that only
+        an unwatched relation reads, and that cannot be computed (``math.log`` of a
+        negative number, a singular solve no watched side needs), raises nothing here;
+        the check at the end of each step and event iteration still compute the whole
+        function.  Kept for the last segment's system and watched tuple (asked at every
+        step and trial point).
+        """
+        last = self._watch_scalar
+        if last is not None and last[0] is system and last[1] is watched:
+            return last[2], last[3]
+        crossings = self._own_crossings(system, watched)
+        only_watched = crossings is not None
+        if crossings is None:
+            crossings = system.crossings_for(watched) if len(watched) <= _FEW_RELATIONS else system.crossings
+        self._watch_scalar = (system, watched, crossings, only_watched)
+        return crossings, only_watched
+
+    def _own_crossings(self, system: CompiledSystem, relations: tuple[int, ...]) -> Callable | None:
+        """The system's ``crossings_of(relations)`` (None where it has none), kept for the
+        next segment or search with the same (a run goes back and forth between a few
+        discrete states)."""
+        key = (id(system), relations)
+        found = self._crossings_of.get(key)
+        if found is None or found[0] is not system:
+            # looked up on the class, as vectorised_crossings_for (see _watched_many)
+            method = getattr(type(system), "crossings_of", None)
+            found = (system, method(system, relations) if method is not None else None)
+            if len(self._crossings_of) >= _PLANS_KEPT:
+                self._crossings_of.pop(next(iter(self._crossings_of)))  # the oldest out
+            self._crossings_of[key] = found
+        return found[1]
+
+    def _candidates_crossings(self, system: CompiledSystem, candidates) -> tuple[Callable, dict[int, int]]:
+        """``(f, at)`` for the search of a flip instant: ``f(t, x)`` computes the sides of
+        ``candidates`` (their own crossings where the system offers them, as
+        :meth:`_watched_scalar`; else ``crossings_for``), and ``at[k]`` is where relation
+        ``k``'s ``lhs`` is in its values (``rhs`` follows)."""
+        relations = tuple(sorted(candidates))
+        crossings = self._own_crossings(system, relations)
+        if crossings is not None:
+            return crossings, {k: 2 * j for j, k in enumerate(relations)}
+        return system.crossings_for(relations), {k: 2 * k for k in relations}
+
     def first_flip(self, system: CompiledSystem, times, states, relations,
                    watched: tuple[int, ...]) -> tuple[int, tuple[int, ...]] | None:
         """The first of ``times`` at which a watched relation has flipped.
@@ -283,7 +364,9 @@ class RelationEvaluator:
         when the system's code allows it
         (:meth:`_watched_many`; from an instant at which a watched relation's sides
         are not all finite on, or if it raises, the scalar function
-        decides instant by instant), else from the scalar function at each time.
+        decides instant by instant), else from the scalar function at each time
+        (both of them giving the watched relations' sides only where the system
+        offers that: :meth:`_watched_scalar`).
         A few samples of few relations are decided one by one: a numpy call has
         a fixed cost of some tens of microseconds.
         """
@@ -299,8 +382,20 @@ class RelationEvaluator:
                 found, start = self._first_flip_collected(system, times, states, relations, watched)
             if found is not None or start >= m:
                 return found
+        if len(watched) >= _VECTORISE_FROM:
+            for i in range(start, m):
+                hit = self.flipped_relations(system, times[i], states[i], relations, watched)
+                if hit:
+                    return i, hit
+            return None
+        # flipped_relations at each instant in turn, with the crossings and what decides
+        # the relations looked up once for all of them (a step of a storm's part has few
+        # samples, and the lookups cost as much as the decisions)
+        crossings, only_watched = self._watched_scalar(system, watched)
+        entries = self._scalar_entries(relations, watched, only_watched)
+        flipped_at = self._flipped_at
         for i in range(start, m):
-            hit = self.flipped_relations(system, times[i], states[i], relations, watched)
+            hit = flipped_at(crossings(times[i], states[i]), entries)
             if hit:
                 return i, hit
         return None
@@ -367,9 +462,12 @@ class RelationEvaluator:
 
     def _first_flip_collected(self, system, times, states, relations, watched):
         """The same with the scalar crossing function called at each time: its values
-        are those :meth:`flipped_relations` decides on."""
+        are those :meth:`flipped_relations` decides on (the watched relations' own
+        crossings where the system offers them, else the whole function)."""
         columns = []
-        crossings = system.crossings
+        crossings, only_watched = self._watched_scalar(system, watched)
+        if not only_watched:
+            crossings = system.crossings
         for t, x in zip(times, states):
             try:
                 columns.append(crossings(t, x))
@@ -380,7 +478,11 @@ class RelationEvaluator:
         try:
             raw = np.array(columns, dtype=float).T
             with np.errstate(all="ignore"):
-                w, flips = self._flips(raw, relations, watched)
+                if only_watched:
+                    plan = self._plan(relations, watched)
+                    w, flips = plan[0], self._decide(raw[0::2], raw[1::2], plan, True)
+                else:
+                    w, flips = self._flips(raw, relations, watched)
         except (TypeError, ValueError):  # values that are no numbers: decided one by one
             return None, 0
         stop = flips.any(axis=0)

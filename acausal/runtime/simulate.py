@@ -1078,9 +1078,9 @@ class _Run:
 
 def _all_finite(values) -> bool:
     """Whether every one of ``values`` is finite: the tuple of a few floats a generated
-    function returns is checked in Python (a numpy call costs more than the check),
-    anything else with numpy."""
-    if type(values) is tuple and len(values) <= _FEW_VALUES:
+    function returns (or the list a part's system gathers from it) is checked in Python
+    (a numpy call costs more than the check), anything else with numpy."""
+    if (type(values) is tuple or type(values) is list) and len(values) <= _FEW_VALUES:
         try:
             return all(map(math.isfinite, values))
         except TypeError:  # not plain numbers: numpy decides (or raises) as below
@@ -1088,7 +1088,7 @@ def _all_finite(values) -> bool:
     return bool(np.isfinite(np.asarray(values, dtype=float)).all())
 
 
-#: Up to this many values, :func:`_all_finite` checks a tuple in Python.
+#: Up to this many values, :func:`_all_finite` checks a tuple or list in Python.
 _FEW_VALUES = 64
 
 
