@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import operator
 from typing import Callable
 
 import numpy as np
@@ -170,16 +171,7 @@ class Recorder:
         if there is none).
         """
         model = translation.data
-        continuous = [v.name for v in model.variables if not v.is_discrete]
-        discrete_names = list(model.discrete_variables)
-        derivative_names: dict[str, None] = {}  # (in order of first appearance)
-        for system in translation.systems.values():
-            derivative_names.update(dict.fromkeys(system.derivative_names))
-        derivative_names = list(derivative_names)
-        names = continuous + derivative_names + discrete_names
-        if translation.demand is not None:
-            names = [n for n in names if n in translation.demand] + discrete_names
-        index = {n: k for k, n in enumerate(names)}
+        names, index, parameters = _column_names(translation)
         n = self._count
         # one row per column (each column of the result is then one contiguous row of it)
         data = np.full((len(names), n), np.nan)
@@ -202,10 +194,51 @@ class Recorder:
             if found is not None and bad is None:
                 bad = (start + found[0], found[1], found[2])
         columns = {n: data[k] for n, k in index.items()}
-        for p in model.parameters:
-            if translation.demand is None or p.name in translation.demand:
-                columns[p.name] = np.full(len(times), p.value)
+        # the parameters' columns (their values read at each run): those of float values
+        # in one array, a row each as ``data``; others as numpy makes them of their values
+        floats = [p.value for p in parameters if type(p.value) is float]
+        constant = iter(())
+        if floats:
+            constant = np.empty((len(floats), len(times)))
+            constant[:] = np.array(floats, dtype=float)[:, None]
+            constant = iter(constant)
+        for p in parameters:  # (in the model's order)
+            columns[p.name] = next(constant) if type(p.value) is float else np.full(len(times), p.value)
         return times, columns, bad
+
+
+def _column_names(translation: CompiledModel) -> tuple[list[str], dict[str, int], list]:
+    """``(names, index, parameters)``: the result's columns of variables (continuous,
+    derivatives, discrete; only the demanded ones with an output demand), their rows,
+    and the parameters that have columns.
+
+    They depend only on the translation's model, its output demand and the systems it
+    has entered (the derivatives are the systems'), so they are kept with the
+    translation while those are the same objects (a warm run enters no system).
+    """
+    model = translation.data
+    kept = getattr(translation, "extras", None)
+    systems = tuple(translation.systems.values())
+    key = (model, translation.demand, systems)  # (kept: their addresses stay theirs)
+    if kept is not None:
+        found = kept.get("column_names")
+        if found is not None and len(found[0][2]) == len(systems) and all(
+                map(operator.is_, (*found[0][:2], *found[0][2]), (*key[:2], *systems))):
+            return found[1]
+    continuous = [v.name for v in model.variables if not v.is_discrete]
+    discrete_names = list(model.discrete_variables)
+    derivative_names: dict[str, None] = {}  # (in order of first appearance)
+    for system in translation.systems.values():
+        derivative_names.update(dict.fromkeys(system.derivative_names))
+    names = continuous + list(derivative_names) + discrete_names
+    if translation.demand is not None:
+        names = [n for n in names if n in translation.demand] + discrete_names
+    index = {n: k for k, n in enumerate(names)}
+    parameters = [p for p in model.parameters if translation.demand is None or p.name in translation.demand]
+    found = (names, index, parameters)
+    if kept is not None:
+        kept["column_names"] = (key, found)
+    return found
 
 
 #: :meth:`Recorder.add` as defined here (an override makes :meth:`Recorder.emit_rows` call it per row)
@@ -276,7 +309,8 @@ def _fill(block: np.ndarray, index: dict[str, int], times: np.ndarray, states: n
             with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
                 out = many(times, values[:n_states])
             values[n_states:] = out
-            redo = np.flatnonzero(~np.isfinite(out).all(axis=0)).tolist()
+            # (as a rule every value is finite: one check, and the rows only otherwise)
+            redo = [] if np.isfinite(out).all() else np.flatnonzero(~np.isfinite(out).all(axis=0)).tolist()
         except Exception:  # the scalar function raises where it should, or not at all
             redo = range(m)
     for r in redo:

@@ -35,7 +35,7 @@ import numpy as np
 
 from .contract import CompiledSystem
 from .relations import (decide, decide_many, decided_clearly, decided_clearly_many, holds, holds_many, kind_arrays,
-                        margin, shifted, shifted_many)
+                        margin, shifted, shifted_many, sides_many)
 
 __all__ = ["RelationEvaluator"]
 
@@ -87,6 +87,8 @@ class RelationEvaluator:
         # the last watch (the same watched tuple and relation values are asked step after step)
         self._kind_arrays: tuple | None = None
         self._margin_arrays: tuple | None = None
+        #: the sides and margins of the last event pass's crossings, as ``(raw, sides)``
+        self._last_sides: tuple | None = None
         self._scalar_plan: tuple | None = None
         self._vector_plan: tuple | None = None
         #: the numpy plans by (watched, relation values), for the next segment with the same
@@ -130,8 +132,9 @@ class RelationEvaluator:
         if len(self.kinds) >= _VECTORISE_FROM:
             if self._kind_arrays is None:
                 self._kind_arrays = kind_arrays(self.kinds)
+            sides = self._sides(raw)
             return decide_many(self.kinds, raw, previous, self.margins, floor=self.floors, exact=exact,
-                               fired=fired, clear=clear, arrays=self._kind_arrays)
+                               fired=fired, clear=clear, arrays=self._kind_arrays, sides=sides)
         return decide(self.kinds, raw, previous, self.margins, floor=self.floors, exact=exact, fired=fired,
                       clear=clear)
 
@@ -140,10 +143,27 @@ class RelationEvaluator:
         gives them) lies beyond its margin, or is exactly at its limit and kept a
         value decided clearly before (``inherited``: the answer for the pass before)."""
         if len(self.margins) >= _VECTORISE_FROM:
-            if self._margin_arrays is None:
-                self._margin_arrays = (np.array(self.margins, dtype=float), np.array(self.floors, dtype=float))
-            return decided_clearly_many(raw, *self._margin_arrays, inherited)
+            return decided_clearly_many(raw, *self._margins_many(), inherited, sides=self._sides(raw))
         return decided_clearly(raw, self.margins, self.floors, inherited)
+
+    def _margins_many(self) -> tuple[np.ndarray, np.ndarray]:
+        """The margins and floors as numpy arrays (made once)."""
+        if self._margin_arrays is None:
+            self._margin_arrays = (np.array(self.margins, dtype=float), np.array(self.floors, dtype=float))
+        return self._margin_arrays
+
+    def _sides(self, raw) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``sides_many(raw)`` with the relations' margins, kept for the same ``raw``: a pass
+        of event iteration decides the relations (:meth:`relation_values`) and then which
+        were decided clearly (:meth:`clearly_decided`) from one set of sides, and both
+        read the same margins.  (The kept ``raw`` stays referenced, so that ``is`` cannot
+        meet another object at its address.)"""
+        last = self._last_sides
+        if last is not None and last[0] is raw:
+            return last[1]
+        sides = sides_many(raw, *self._margins_many())
+        self._last_sides = (raw, sides)
+        return sides
 
     def keep_crossed(self, raw, fired, guess, before, decided) -> tuple[bool, ...]:
         """``decided`` with each crossed relation that the guess already holds at its
@@ -437,12 +457,14 @@ class RelationEvaluator:
         plan = self._plan(relations, watched)
         try:
             # a division by zero or an invalid operation (where Python's floats could
-            # raise) leaves the instants to the scalar function
+            # raise) leaves the instants to the scalar function.  (One numpy state for
+            # the decisions too: from finite sides they do no invalid operation, and
+            # from sides that are not all finite one that raises only hands the same
+            # answer to the scalar function from the first instant on.)
             with np.errstate(divide="raise", invalid="raise", over="ignore", under="ignore"):
                 raw = many(np.asarray(times, dtype=float), np.asarray(states, dtype=float).T)
-            if not only_watched:
-                raw = raw[plan[3]]  # the watched relations' sides, ``lhs, rhs`` of each in turn
-            with np.errstate(all="ignore"):
+                if not only_watched:
+                    raw = raw[plan[3]]  # the watched relations' sides, ``lhs, rhs`` of each in turn
                 flips = self._decide(raw[0::2], raw[1::2], plan, True)
         except Exception:  # the scalar function raises where it should, or not at all
             return None, 0

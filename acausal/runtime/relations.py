@@ -35,7 +35,7 @@ from typing import Sequence
 import numpy as np
 
 __all__ = ["ROUND_OFF", "Kind", "decide", "decide_many", "decided_clearly", "decided_clearly_many", "holds",
-           "holds_many", "kind_arrays", "margin", "margin_many", "shifted", "shifted_many"]
+           "holds_many", "kind_arrays", "margin", "margin_many", "shifted", "shifted_many", "sides_many"]
 
 #: Relative size of ``lhs - rhs`` that counts as zero for a time event's relation at
 #: its own instant: its crossing time is computed in closed form, so what is left of
@@ -88,14 +88,17 @@ def shifted(d: float, previous: bool, lhs: float, rhs: float, epsilon: float, fl
 
 
 def shifted_many(d, previous, lhs: np.ndarray, rhs: np.ndarray, epsilon, floor, plain=None,
-                 toward=None) -> np.ndarray:
+                 toward=None, margins=None) -> np.ndarray:
     """:func:`shifted` with numpy; ``plain`` None (a margin everywhere) or a mask (callers
     silence numpy's warnings: inf/NaN sides decide as in Python).  ``toward``: the
-    direction of the margin, ``np.where(previous, d, -d)``, when the caller keeps it."""
+    direction of the margin, ``np.where(previous, d, -d)``, when the caller keeps it;
+    ``margins``: :func:`margin_many` of these sides, when the caller has computed it."""
     g = lhs - rhs
     if toward is None:
         toward = np.where(previous, d, -d)
-    moved = g + toward * margin_many(epsilon, floor, lhs, rhs)
+    if margins is None:
+        margins = margin_many(epsilon, floor, lhs, rhs)
+    moved = g + toward * margins
     return d * (moved if plain is None else np.where(plain, g, moved))
 
 
@@ -127,12 +130,13 @@ def decided_clearly(raw: Sequence[float], epsilon: Sequence[float], floor: Seque
 
 
 def decided_clearly_many(raw, epsilon: np.ndarray, floor: np.ndarray,
-                         inherited: Sequence[bool] | None = None) -> tuple[bool, ...]:
-    """:func:`decided_clearly` with numpy (``epsilon`` and ``floor`` as arrays)."""
+                         inherited: Sequence[bool] | None = None, sides=None) -> tuple[bool, ...]:
+    """:func:`decided_clearly` with numpy (``epsilon`` and ``floor`` as arrays).  ``sides``:
+    ``(lhs, rhs, margins)`` of ``raw`` as arrays (:func:`sides_many`), when the caller has
+    them (event iteration decides the relations from the same sides first)."""
     with np.errstate(invalid="ignore", over="ignore"):  # a NaN side makes the comparison false
-        values = np.asarray(raw, dtype=float)
-        lhs, rhs = values[0::2], values[1::2]
-        clear = np.abs(lhs - rhs) > margin_many(epsilon, floor, lhs, rhs)
+        lhs, rhs, margins = sides_many(raw, epsilon, floor) if sides is None else sides
+        clear = np.abs(lhs - rhs) > margins
         equal = lhs == rhs
         if equal.any():
             clear[equal] = False if inherited is None else np.asarray(inherited, dtype=bool)[equal]
@@ -192,15 +196,20 @@ def decide(kinds: Sequence[Kind], raw: Sequence[float], previous: Sequence[bool]
 
 def decide_many(kinds: Sequence[Kind], raw, previous: Sequence[bool], epsilon: float | Sequence[float], *,
                 floor: float | Sequence[float] = 1.0, exact: bool = False, fired: frozenset = frozenset(),
-                clear: Sequence[bool] | None = None, arrays=None) -> tuple[bool, ...]:
+                clear: Sequence[bool] | None = None, arrays=None, sides=None) -> tuple[bool, ...]:
     """:func:`decide` with numpy: the same rules, in the same order, on the same doubles.
 
-    ``arrays`` may pass ``kind_arrays(kinds)`` computed once.
+    ``arrays`` may pass ``kind_arrays(kinds)`` computed once; ``sides``, ``(lhs, rhs,
+    margins)`` of ``raw`` (:func:`sides_many` with these ``epsilon`` and ``floor``), shared
+    with :func:`decided_clearly_many` of the same sides.
     """
     d, strict, timed = kind_arrays(kinds) if arrays is None else arrays
     with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
-        values = np.asarray(raw, dtype=float)
-        lhs, rhs = values[0::2], values[1::2]
+        if sides is None:
+            values = np.asarray(raw, dtype=float)
+            lhs, rhs, given = values[0::2], values[1::2], None
+        else:
+            lhs, rhs, given = sides
         in_fired = np.zeros(len(d), dtype=bool)
         if fired:
             in_fired[list(fired)] = True
@@ -213,12 +222,24 @@ def decide_many(kinds: Sequence[Kind], raw, previous: Sequence[bool], epsilon: f
         else:
             kept = np.zeros(len(d), dtype=bool)
         # rules 3 and 4
-        margins = np.asarray(epsilon, dtype=float) if isinstance(epsilon, (list, tuple)) else epsilon
-        floors = np.asarray(floor, dtype=float) if isinstance(floor, (list, tuple)) else floor
+        margins = floors = None  # (only to compute the margins, unless ``sides`` has them)
+        if given is None:
+            margins = np.asarray(epsilon, dtype=float) if isinstance(epsilon, (list, tuple)) else epsilon
+            floors = np.asarray(floor, dtype=float) if isinstance(floor, (list, tuple)) else floor
         plain = True if exact else timed | in_fired | (lhs == rhs)
-        v = shifted_many(d, previous, lhs, rhs, margins, floors, plain=plain)
+        v = shifted_many(d, previous, lhs, rhs, margins, floors, plain=plain, margins=given)
         v = np.where(at_root, 0.0, v)
         return tuple((holds_many(v, strict) | kept).tolist())
+
+
+def sides_many(raw, epsilon, floor) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(lhs, rhs, margins)``: the sides of ``raw`` (``lhs_0, rhs_0, lhs_1, ...``) as arrays
+    and each relation's :func:`margin_many`, the numbers :func:`decide_many` and
+    :func:`decided_clearly_many` both read (computed once for a pass of event iteration)."""
+    values = np.asarray(raw, dtype=float)
+    lhs, rhs = values[0::2], values[1::2]
+    with np.errstate(invalid="ignore", over="ignore"):  # inf/NaN sides decide as in Python
+        return lhs, rhs, margin_many(epsilon, floor, lhs, rhs)
 
 
 def kind_arrays(kinds: Sequence[Kind]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -27,7 +27,7 @@ from hypothesis import strategies as st
 from acausal import Eq, Experiment, If, Integer, Model, Variable, When, der, pre, simulate, time
 from acausal.runtime import relation_evaluator, relevance
 from acausal.runtime.relations import (ROUND_OFF, decide, decide_many, decided_clearly, decided_clearly_many, holds,
-                                       holds_many, margin, margin_many, shifted, shifted_many)
+                                       holds_many, margin, margin_many, shifted, shifted_many, sides_many)
 
 # -- the two forms of one rule, on random relation sets ---------------------------------
 
@@ -104,6 +104,24 @@ def test_scalar_and_numpy_hysteresis_agree(case):
     # whether each was decided beyond its margin, with and without the answer before
     assert decided_clearly(raw, eps, bottom, clear) == \
         decided_clearly_many(raw, np.array(eps, dtype=float), np.array(bottom, dtype=float), clear)
+
+
+@settings(max_examples=400, deadline=None)
+@given(relation_sets())
+def test_shared_margins_decide_as_computed_ones(case):
+    """A pass of event iteration with many relations computes their margins once
+    (``sides_many``) for its decisions and for whether they were decided clearly: the
+    same answers as each function computing its own."""
+    kinds, raw, previous, fired, clear, exact, epsilon, floor = case
+    n = len(kinds)
+    eps = epsilon if isinstance(epsilon, list) else [epsilon] * n
+    bottom = floor if isinstance(floor, list) else [floor] * n
+    arrays = (np.array(eps, dtype=float), np.array(bottom, dtype=float))
+    sides = sides_many(raw, *arrays)
+    assert decide_many(kinds, raw, previous, eps, floor=bottom, exact=exact, fired=fired, clear=clear,
+                       sides=sides) == decide_many(kinds, raw, previous, eps, floor=bottom, exact=exact,
+                                                   fired=fired, clear=clear)
+    assert decided_clearly_many(raw, *arrays, clear, sides=sides) == decided_clearly_many(raw, *arrays, clear)
 
 
 def _same(a: float, b: float) -> bool:
