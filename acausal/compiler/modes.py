@@ -57,6 +57,31 @@ def describe_key(selectors, key, relation_texts=None) -> str:
     return ", ".join(parts) or "(continuous)"
 
 
+#: How long a discrete state's description may be where it names generated code and
+#: messages (:func:`brief_description`).
+BRIEF_DESCRIPTION = 300
+
+
+def brief_description(description: str, limit: int = BRIEF_DESCRIPTION) -> str:
+    """``description`` (of :func:`describe_key`) as it names a system's generated code and
+    messages: whole when short, else its first values and how many more there are.
+
+    A drive train of 1000 bearings has a discrete state of 4000 values: written out, it
+    would be the first line of the generated source, the file name of its code objects
+    and part of every message and traceback.  The system keeps the whole description.
+    """
+    if len(description) <= limit:
+        return description
+    items = description.split(", ")
+    kept, length = [], 0
+    for item in items:
+        if length + len(item) + 2 > limit and kept:
+            break
+        kept.append(item)
+        length += len(item) + 2
+    return f"{', '.join(kept)}, ... ({len(items) - len(kept)} more)"
+
+
 class PassLog:
     """``(pass name, seconds)`` of every pass run, in order."""
 

@@ -38,7 +38,7 @@ from .clusters import Cluster, ComposedInitialSystem, ComposedSystem, compose
 from .compiled import DiscreteProgram
 from .flatten import start_parameter
 from .initial import InitialSystem, compile_initial_system
-from .modes import ModeSystem, PassLog, compile_mode, describe_key, shared_system
+from .modes import ModeSystem, PassLog, brief_description, compile_mode, describe_key, shared_system
 from .part_shapes import part_shape, renamed_initial, renamed_mode, twin_of
 from .rebinding import _bind_mode
 
@@ -124,7 +124,7 @@ class PartSystems:
             renamed = self._renamed_part(cluster, subkey, description, cache)
             if renamed is not None:
                 return renamed
-        context = f"{self.flat.name} [cluster {cluster.index + 1}: {description}]"
+        context = f"{self.flat.name} [cluster {cluster.index + 1}: {brief_description(description)}]"
         passes = PassLog()
         with passes.run("specialise"):
             equations = self.specialise(key, [self.partitioned.equations[i] for i in cluster.equations])
@@ -241,7 +241,8 @@ class PartSystems:
             bound = self._bound_initial(source, mode, cache.parameters)
             if bound is not None:
                 return bound
-        context = f"initialization of {self.flat.name} [cluster {cluster.index + 1}: {mode.description}]"
+        context = (f"initialization of {self.flat.name} "
+                   f"[cluster {cluster.index + 1}: {brief_description(mode.description)}]")
         initial = [self.partitioned.initial_equations[i] for i in cluster.initial_equations]
         return compile_initial_system(mode, self.specialise(key, initial), context, cache, self.continuous)
 

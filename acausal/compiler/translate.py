@@ -36,7 +36,8 @@ from .diskcache import DiskCache
 from .clusters import Clustering, ComposedInitialSystem, ComposedSystem, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, FlatVariable, flatten, start_parameter
 from .initial import InitialSystem, compile_initial_system, start_value_relations
-from .modes import ModeSystem, PassLog, RelaxedConstraints, compile_mode, describe_key, shared_system
+from .modes import (ModeSystem, PassLog, RelaxedConstraints, brief_description, compile_mode, describe_key,
+                    shared_system)
 from .compiled import ClockData, DelayData, ModelData
 from .partition import PartitionedModel, partition
 from .discrete import DiscreteProgram, compile_discrete
@@ -256,7 +257,7 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
     # -- building systems -----------------------------------------------------
 
     def _context(self, description: str) -> str:
-        return f"{self.flat.name} [{description}]" if self.partitioned.is_hybrid else self.flat.name
+        return f"{self.flat.name} [{brief_description(description)}]" if self.partitioned.is_hybrid else self.flat.name
 
     def system(self, key: tuple) -> ModeSystem:
         """The compiled system of discrete state ``key`` (built on first use)."""
@@ -396,7 +397,7 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
                 return bound
         context = f"initialization of {self.flat.name}"
         if self.partitioned.is_hybrid:
-            context += f" [{mode.description}]"
+            context += f" [{brief_description(mode.description)}]"
         return compile_initial_system(mode, self.specialise(key, self.partitioned.initial_equations),
                                       context, self.cache, self.continuous, self.flat.delays)
 

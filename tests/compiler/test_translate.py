@@ -152,3 +152,24 @@ def test_two_tables_of_one_generated_name_stay_apart():
     x = sp.Symbol("x", real=True)
     f, g = compile_functions([["x"], ["x"]], [first(x), second(x)])
     assert (f(0.5), g(0.5)) == (0.5, 2.5)
+
+
+def test_a_long_discrete_state_names_its_code_briefly():
+    """The generated code of a state of many values is named by its first values and how
+    many more there are (not 4000 values in every traceback); the system keeps them all."""
+    from acausal import simulate
+    from acausal.compiler.modes import BRIEF_DESCRIPTION, describe_key
+    from examples.benchmarks import drive_train_model
+
+    translation = translate(drive_train_model(30), cache=False)
+    simulate(translation, stop_time=0.01)
+    for system in [*translation.systems.values(), *translation.initial_systems.values()]:
+        first_line = system.code.source.split("\n", 1)[0]
+        assert len(first_line) < BRIEF_DESCRIPTION + 120
+        assert "more)]" in first_line
+    mode = next(iter(translation.systems.values()))
+    assert mode.description == describe_key(translation.selectors, mode.key,
+                                            {r.symbol.name: r.text for r in translation.partitioned.relations})
+    assert mode.description.count("=") == len(translation.selectors)
+    hidden = int(mode.code.source.split("\n", 1)[0].rsplit("(", 1)[1].split()[0])
+    assert hidden + mode.code.source.split("\n", 1)[0].count("=") == len(translation.selectors)
