@@ -12,7 +12,6 @@ definition finds on the watched relations.
 from __future__ import annotations
 
 import math
-import types
 
 import numpy as np
 import pytest
@@ -21,44 +20,21 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acausal import simulate, translate
-from acausal.compiler.algebraic import Assign, LinearSolve
-from acausal.compiler.codegen import generate
-from acausal.compiler.generated import CompiledFunctions, vectorised
+from acausal.compiler.algebraic import LinearSolve
+from acausal.compiler.generated import vectorised
 from acausal.errors import SolverError
-from acausal.language import real_symbol, time
-from acausal.runtime.events import evaluator_for
 from acausal.runtime.recorder import Recorder
+from generated_fixtures import (CROSSINGS, KNIFE, VALUE, Compiled, S, bit_identical, clutches_evaluator,
+                                compiled_system, k, solve_steps, time, x1, x2)
 from examples.benchmarks import StickSlip
 from examples.coupled_clutches import CoupledClutches
 from examples.friction import Friction
 
-S = real_symbol
-x1, x2, k, a, b, c, d = (S(n) for n in ("x1", "x2", "k", "a", "b", "c", "d"))
-KNIFE = st.sampled_from([0.0, -0.0, 1.0, -1.0, 2.0, 0.5, 1e-300, 3.0, math.pi])
-VALUE = KNIFE | st.floats(-5, 5, allow_nan=False, allow_infinity=False)
-
-
-def same(p, q) -> bool:
-    """Bit for bit (NaN equal to NaN, -0.0 not equal to 0.0)."""
-    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
-    return p.shape == q.shape and np.array_equal(p.view(np.int64), q.view(np.int64))
+same = bit_identical
 
 
 def rows_of(relations) -> list[int]:
     return [2 * j + side for j in relations for side in (0, 1)]
-
-
-class _Compiled(types.SimpleNamespace, CompiledFunctions):
-    """A compiled stand-in for a ModeSystem: its generated functions and text, with the
-    numpy forms a ModeSystem has (CompiledFunctions')."""
-
-    parts = None
-
-
-def _system(steps, crossings, unknowns, states=("x1", "x2"), name="w") -> _Compiled:
-    code = generate(steps, states, (), unknowns, ("k",), crossings=crossings, name=name)
-    _derivatives, crossing_fn, outputs = code.make([1.5])
-    return _Compiled(crossings=crossing_fn, outputs=outputs, code=code, states=states)
 
 
 # -- the function: the whole function's rows, computed without the rest ---------------------------
@@ -86,25 +62,11 @@ def test_watched_rows_equal_the_whole_numpy_functions_rows_on_a_run(model):
                 assert same(watched(t, X), whole[rows_of(relations)]), (system.description, relations)
 
 
-def _steps():
-    # two 1x1 linear solves (their guards, the temporary ``_a`` assigned twice), a
-    # function called element by element, a Piecewise: each relation reads some of them
-    return [
-        Assign("a", sp.Piecewise((x1 ** 2 + sp.sin(time), x1 > 0), (sp.exp(-x2), True)), None),
-        LinearSolve(("c",), ((x1,),), (x2,), (), ("e1",)),
-        LinearSolve(("d",), ((x2 - 1,),), (x1 + k,), (), ("e2",)),
-        Assign("b", sp.Max(x1, x2) + c * d, None),
-    ]
-
-
-_CROSSINGS = (a, x2, c, time, d, k, b, sp.Float(0.5), x1 ** 3 - x2 / 3, sp.sqrt(k + x2 ** 2))
-
-
 @settings(max_examples=60, derandomize=True, deadline=None)
 @given(xs=st.lists(st.tuples(VALUE, VALUE, st.floats(0, 3)), min_size=1, max_size=8),
-       relations=st.lists(st.integers(0, len(_CROSSINGS) // 2 - 1), min_size=1, max_size=5, unique=True))
+       relations=st.lists(st.integers(0, len(CROSSINGS) // 2 - 1), min_size=1, max_size=5, unique=True))
 def test_watched_rows_equal_the_whole_functions_rows_and_the_scalar_values(xs, relations):
-    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    system = compiled_system(solve_steps(), CROSSINGS, ("a", "c", "d", "b"))
     relations = tuple(relations)
     t = np.array([p[2] for p in xs])
     X = np.array([[p[0] for p in xs], [p[1] for p in xs]])
@@ -136,7 +98,7 @@ def test_watched_rows_equal_the_whole_functions_rows_and_the_scalar_values(xs, r
 
 
 def test_a_guard_goes_with_a_solve_no_watched_relation_needs():
-    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    system = compiled_system(solve_steps(), CROSSINGS, ("a", "c", "d", "b"))
     t = np.zeros(2)
     X = np.array([[0.0, 2.0], [3.0, 4.0]])  # x1 = 0: the solve for c is singular in column 0
     with pytest.raises(SolverError):
@@ -152,7 +114,7 @@ def test_a_guard_goes_with_a_solve_no_watched_relation_needs():
 
 
 def test_what_the_watched_rows_do_not_need_is_not_computed():
-    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    system = compiled_system(solve_steps(), CROSSINGS, ("a", "c", "d", "b"))
     source = system.code.source
     only_k = vectorised(system.crossings, source, (5, 4))  # k, d: rows in the order asked
     assert only_k.__code__.co_names.count("_v_map") == 0  # no math.sin, no exp, no power
@@ -167,14 +129,14 @@ def test_no_numpy_version_for_any_rows_without_one_for_the_whole():
     zero, one, two = sp.Integer(0), sp.Integer(1), sp.Integer(2)
     steps = [LinearSolve(("z0", "z1", "z2"), ((two, one, zero), (one, two, one), (zero, one, two + x1 ** 2)),
                          (x1, x2, k), (), ("e0", "e1", "e2"))]
-    system = _system(steps, (z[0], x1, x2, k), ("z0", "z1", "z2"))
+    system = compiled_system(steps, (z[0], x1, x2, k), ("z0", "z1", "z2"))
     assert system.vectorised("crossings") is None
     assert system.vectorised_crossings_for((1,)) is None  # relation 1 needs no solve, but still
 
 
 # -- the samples of a step decided with it ----------------------------------------------------------
 
-_EVALUATOR = evaluator_for(translate(CoupledClutches()))
+_EVALUATOR = clutches_evaluator()
 _RELATIONS = _EVALUATOR.relations
 
 
@@ -189,7 +151,7 @@ def _definition_flips(raw, relations, watched):
     return tuple(out)
 
 
-class _WatchedOnly(_Compiled):
+class _WatchedOnly(Compiled):
     """A stand-in whose scalar ``crossings_for`` computes the relations asked for only (NaN
     elsewhere, as a system of parts gives them): the scalar path's definition of the watch."""
 
@@ -197,7 +159,7 @@ class _WatchedOnly(_Compiled):
         made = self.made  # (each relation's own generated function, made once)
         for j in relations:
             if j not in made:
-                made[j] = _system([], tuple(self.sides[2 * j:2 * j + 2]), ()).crossings
+                made[j] = compiled_system([], tuple(self.sides[2 * j:2 * j + 2]), ()).crossings
         own = {j: made[j] for j in relations}
 
         def crossings(t, x):
@@ -217,7 +179,7 @@ def test_first_flip_with_the_watched_crossings_equals_the_definition_on_the_watc
     n = len(_RELATIONS)
     pool = [x1 - time, 1 / x1, x2 ** 2 - k, sp.sqrt(x2), x1 * x2, -x2, sp.Float(0.5), time - 1, x1 / x2]
     sides = [pool[data.draw(st.integers(0, len(pool) - 1))] for _ in range(2 * n)]
-    whole = _system([], tuple(sides), ())
+    whole = compiled_system([], tuple(sides), ())
     system = _WatchedOnly(crossings=whole.crossings, outputs=whole.outputs, code=whole.code,
                           states=whole.states, sides=sides, made={})
     m = data.draw(st.integers(1, 30))
@@ -251,7 +213,7 @@ def test_first_flip_with_the_watched_crossings_equals_the_definition_on_the_watc
 def test_a_system_that_forwards_its_attributes_is_not_asked_for_watched_crossings():
     """A part's system hands unknown attributes on to its mode's, whose crossing vector is
     not the part's: the watched crossings are looked up on its class, which has none."""
-    inner = _system([], (x1, x2, x2, x1), ())
+    inner = compiled_system([], (x1, x2, x2, x1), ())
 
     class Forwarding:
         parts = None

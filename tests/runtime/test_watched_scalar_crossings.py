@@ -15,7 +15,6 @@ cannot be computed.
 from __future__ import annotations
 
 import math
-import types
 
 import numpy as np
 import pytest
@@ -24,33 +23,26 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acausal import simulate, translate
-from acausal.compiler.algebraic import Assign, LinearSolve
-from acausal.compiler.codegen import generate
-from acausal.compiler.generated import CompiledFunctions, rows_function
+from acausal.compiler.algebraic import LinearSolve
+from acausal.compiler.generated import rows_function
 from acausal.compiler.parts import PartSystem
 from acausal.errors import SolverError
-from acausal.language import real_symbol, time
-from acausal.runtime.events import evaluator_for
 from acausal.runtime.relations import shifted
 from examples.benchmarks import StickSlip, storm_model
 from examples.coupled_clutches import CoupledClutches
 from examples.friction import Friction
+from generated_fixtures import (CROSSINGS, KNIFE, VALUE, S, bit_identical, clutches_evaluator, compiled_system, k,
+                                solve_steps, time, x1, x2)
 
-S = real_symbol
-x1, x2, k, a, b, c, d = (S(n) for n in ("x1", "x2", "k", "a", "b", "c", "d"))
-KNIFE = st.sampled_from([0.0, -0.0, 1.0, -1.0, 2.0, 0.5, 1e-300, 3.0, math.pi])
-VALUE = KNIFE | st.floats(-5, 5, allow_nan=False, allow_infinity=False)
-#: what a generated function raises where it cannot compute a value
 FAILURES = (SolverError, ArithmeticError, ValueError)
 
 
 def same(p, q, types: bool = True) -> bool:
-    """The same values bit for bit (NaN equal to NaN, -0.0 not equal to 0.0), and with
-    ``types`` of the same Python types (a side that is the integer 0 stays one)."""
+    """The same values bit for bit, and with ``types`` of the same Python types (a side
+    that is the integer 0 stays one)."""
     if types and [type(v) for v in p] != [type(v) for v in q]:
         return False
-    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
-    return p.shape == q.shape and np.array_equal(p.view(np.int64), q.view(np.int64))
+    return bit_identical(p, q)
 
 
 def sides_of(values, relations) -> list:
@@ -64,19 +56,6 @@ def outcome(f, *args):
         return f(*args)
     except FAILURES as exc:
         return exc
-
-
-class _Compiled(types.SimpleNamespace, CompiledFunctions):
-    """A compiled stand-in for a ModeSystem: its generated functions and text, with what a
-    ModeSystem offers besides (CompiledFunctions')."""
-
-    parts = None
-
-
-def _system(steps, crossings, unknowns, states=("x1", "x2"), name="w") -> _Compiled:
-    code = generate(steps, states, (), unknowns, ("k",), crossings=crossings, name=name)
-    _derivatives, crossing_fn, outputs = code.make([1.5])
-    return _Compiled(crossings=crossing_fn, outputs=outputs, code=code, states=states)
 
 
 def _subsets(n: int, rng) -> list[tuple[int, ...]]:
@@ -116,26 +95,14 @@ def test_watched_values_equal_the_whole_functions_on_a_run(model):
     assert checked > 100
 
 
-def _steps():
-    # two 1x1 linear solves (their guards, the temporary ``_a`` assigned twice), a function
-    # of time, an exponential, a Piecewise, a power: each relation reads some of them
-    return [
-        Assign("a", sp.Piecewise((x1 ** 2 + sp.sin(time), x1 > 0), (sp.exp(-x2), True)), None),
-        LinearSolve(("c",), ((x1,),), (x2,), (), ("e1",)),
-        LinearSolve(("d",), ((x2 - 1,),), (x1 + k,), (), ("e2",)),
-        Assign("b", sp.Max(x1, x2) + c * d, None),
-    ]
-
-
-_CROSSINGS = (a, x2, c, time, d, k, b, sp.Float(0.5), x1 ** 3 - x2 / 3, sp.sqrt(k + x2 ** 2),
-              sp.log(x1), 1 / x2)
+_CROSSINGS = (*CROSSINGS, sp.log(x1), 1 / x2)
 
 
 @settings(max_examples=80, derandomize=True, deadline=None)
 @given(x=st.tuples(VALUE, VALUE), t=st.floats(0, 3),
        relations=st.lists(st.integers(0, len(_CROSSINGS) // 2 - 1), min_size=1, max_size=6, unique=True))
 def test_watched_values_equal_the_whole_functions_values(x, t, relations):
-    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    system = compiled_system(solve_steps(), _CROSSINGS, ("a", "c", "d", "b"))
     relations = tuple(relations)
     x = np.array(x)
     whole = outcome(system.crossings, t, x)
@@ -144,12 +111,17 @@ def test_watched_values_equal_the_whole_functions_values(x, t, relations):
         # the same statements: the same values, and nothing raises that the whole function passes
         assert not isinstance(got, Exception) and same(got, sides_of(whole, relations))
     if isinstance(got, Exception):
-        # a guard or a function kept for a watched side fails only where the whole function does
-        assert type(got) is type(whole)
+        # a guard or a function kept for a watched side fails only where the whole function
+        # does (not necessarily with the same error: at x1 = 0 the whole function stops at
+        # the singular solve for c, which a watched log(x1) does not need, and the watched
+        # function at the log)
+        assert isinstance(whole, Exception)
+        if len(relations) == len(_CROSSINGS) // 2:
+            assert type(got) is type(whole)  # every statement kept: the same first failure
 
 
 def test_what_only_unwatched_sides_need_is_neither_computed_nor_raising():
-    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    system = compiled_system(solve_steps(), _CROSSINGS, ("a", "c", "d", "b"))
     # x1 = 0: the solve for c is singular and log(x1) fails, in the whole function
     x = np.array([0.0, 3.0])
     with pytest.raises(SolverError):
@@ -168,12 +140,12 @@ def test_what_only_unwatched_sides_need_is_neither_computed_nor_raising():
         system.crossings(0.0, x)
     with pytest.raises(ValueError):
         system.crossings_of((5,))(0.0, x)
-    without_log = _system(_steps(), _CROSSINGS[:10], ("a", "c", "d", "b"))
+    without_log = compiled_system(solve_steps(), _CROSSINGS[:10], ("a", "c", "d", "b"))
     assert same(system.crossings_of((4, 2))(0.0, x), sides_of(without_log.crossings(0.0, x), (4, 2)))
 
 
 def test_the_values_are_bound_to_the_systems_own_parameters():
-    system = _system(_steps(), _CROSSINGS, ("a", "c", "d", "b"))
+    system = compiled_system(solve_steps(), _CROSSINGS, ("a", "c", "d", "b"))
     other = system.code.make([-2.0])[1]  # the same code, another parameter vector
     source = system.code.source
     x = np.array([0.7, 2.5])
@@ -189,16 +161,16 @@ def test_no_watched_function_where_the_whole_is_not_straight_line_code():
     zero, one, two = sp.Integer(0), sp.Integer(1), sp.Integer(2)
     steps = [LinearSolve(("z0", "z1", "z2"), ((two, one, zero), (one, two, one), (zero, one, two + x1 ** 2)),
                          (x1, x2, k), (), ("e0", "e1", "e2"))]
-    system = _system(steps, (z[0], x1, x2, k), ("z0", "z1", "z2"))
+    system = compiled_system(steps, (z[0], x1, x2, k), ("z0", "z1", "z2"))
     assert system.crossings_of((1,)) is None  # relation 1 needs no solve, but still
-    evaluator = evaluator_for(translate(CoupledClutches())).relation_evaluator
+    evaluator = clutches_evaluator().relation_evaluator
     crossings, only_watched = evaluator._watched_scalar(system, (1,))
     assert not only_watched and crossings is system.crossings
 
 
 # -- the watch decides with it what it decides with the whole function ------------------------------
 
-_EVALUATOR = evaluator_for(translate(CoupledClutches()))
+_EVALUATOR = clutches_evaluator()
 _RELATIONS = _EVALUATOR.relations
 
 
@@ -225,13 +197,13 @@ def test_the_watch_decides_on_the_watched_sides_alone(data):
     relations do not matter between events; the watched ones decide as defined."""
     n = len(_RELATIONS)
     sides = [_POOL[data.draw(st.integers(0, len(_POOL) - 1))] for _ in range(2 * n)]
-    system = _system([], tuple(sides), ())
+    system = compiled_system([], tuple(sides), ())
     own = {}  # each relation's sides from a generated function of their own
 
     def values_at(t, x):
         def values(j):
             if j not in own:
-                own[j] = _system([], tuple(sides[2 * j:2 * j + 2]), ()).crossings
+                own[j] = compiled_system([], tuple(sides[2 * j:2 * j + 2]), ()).crossings
             return own[j](t, x)
         return values
 
