@@ -313,10 +313,18 @@ def _translated(source: str, name: str, filename: str, rows: tuple[int, ...] | N
     if translated is _MISSING:
         # the translation depends on the text only: other parameter values (a sweep,
         # a rebound translation) bind the same code to their own closure
-        translated = _VECTOR_CODE[key] = _vector_code(source, name, filename, rows)
-        while len(_VECTOR_CODE) > _VECTOR_CODE_SIZE:
-            _VECTOR_CODE.pop(next(iter(_VECTOR_CODE)))
+        translated = remember(_VECTOR_CODE, key, _vector_code(source, name, filename, rows), _VECTOR_CODE_SIZE)
     return translated
+
+
+def remember(memo: dict, key, value, limit: int):
+    """``memo[key] = value``, the oldest entries dropped so that at most ``limit`` are kept
+    (a dict keeps its insertion order); returns ``value``.  The bounded memos of generated
+    functions and of the runtime's plans use it."""
+    memo[key] = value
+    while len(memo) > limit:
+        memo.pop(next(iter(memo)))
+    return value
 
 
 #: Translated numpy functions by (source, name, rows): a code object and the constants it
@@ -359,10 +367,7 @@ def vectorised_of(system, name: str, rows: tuple[int, ...] | None = None) -> Cal
             if rows is None:
                 _VECTORISED[function] = found
             else:
-                kept = _VECTORISED_ROWS.setdefault(function, {})
-                if len(kept) >= _ROWS_KEPT:
-                    kept.pop(next(iter(kept)))  # the oldest out
-                kept[rows] = found
+                remember(_VECTORISED_ROWS.setdefault(function, {}), rows, found, _ROWS_KEPT)
         except TypeError:
             pass
     return found or None
@@ -459,10 +464,7 @@ def _rows_code(source: str, name: str, filename: str, rows: tuple[int, ...], fre
             module.body[0].body[0].body = live
             ast.fix_missing_locations(module)
             found = compile(module, filename.rstrip(">") + f" {name}_rows>", "exec")
-    _ROWS_CODE[key] = found
-    while len(_ROWS_CODE) > _VECTOR_CODE_SIZE:
-        _ROWS_CODE.pop(next(iter(_ROWS_CODE)))
-    return found
+    return remember(_ROWS_CODE, key, found, _VECTOR_CODE_SIZE)
 
 
 #: The code of :func:`rows_function` by (source, name, rows, closure names), or None where
@@ -479,20 +481,18 @@ def rows_function_of(system, name: str, rows: tuple[int, ...]) -> Callable | Non
     ``_ROWS_KEPT`` of them); None where the code does not allow one."""
     function = getattr(system, name)
     try:
-        kept = _ROWS_FUNCTIONS.get(function)
+        functions = _ROWS_FUNCTIONS.get(function)
     except TypeError:  # not weakly referable: not a generated function
         return None
-    found = None if kept is None else kept.get(rows)
+    found = None if functions is None else functions.get(rows)
     if found is None:
         code = getattr(system, "code", None)
         source = getattr(code, "source", None)
         found = (rows_function(function, source, rows)
                  if isinstance(source, str) and hasattr(function, "__code__") else None) or False
-        if kept is None:
-            kept = _ROWS_FUNCTIONS[function] = {}
-        if len(kept) >= _ROWS_KEPT:
-            kept.pop(next(iter(kept)))  # the oldest out
-        kept[rows] = found
+        if functions is None:
+            functions = _ROWS_FUNCTIONS[function] = {}
+        remember(functions, rows, found, _ROWS_KEPT)
     return found or None
 
 

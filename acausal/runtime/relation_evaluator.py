@@ -33,6 +33,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ..compiler.generated import remember
 from .contract import CompiledSystem
 from .relations import (decide, decide_many, decided_clearly, decided_clearly_many, holds, holds_many, kind_arrays,
                         margin, shifted, shifted_many, sides_many)
@@ -354,9 +355,7 @@ class RelationEvaluator:
             # looked up on the class, as vectorised_crossings_for (see _watched_many)
             method = getattr(type(system), "crossings_of", None)
             found = (system, method(system, relations) if method is not None else None)
-            if len(self._crossings_of) >= _PLANS_KEPT:
-                self._crossings_of.pop(next(iter(self._crossings_of)))  # the oldest out
-            self._crossings_of[key] = found
+            remember(self._crossings_of, key, found, _PLANS_KEPT)
         return found[1]
 
     def _candidates_crossings(self, system: CompiledSystem, candidates) -> tuple[Callable, dict[int, int]]:
@@ -558,7 +557,5 @@ class RelationEvaluator:
             sides = np.stack([2 * w, 2 * w + 1], axis=1).reshape(-1)
             plan = self._vector_plan = (watched, relations, w, 2 * w, 2 * w + 1, sides, (*vectors, all_strict),
                                         (*(a[:, None] for a in vectors), all_strict), bool(timed.any()))
-            if len(self._vector_plans) >= _PLANS_KEPT:
-                self._vector_plans.pop(next(iter(self._vector_plans)))  # the oldest out
-            self._vector_plans[(watched, relations)] = plan[2:]
+            remember(self._vector_plans, (watched, relations), plan[2:], _PLANS_KEPT)
         return plan[2:]

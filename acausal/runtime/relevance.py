@@ -24,6 +24,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from ..compiler.generated import remember
 from ..names import parse, relation_name
 from .discrete_equations import DiscreteEquations, cast
 
@@ -141,9 +142,7 @@ class RelevanceAnalysis:
                                        if not rel.is_time_event]
         found = tuple([k for k, selects in plan if selects or checked[k]])
         if key is not None:
-            if len(self._answered) >= _ANSWERS_KEPT:
-                self._answered.pop(next(iter(self._answered)))  # the oldest out
-            self._answered[key] = (self._last_answers, found)
+            remember(self._answered, key, (self._last_answers, found), _ANSWERS_KEPT)
         return found
 
     def _always_watched(self) -> frozenset:
