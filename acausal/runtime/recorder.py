@@ -173,13 +173,14 @@ class Recorder:
         model = translation.data
         names, index, parameters = _column_names(translation)
         n = self._count
-        # one row per column (each column of the result is then one contiguous row of it)
-        data = np.full((len(names), n), np.nan)
         chunks = self._chunks
         times = np.concatenate([c[0] for c in chunks]) if chunks else np.empty(0)
         # Rows come in stretches with one system and one set of discrete
         # values (between events): each stretch is filled column by column.
         stretches = _stretches(chunks)
+        _prepare_outputs(stretches)
+        # one row per column (each column of the result is then one contiguous row of it)
+        data = np.full((len(names), n), np.nan)
         plans, bad, part_plans = {}, None, {}
         if _fill_by_part(data, times, stretches, index, part_plans):
             # every value computed and finite, part by part: the discrete values stretch by stretch
@@ -282,14 +283,56 @@ def _joined(run) -> np.ndarray:
     return run[0][2] if len(run) == 1 else np.concatenate([c[2] for c in run])
 
 
+#: About how many values (states and unknowns times rows) :func:`_fill` computes at
+#: once: the working arrays of a stretch of a large model stay some megabytes, not
+#: copies of the result (every value is computed element by element, so the blocks
+#: change no bit).
+_FILL_BLOCK_VALUES = 1 << 20
+
+#: The fewest rows a block of :func:`_fill` has (a numpy call costs about the same for
+#: few rows as for many).
+_FILL_BLOCK_ROWS = 64
+
+
+def _prepare_outputs(stretches) -> None:
+    """Make the numpy version of each stretch's ``outputs`` before the result's array
+    exists (made once per system and kept): for a model of tens of thousands of
+    equations, translating the function's text takes memory of the order of the
+    result's, which is then not needed at the same time.  Composed systems fill part by
+    part (:func:`_fill_by_part`) and are left alone."""
+    seen = set()
+    for start, stop, system, _states, _discrete in stretches:
+        if stop - start > 1 and system.parts is None and system.unknowns and id(system) not in seen:
+            seen.add(id(system))
+            system.vectorised("outputs")
+
+
 def _fill(block: np.ndarray, index: dict[str, int], times: np.ndarray, states: np.ndarray,
           system: CompiledSystem, discrete: dict, plan, identifiers: dict[str, str]) -> tuple[int, list[str], str] | None:
     """Write the values of the rows at ``times`` with ``states`` (as rows; all of ``system``
     and ``discrete``) into ``block`` (one row per column of the result, one column per row).
 
     Returns ``(row, names, reason)`` for the first row whose values could not
-    all be computed or are not finite, else None.
+    all be computed or are not finite, else None.  The rows are computed in blocks
+    (:data:`_FILL_BLOCK_VALUES`), so that the working arrays of a large model stay small.
     """
+    m = len(times)
+    rows = max(_FILL_BLOCK_ROWS, _FILL_BLOCK_VALUES // max(len(system.states) + len(system.unknowns), 1))
+    if m <= rows:
+        return _fill_rows(block, index, times, states, system, discrete, plan, identifiers)
+    failed = None
+    for a in range(0, m, rows):
+        b = min(a + rows, m)
+        found = _fill_rows(block[:, a:b], index, times[a:b], states[a:b], system, discrete, plan, identifiers)
+        if found is not None and failed is None:
+            failed = (a + found[0], found[1], found[2])
+    return failed
+
+
+def _fill_rows(block: np.ndarray, index: dict[str, int], times: np.ndarray, states: np.ndarray,
+               system: CompiledSystem, discrete: dict, plan,
+               identifiers: dict[str, str]) -> tuple[int, list[str], str] | None:
+    """:func:`_fill` for one block of rows."""
     targets, sources, aliases = plan
     n_states = len(system.states)
     m = len(times)
