@@ -16,6 +16,7 @@ import ast
 import copy
 import itertools
 import math
+import re
 import weakref
 from typing import Callable
 
@@ -373,6 +374,50 @@ def vectorised_of(system, name: str, rows: tuple[int, ...] | None = None) -> Cal
     return found or None
 
 
+#: A line of a generated source indented as the functions ``make`` defines, or less
+#: (where the function before it ends).
+_OUTER_LINE = re.compile(r"^ {0,4}\S", re.MULTILINE)
+
+
+def function_tree(source: str, name: str) -> ast.FunctionDef | None:
+    """The syntax tree of the function ``name`` that ``make`` defines in a generated
+    ``source``, with the line numbers it has there; None where there is none.
+
+    Only the function's own lines are parsed: a large model's source holds three
+    such functions of some megabytes each, and parsing the whole of it for one of
+    them took seconds and a tree of all three.  (The lines before it become empty
+    lines, so the numbers stay.)  Should its lines not parse on their own, the whole
+    source is parsed.
+    """
+    header = source.find(f"\n    def {name}(")
+    if header >= 0:
+        line_end = source.find("\n", header + 1)
+        outer = _OUTER_LINE.search(source, line_end + 1) if line_end >= 0 else None
+        end = outer.start() if outer is not None else len(source)
+        before = source.count("\n", 0, header)  # the lines before the function's header line
+        text = "\n" * before + "def make(p):" + source[header:end]
+        try:
+            tree = ast.parse(text)
+        except SyntaxError:
+            tree = None
+        found = _defined_in_make(tree, name)
+        if found is not None:
+            return found
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return None
+    return _defined_in_make(tree, name)
+
+
+def _defined_in_make(tree: ast.Module | None, name: str) -> ast.FunctionDef | None:
+    """The function ``name`` defined in the function ``make`` of ``tree``, or None."""
+    make = None if tree is None else next(
+        (node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"), None)
+    return None if make is None else next(
+        (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
+
+
 def _vector_code(source: str, name: str, filename: str, rows: tuple[int, ...] | None = None):
     """The compiled module defining ``<name>_many`` and its constants, or None (see
     :func:`vectorised`); with ``rows``, returning those values only."""
@@ -380,14 +425,7 @@ def _vector_code(source: str, name: str, filename: str, rows: tuple[int, ...] | 
         # a function with a construct not translated has no numpy version for any rows
         # either (the constructs are not pruned, see _live_statements)
         return None
-    try:
-        tree = ast.parse(source)
-    except SyntaxError:
-        return None
-    make = next((node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"),
-                None)
-    found = None if make is None else next(
-        (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
+    found = function_tree(source, name)
     if found is None or not found.body or not isinstance(found.body[-1], ast.Return):
         return None
     if rows is not None:
@@ -446,14 +484,7 @@ def _rows_code(source: str, name: str, filename: str, rows: tuple[int, ...], fre
     if found is not _MISSING:
         return found
     found = None
-    try:
-        tree = ast.parse(source)
-    except SyntaxError:
-        tree = None
-    make = None if tree is None else next(
-        (node for node in tree.body if isinstance(node, ast.FunctionDef) and node.name == "make"), None)
-    function = None if make is None else next(
-        (node for node in make.body if isinstance(node, ast.FunctionDef) and node.name == name), None)
+    function = function_tree(source, name)
     if function is not None and function.body and isinstance(function.body[-1], ast.Return):
         live = _live_statements(function.body, rows)
         if live is not None:

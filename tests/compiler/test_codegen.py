@@ -203,3 +203,61 @@ def test_equal_expressions_are_printed_once_per_shape_with_the_same_text():
         expected = float(expressions[k].subs({real_symbol(n) if n != "time" else time: v
                                               for n, v in values.items()}))
         assert functions[k](*[values[a] for a in arguments[k]]) == pytest.approx(expected, rel=1e-14)
+
+
+def _tree_of_whole_source(source: str, name: str):
+    """The function ``name`` of ``make`` from a parse of the whole source."""
+    import ast
+
+    make = next(n for n in ast.parse(source).body if isinstance(n, ast.FunctionDef) and n.name == "make")
+    return next(n for n in make.body if isinstance(n, ast.FunctionDef) and n.name == name)
+
+
+def _translated_sources():
+    """Generated sources of models with Newton solves, linear solves and tables: the oscillator
+    here, CoupledClutches' discrete states, an op-amp circuit (limiters in torn loops)."""
+    from acausal import simulate, translate
+    from examples.coupled_clutches import CoupledClutches
+    from examples.electrical_opamps import Adder
+
+    yield oscillator_code().source
+    for model in (CoupledClutches(), Adder()):
+        translation = translate(model, cache=False)
+        simulate(translation)
+        for system in translation.systems.values():
+            code = getattr(system, "code", None)
+            if code is not None:
+                yield code.source
+
+
+def test_a_function_parsed_from_its_own_lines_is_the_one_parsed_from_the_whole_source():
+    """function_tree parses only a function's lines (a large model's source holds three of
+    some megabytes each): the tree, line numbers included, is the whole parse's."""
+    import ast
+
+    from acausal.compiler.generated import function_tree
+
+    count = 0
+    for source in _translated_sources():
+        for name in ("derivatives", "crossings", "outputs"):
+            whole = _tree_of_whole_source(source, name)
+            own = function_tree(source, name)
+            assert ast.dump(own, include_attributes=True) == ast.dump(whole, include_attributes=True)
+            count += 1
+    assert count >= 9
+    assert function_tree(oscillator_code().source, "no_such_function") is None
+
+
+def test_a_function_whose_lines_do_not_parse_alone_is_taken_from_the_whole_source():
+    """A line of the function indented as ``make``'s own (here inside a string) ends its
+    lines early; the source is then parsed whole."""
+    import ast
+
+    from acausal.compiler.generated import function_tree
+
+    source = ('def make(p):\n    def crossings(t, x):\n        s = """\nx"""\n        return (s,)\n'
+              '    def outputs(t, x):\n        return (t,)\n    return crossings, outputs\n')
+    found = function_tree(source, "crossings")
+    assert ast.dump(found, include_attributes=True) == ast.dump(_tree_of_whole_source(source, "crossings"),
+                                                                include_attributes=True)
+    assert isinstance(found.body[-1], ast.Return)
