@@ -625,19 +625,28 @@ def scaling_point(n: int, stop_time: float = 0.2, rtol: float = 1e-6, method: st
     point["initial_systems"] = translation.initial_seconds
     point["initialization"] = max(init_wall - compiled, 0.0)
     point["translated_initialized"] = point["flatten"] + point["evaluator_setup"] + init_wall
+    # the peak so far: the model translated and initialized, before a result exists
+    point["translated_rss_mb"] = _rss_mb()
     report("simulating (first run)")
     first, point["first_simulate"] = _timed_simulate(translation, method=method, rtol=rtol)
     point["translation_all_modes"] = translation.translation_seconds
     point["modes"] = len(translation.systems)
-    if first.status != 0:
-        point["status"] = f"failed: {first.message}"
+    status, message = first.status, first.message
+    del first  # (a result of the large model is some hundred megabytes: not kept while the next is made)
+    if status != 0:
+        point["status"] = f"failed: {message}"
         point["simulate"] = math.nan
     else:
         report("simulating again (warm)")
-        runs = [_timed_simulate(translation, method=method, rtol=rtol) for _ in range(repeats)]
-        point["simulate"] = min(s for _, s in runs)
-        point["steps"] = runs[0][0].stats.get("steps", 0)
-        point["rhs_evaluations"] = runs[0][0].stats.get("rhs_evaluations", 0)
+        seconds, stats = [], None
+        for _ in range(repeats):
+            result, elapsed = _timed_simulate(translation, method=method, rtol=rtol)
+            seconds.append(elapsed)
+            stats = stats or dict(result.stats)
+            del result
+        point["simulate"] = min(seconds)
+        point["steps"] = stats.get("steps", 0)
+        point["rhs_evaluations"] = stats.get("rhs_evaluations", 0)
     point["wall"] = time.perf_counter() - wall0
     point["max_rss_mb"] = _rss_mb()
     point.pop("phase", None)
@@ -1733,10 +1742,12 @@ def _effects_markdown(records: Sequence[EffectsRecord]) -> str:
         "translation (RK45).", "", table, ""])
 
 
-def _per_equation_kb(point: dict) -> float:
+def _per_equation_kb(point: dict, key: str = "max_rss_mb") -> float:
     """Peak resident memory per equation, in kB (what the process holds, the
-    interpreter and libraries included: the small sizes overstate it)."""
-    rss, equations = point.get("max_rss_mb", math.nan), point.get("equations", math.nan)
+    interpreter and libraries included: the small sizes overstate it).  ``key``:
+    ``max_rss_mb`` (the whole point, its simulations and results included) or
+    ``translated_rss_mb`` (the peak until the model is translated and initialized)."""
+    rss, equations = point.get(key, math.nan), point.get("equations", math.nan)
     try:
         return 1000.0 * float(rss) / float(equations)
     except (TypeError, ValueError, ZeroDivisionError):
@@ -1822,22 +1833,27 @@ def scaling_target_checks(points: Sequence[dict], budget: float | None = SCALING
             reason = (f"N = {n} {point['status']}" if point is not None else f"N = {n} not run")
             checks.append(TargetCheck(target, "-", None, reason + (f"; {prediction}" if prediction else "") + "."))
     n, kb_limit = benchmarks.SCALING_MEMORY_TARGET
-    target = f"N = {n}: peak memory ≤ {kb_limit:g} kB per equation"
+    # (the measure of the time target it goes with: the model translated and initialized;
+    # the whole point's peak, its runs' results included, is given beside it)
+    key = "translated_rss_mb"
+    target = f"N = {n}: peak memory translated and initialized ≤ {kb_limit:g} kB per equation"
     point = by_n.get(n)
-    kb = _per_equation_kb(point) if point is not None and point.get("status") == "ok" else math.nan
+    kb = _per_equation_kb(point, key) if point is not None and point.get("status") == "ok" else math.nan
     if not math.isfinite(kb):
         reason = f"N = {n} {point['status']}" if point is not None else f"N = {n} not run"
         checks.append(TargetCheck(target, "-", None, reason + "."))
     else:
-        measured = f"{kb:.3g} kB ({point['max_rss_mb']:.0f} MB peak RSS, {_fmt(point['equations'])} equations)"
+        measured = (f"{kb:.3g} kB ({point[key]:.0f} MB peak RSS, {_fmt(point['equations'])} equations); "
+                    f"with its two simulations and their results {_per_equation_kb(point):.3g} kB "
+                    f"({point['max_rss_mb']:.0f} MB)")
         met = kb <= kb_limit
         why = ""
-        smaller = [p for p in finished if p["n"] < n and _finite(_per_equation_kb(p))]
+        smaller = [p for p in finished if p["n"] < n and _finite(_per_equation_kb(p, key))]
         if not met and smaller:
             first, previous = smaller[0], smaller[-1]
-            marginal = (1000.0 * (point["max_rss_mb"] - previous["max_rss_mb"])
+            marginal = (1000.0 * (point[key] - previous[key])
                         / (point["equations"] - previous["equations"]))
-            why = (f"the process holds {first['max_rss_mb']:.0f} MB at N = {first['n']} (interpreter, libraries); "
+            why = (f"the process holds {first[key]:.0f} MB at N = {first['n']} (interpreter, libraries); "
                    f"from N = {previous['n']} to {n} the peak grows by {marginal:.3g} kB per added equation")
             why += (f": {kb_limit:g} kB needs the memory held per equation cut {marginal / kb_limit:.1f}×."
                     if marginal > kb_limit else
@@ -1860,12 +1876,14 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True,
                      p.get("initial_systems", math.nan), p.get("initialization", math.nan),
                      p.get("translated_initialized", math.nan), p.get("first_simulate", math.nan),
                      p.get("simulate", math.nan), p.get("wall", math.nan), p.get("predicted_wall", math.nan),
+                     p.get("translated_rss_mb", math.nan), _per_equation_kb(p, "translated_rss_mb"),
                      p.get("max_rss_mb", math.nan), _per_equation_kb(p), p.get("status", "")))
     table = _md_table(("N", "states", "equations", "modes", "flatten+partition [s]", "alias [s]",
                        "structure [s]", "blt [s]", "algebraic [s]", "codegen [s]", "translation (1 mode) [s]",
                        "translation (all modes) [s]", "event setup [s]", "initialization systems [s]",
                        "initialization [s]", "translated + initialized [s]",
                        "first simulate [s]", "simulate 0.2 s [s]", "wall [s]", "predicted wall [s]",
+                       "max RSS translated [MB]", "per equation [kB]",
                        "max RSS [MB]", "RSS per equation [kB]", "status"),
                       rows)
     fit_rows = []
@@ -1902,8 +1920,11 @@ def _scaling_markdown(points: Sequence[dict], fits: dict, isolated: bool = True,
         "run after initialization (it repeats the "
         "initialization with everything compiled). Simulate: a second 0.2 s run "
         "with the translation reused (RK45, rtol 1e-6, 500 output points). Predicted wall: the power "
-        "law through the two previous sizes. RSS per equation: the peak resident memory of the process "
-        "over the equations (the interpreter and libraries included, which the small sizes overstate).",
+        "law through the two previous sizes. Max RSS translated: the peak resident memory of the process "
+        "until the model is translated and initialized (the memory target's measure); max RSS: the "
+        "peak of the whole point, its two simulations and their results (every variable's column at "
+        "501 points) included; per equation: either over the equations (the interpreter and libraries "
+        "included, which the small sizes overstate).",
         "", limit, "", _targets_markdown(scaling_target_checks(points, budget if isolated else None)),
         "## Sizes", "", table, "", fit_table, ""])
 
