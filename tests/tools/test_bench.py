@@ -475,6 +475,10 @@ def test_storm_targets_from_the_points():
     per_event, n200, n1000 = bench.storm_target_checks(flat, 240)
     assert per_event.met is True and "1.20×" in per_event.measured  # 6 ms against 5 ms
     assert n200.met is True and n1000.met is True
+    # a size over its limit: the cost per event it allows, and what would bring it there
+    slow = flat[:-1] + [_storm(1000, 100000, 150.0)]
+    n1000 = bench.storm_target_checks(slow, 240)[2]
+    assert n1000.met is False and "0.6 ms per event, 2.5× less" in n1000.why and "stepped together" in n1000.why
     growing = [_storm(10, 50, 0.25), _storm(100, 1000, 20.0), {"n": 200, "mode": "clusters",
                                                                  "status": "not finished in 240 s"},
                {"n": 1000, "mode": "clusters", "status": "skipped (N=200 not finished in 240 s)"}]
