@@ -41,7 +41,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from ..names import is_derivative, parse
-from .modes import AliasPlan, ModeSystem
+from .modes import AliasPlan, ModeSystem, RelaxedConstraints
 from .partition import PartitionedModel
 
 __all__ = ["Cluster", "Clustering", "ComposedSystem", "ComposedInitialSystem", "find_clusters", "compose"]
@@ -347,6 +347,17 @@ class ComposedSystem:
     @property
     def derivative_names(self) -> tuple[str, ...]:
         return tuple(d for p in self.parts for d in p.derivative_names)
+
+    @property
+    def relaxed(self) -> RelaxedConstraints | None:
+        """What the parts' systems of this state left out (a part that constrains one
+        motion twice, :class:`~acausal.compiler.modes.RelaxedConstraints`), as one; None
+        when none did."""
+        found = [p.relaxed for p in self.parts if p.relaxed is not None]
+        if not found:
+            return None
+        return RelaxedConstraints(*(tuple(chain.from_iterable(getattr(r, f) for r in found))
+                                    for f in ("components", "left_out", "zeroed")))
 
     def values(self, t: float, x) -> dict[str, float]:
         """Continuous variables and derivatives at ``(t, x)`` (aliases: see :attr:`alias_plan`)."""

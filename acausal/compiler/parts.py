@@ -30,7 +30,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..errors import StructuralError
+from ..errors import StructuralError, StructurallySingularError
 from ..language import time as model_time
 from ..names import is_derivative, parse, pre_name, relation_name
 from .cache import ModelCache
@@ -133,10 +133,17 @@ class PartSystems:
         if twin is not None:
             system = shared_system(twin, subkey, description, context, passes)
         else:
-            system = self._by_equations[signature] = compile_mode(
-                subkey, description, context, equations, passes, self.partitioned,
-                {n: self.continuous[n] for n in cluster.variables}, cache, self._cluster_demand(cluster),
-                cluster.relations)
+            try:
+                system = compile_mode(subkey, description, context, equations, passes, self.partitioned,
+                                      {n: self.continuous[n] for n in cluster.variables}, cache,
+                                      self._cluster_demand(cluster), cluster.relations)
+            except StructurallySingularError:
+                # a state that constrains one motion twice (two stuck friction elements on
+                # one shaft) is relaxed in a part as in the whole model
+                system = self._relaxed(subkey, description, context, equations, passes, cluster)
+                if system is None:
+                    raise
+            self._by_equations[signature] = system
         self._add_shape(cluster, key, subkey, system, cache)
         return system
 

@@ -33,7 +33,7 @@ from ..names import is_derivative, parse
 from .cache import ModelCache
 from .canonical import substituted
 from .diskcache import DiskCache
-from .clusters import Clustering, ComposedInitialSystem, ComposedSystem, compose_initial, find_clusters
+from .clusters import Cluster, Clustering, ComposedInitialSystem, ComposedSystem, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, FlatVariable, flatten, start_parameter
 from .initial import InitialSystem, compile_initial_system, start_value_relations
 from .modes import (ModeSystem, PassLog, RelaxedConstraints, brief_description, compile_mode, describe_key,
@@ -316,26 +316,34 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
         return system
 
     def _relaxed(self, key: tuple, description: str, context: str, equations: tuple[FlatEquation, ...],
-                 passes: PassLog) -> ModeSystem | None:
+                 passes: PassLog, cluster: Cluster | None = None) -> ModeSystem | None:
         """The system of a discrete state that constrains one motion twice, made
-        solvable by :func:`relax_redundant` (None: not of that kind)."""
+        solvable by :func:`relax_redundant` (None: not of that kind): the whole
+        model's, or with ``cluster`` that independent part's (``key`` its own)."""
         if not self.partitioned.is_hybrid or self.redundant_constraints != "relax":
             return None
-        symbols = self.cache.parameters.symbols
+        if cluster is None:
+            sources, variables, cache, demand, relations = (
+                self.partitioned.equations, self.continuous, self.cache, self.demand, None)
+        else:
+            sources = [self.partitioned.equations[i] for i in cluster.equations]
+            variables = {n: self.continuous[n] for n in cluster.variables}
+            cache, demand, relations = (self._cluster_cache(cluster), self._cluster_demand(cluster),
+                                        cluster.relations)
+        symbols = cache.parameters.symbols
         # the equations whose form the discrete state selects (not those that changed
         # only because a zero parameter was put in)
         selectors = set(self.selectors)
-        selected = [i for i, source in enumerate(self.partitioned.equations)
-                    if not selectors.isdisjoint(source.residual.free_symbols)]
-        flows = [n for n, v in self.continuous.items() if v.role == "flow"]
+        selected = [i for i, source in enumerate(sources) if not selectors.isdisjoint(source.residual.free_symbols)]
+        flows = [n for n, v in variables.items() if v.role == "flow"]
         found = relax_redundant(equations, [_incidence(e.residual, symbols) for e in equations],
-                                list(self.continuous), selected, flows)
+                                list(variables), selected, flows)
         if found is None:
             return None
         relaxed, relaxation = found
         try:
             system = compile_mode(key, description, context, relaxed, passes, self.partitioned,
-                                  self.continuous, self.cache, self.demand)
+                                  variables, cache, demand, relations)
         except StructuralError:
             return None
         # not warned here: every run that integrates in this state says so (the

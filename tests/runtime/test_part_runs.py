@@ -221,3 +221,63 @@ def test_a_part_of_many_columns_is_assembled_column_by_column(monkeypatch):
     apart = simulate(units((1, 2, 3)), **SETTINGS, cache=False)
     for name in apart.names:
         np.testing.assert_array_equal(apart[name], whole[name], err_msg=name)
+
+
+class _StuckPairBesideAUnit(Model):
+    """Two bearings stuck on one shaft (the holding torque's split is open: the discrete
+    state constrains one motion twice and is relaxed) beside an independent storm unit."""
+
+    def build(self):
+        from acausal.library.rotational import BearingFriction, ConstantTorque, Inertia
+
+        self.torque = ConstantTorque(tau_constant=0.5)
+        self.inertia = Inertia(J=1.0, phi=dict(start=0.25, fixed=True), w=dict(start=0.0, fixed=True))
+        self.bf1 = BearingFriction(tau_pos=[[0.0, 1.0]])
+        self.bf2 = BearingFriction(tau_pos=[[0.0, 2.0]])
+        self.connect(self.torque.flange, self.inertia.flange_a)
+        self.connect(self.inertia.flange_b, self.bf1.flange_a)
+        self.connect(self.bf1.flange_b, self.bf2.flange_a)
+        add_storm_unit(self, 1, 1.13, names=("s", "t", "j", "f"))
+
+
+def _warned(options: EngineOptions):
+    from acausal.errors import RedundantConstraintWarning
+
+    with pytest.warns(RedundantConstraintWarning) as caught:
+        result = simulate(_StuckPairBesideAUnit(), **SETTINGS, cache=False, options=options)
+    return result, [str(w.message) for w in caught if issubclass(w.category, RedundantConstraintWarning)]
+
+
+def test_a_part_that_constrains_one_motion_twice_is_relaxed_and_runs_apart():
+    """The stuck pair's part is relaxed as the whole model is (bf2's share of the holding
+    torque set to 0): the parts run apart, not again with one solver after the part failed,
+    and the stuck part's columns are the whole model's, bit for bit."""
+    result, said = _warned(EngineOptions())
+    assert result.status == 0, result.message
+    assert isinstance(result.columns, PartColumns)
+    assert any("2 independent parts integrated separately" in note for note in result.notes)
+    assert not any("one solver" in note for note in result.notes)
+    assert said and all(text.startswith("bf2: two equations constrain") for text in said)
+    assert "left out: bf2 (PartialFriction eq. 4)" in said[0] and "set to 0: bf2.flange_a.tau" in said[0]
+    whole, _ = _warned(EngineOptions(clusters=False))
+    for name in ("inertia.w", "inertia.phi", "bf1.tau", "bf2.tau", "bf1.sa"):
+        np.testing.assert_array_equal(result[name], whole[name], err_msg=name)
+    # the shaft holds: the torque is taken by bf1 alone, below its static limit of 1 N.m
+    assert np.all(result["inertia.w"] == 0) and np.all(result["inertia.phi"] == 0.25)
+    np.testing.assert_allclose(np.abs(result["bf1.tau"]), 0.5)
+    np.testing.assert_array_equal(result["bf2.tau"], 0)
+    np.testing.assert_allclose(result["j1.w"], whole["j1.w"], atol=1e-4)
+
+
+def test_a_composed_system_says_what_its_parts_relaxed():
+    """With one solver for the parts, the composed system of a state whose part was relaxed
+    carries that part's relaxation: the run warns, and the model stays compiled part by part."""
+    result, said = _warned(ONE_SOLVER)
+    assert result.status == 0, result.message
+    assert said and all(text.startswith("bf2: two equations constrain") for text in said)
+    translation = translate(_StuckPairBesideAUnit(), cache=False, options=ONE_SOLVER)
+    with pytest.warns(Warning):
+        simulate(translation, **SETTINGS)
+    assert translation.clustering is not None  # (it used to fall back to the whole model)
+    relaxed = [s.relaxed for s in translation.systems.values() if s.relaxed is not None]
+    assert relaxed and all(r.components == ("bf2",) for r in relaxed)
