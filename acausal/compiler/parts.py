@@ -637,7 +637,8 @@ class PartSystem:
     """A part's system (:class:`~acausal.compiler.modes.ModeSystem`) whose crossing vector
     is the part's relations: its own, and the relations of time alone it reads that
     another part computes (``gather`` picks them from the system's values followed by
-    ``sides``' values)."""
+    ``sides``' values).  What the runtime asks of a compiled system besides is the
+    mode's, named here one by one (``mode`` is the mode's system itself)."""
 
     parts = None
 
@@ -651,6 +652,8 @@ class PartSystem:
         self.derivatives = mode.derivatives
         self.outputs = mode.outputs
         self.description = mode.description
+        self.derivative_names = mode.derivative_names
+        self.relaxed = mode.relaxed
         own, (scalar, many) = mode.crossings, sides
 
         def crossings(t, x):
@@ -705,7 +708,11 @@ class PartSystem:
             self._vectorised[name] = found
         return found or None
 
-    def __getattr__(self, name: str) -> Any:  # the rest (sources, passes, relaxed, ...) is the system's
-        if name == "mode":
-            raise AttributeError(name)
-        return getattr(self.mode, name)
+    @property
+    def sources(self) -> tuple[str, ...]:
+        """The mode's generated source (where a failing line of its code is looked up)."""
+        return self.mode.sources
+
+    def reset(self) -> None:
+        """Forget the mode's warm starts (its Newton solves' last solutions)."""
+        self.mode.reset()

@@ -60,6 +60,10 @@ class CompiledSystem(Protocol):
     crossings: Callable
     #: ``outputs(t, x)`` -> the values of :attr:`unknowns`
     outputs: Callable
+    #: the names of the derivatives of :attr:`states` (columns of the result)
+    derivative_names: tuple[str, ...]
+    #: the generated source of the system's code (a failing line is looked up in it)
+    sources: tuple[str, ...]
 
     @property
     def description(self) -> str:
@@ -79,8 +83,9 @@ class CompiledSystem(Protocol):
         """The numpy form of ``crossings`` or ``outputs`` (``f(t, X)`` for many
         times at once, bit for bit the scalar function's values), or None."""
 
-    # Optional, and looked up on the system's class (not a member here: a system of parts
-    # has none): ``vectorised_crossings_for(relations)``, the numpy form of ``crossings``
+    # Optional (not a member here: a system of parts has none): ``relaxed``, what a
+    # discrete state that constrains one motion twice left out (the run warns of it;
+    # None: nothing); ``vectorised_crossings_for(relations)``, the numpy form of ``crossings``
     # giving the sides of ``relations`` only (rows 2j, 2j + 1 for ``relations[j]``), bit
     # for bit those rows of ``vectorised("crossings")``, or None.  The crossing watch
     # checks a step's samples with it (RelationEvaluator.first_flip).  Likewise

@@ -352,9 +352,9 @@ class RelationEvaluator:
         key = (id(system), relations)
         found = self._crossings_of.get(key)
         if found is None or found[0] is not system:
-            # looked up on the class, as vectorised_crossings_for (see _watched_many)
-            method = getattr(type(system), "crossings_of", None)
-            found = (system, method(system, relations) if method is not None else None)
+            # (optional in the contract: a system of parts has none)
+            method = getattr(system, "crossings_of", None)
+            found = (system, method(relations) if method is not None else None)
             remember(self._crossings_of, key, found, _PLANS_KEPT)
         return found[1]
 
@@ -439,10 +439,9 @@ class RelationEvaluator:
         last = self._watch_many
         if last is not None and last[0] is system and last[1] is watched:
             return last[2], last[3]
-        # looked up on the class: a system that hands other attributes on to its mode's
-        # (a part's system, whose crossing vector is not its mode's) has none of its own
-        method = getattr(type(system), "vectorised_crossings_for", None)
-        many = method(system, watched) if method is not None else None
+        # (optional in the contract: a system of parts has none)
+        method = getattr(system, "vectorised_crossings_for", None)
+        many = method(watched) if method is not None else None
         only_watched = many is not None
         if many is None:
             many = system.vectorised("crossings")

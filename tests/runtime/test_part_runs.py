@@ -281,3 +281,24 @@ def test_a_composed_system_says_what_its_parts_relaxed():
     assert translation.clustering is not None  # (it used to fall back to the whole model)
     relaxed = [s.relaxed for s in translation.systems.values() if s.relaxed is not None]
     assert relaxed and all(r.components == ("bf2",) for r in relaxed)
+
+
+def test_a_parts_system_is_a_compiled_system_that_hands_nothing_on_to_its_mode():
+    """A part's system whose crossing vector is not its mode's (it reads a relation of time
+    alone another part computes) names what it takes from its mode; nothing else of the
+    mode is reached through it (its mode's watched crossings, say, are not the part's)."""
+    from acausal.compiler.parts import PartSystem
+    from acausal.runtime.contract import CompiledSystem
+
+    translation = translate(units((1, 2, 3)), cache=False)
+    simulate(translation, **SETTINGS)
+    models, _ = translation.part_models()
+    systems = [s for m in models for s in m.systems.values() if isinstance(s, PartSystem)]
+    assert systems
+    for system in systems:
+        mode = system.mode
+        assert isinstance(system, CompiledSystem)
+        assert system.derivative_names == mode.derivative_names and system.relaxed is mode.relaxed
+        assert system.sources == mode.sources and system.states == mode.states
+        for name in ("structure", "code", "passes", "timings"):  # the mode's own, for inspection
+            assert hasattr(mode, name) and not hasattr(system, name), name

@@ -210,41 +210,6 @@ def test_first_flip_with_the_watched_crossings_equals_the_definition_on_the_watc
         assert got == expected
 
 
-def test_a_system_that_forwards_its_attributes_is_not_asked_for_watched_crossings():
-    """A part's system hands unknown attributes on to its mode's, whose crossing vector is
-    not the part's: the watched crossings are looked up on its class, which has none."""
-    inner = compiled_system([], (x1, x2, x2, x1), ())
-
-    class Forwarding:
-        parts = None
-
-        def crossings(self, t, x):  # the mode's relations in the other order
-            return [x[1], x[0], x[0], x[1]]
-
-        def crossings_for(self, relations):
-            return self.crossings
-
-        def vectorised(self, name):
-            return lambda t, X: np.array([X[1], X[0], X[0], X[1]])
-
-        def __getattr__(self, name):
-            return getattr(inner, name)
-
-    system = Forwarding()
-    assert system.vectorised_crossings_for  # (what the trap would hand out)
-    evaluator = _EVALUATOR.relation_evaluator
-    many, only_watched = evaluator._watched_many(system, (0, 1))
-    assert not only_watched
-    times = np.linspace(0.0, 1.0, 30)
-    states = np.column_stack([np.linspace(-1.0, 1.0, 30), np.zeros(30)])
-    relations = tuple([False] * len(_RELATIONS))
-    with np.errstate(all="ignore"):
-        expected = next(((j, hit) for j in range(30)
-                         if (hit := _definition_flips(system.crossings(times[j], states[j]),
-                                                      relations, (0, 1)))), None)
-        assert evaluator.first_flip(system, times, states, relations, (0, 1)) == expected
-
-
 # -- the recorder: blocks only, rows on demand ------------------------------------------------------
 
 
