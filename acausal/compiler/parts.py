@@ -30,7 +30,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..errors import StructuralError, StructurallySingularError
+from ..errors import StructuralError
 from ..language import time as model_time
 from ..names import is_derivative, parse, pre_name, relation_name
 from .cache import ModelCache
@@ -38,7 +38,7 @@ from .clusters import Cluster, ComposedInitialSystem, ComposedSystem, compose
 from .compiled import DiscreteProgram
 from .flatten import start_parameter
 from .initial import InitialSystem, compile_initial_system
-from .modes import ModeSystem, PassLog, brief_description, compile_mode, describe_key, shared_system
+from .modes import ModeSystem, PassLog, brief_description, describe_key, shared_system
 from .part_shapes import part_shape, renamed_initial, renamed_mode, twin_of
 from .rebinding import _bind_mode
 
@@ -127,23 +127,18 @@ class PartSystems:
         context = f"{self.flat.name} [cluster {cluster.index + 1}: {brief_description(description)}]"
         passes = PassLog()
         with passes.run("specialise"):
-            equations = self.specialise(key, [self.partitioned.equations[i] for i in cluster.equations])
+            sources = [self.partitioned.equations[i] for i in cluster.equations]
+            equations = self.specialise(key, sources)
         signature = (cluster.index, tuple(eq.residual for eq in equations))
         twin = self._by_equations.get(signature)
         if twin is not None:
             system = shared_system(twin, subkey, description, context, passes)
         else:
-            try:
-                system = compile_mode(subkey, description, context, equations, passes, self.partitioned,
-                                      {n: self.continuous[n] for n in cluster.variables}, cache,
-                                      self._cluster_demand(cluster), cluster.relations)
-            except StructurallySingularError:
-                # a state that constrains one motion twice (two stuck friction elements on
-                # one shaft) is relaxed in a part as in the whole model
-                system = self._relaxed(subkey, description, context, equations, passes, cluster)
-                if system is None:
-                    raise
-            self._by_equations[signature] = system
+            # (a state that constrains one motion twice is relaxed in a part as in the whole model)
+            system = self._by_equations[signature] = self._compiled_or_relaxed(
+                subkey, description, context, equations, passes, sources,
+                {n: self.continuous[n] for n in cluster.variables}, cache, self._cluster_demand(cluster),
+                cluster.relations)
         self._add_shape(cluster, key, subkey, system, cache)
         return system
 

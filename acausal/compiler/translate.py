@@ -22,7 +22,7 @@ import functools
 import difflib
 import time as _time
 from collections import OrderedDict
-from typing import Any, Callable, Iterable, Mapping
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -33,7 +33,7 @@ from ..names import is_derivative, parse
 from .cache import ModelCache
 from .canonical import substituted
 from .diskcache import DiskCache
-from .clusters import Cluster, Clustering, ComposedInitialSystem, ComposedSystem, compose_initial, find_clusters
+from .clusters import Clustering, ComposedInitialSystem, ComposedSystem, compose_initial, find_clusters
 from .flatten import FlatEquation, FlatModel, FlatVariable, flatten, start_parameter
 from .initial import InitialSystem, compile_initial_system, start_value_relations
 from .modes import (ModeSystem, PassLog, RelaxedConstraints, brief_description, compile_mode, describe_key,
@@ -290,13 +290,9 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
         if twin is not None:
             return shared_system(twin, key, description, context, passes)
         try:
-            try:
-                system = compile_mode(key, description, context, equations, passes, self.partitioned,
-                                      self.continuous, self.cache, self.demand)
-            except StructurallySingularError:
-                system = self._relaxed(key, description, context, equations, passes)
-                if system is None:
-                    raise
+            system = self._compiled_or_relaxed(key, description, context, equations, passes,
+                                               self.partitioned.equations, self.continuous, self.cache,
+                                               self.demand)
         except StructuralError as exc:
             hint = exc.hint
             if self.partitioned.is_hybrid and (self.systems or self.parts):
@@ -315,21 +311,34 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
         self._by_equations[signature] = system
         return system
 
-    def _relaxed(self, key: tuple, description: str, context: str, equations: tuple[FlatEquation, ...],
-                 passes: PassLog, cluster: Cluster | None = None) -> ModeSystem | None:
+    def _compiled_or_relaxed(self, key: tuple, description: str, context: str,
+                             equations: Sequence[FlatEquation], passes: PassLog, sources: Sequence[FlatEquation],
+                             variables: Mapping[str, FlatVariable], cache: ModelCache,
+                             demand: frozenset[str] | None, relations: Sequence[int] | None = None) -> ModeSystem:
+        """:func:`compile_mode` of the specialised ``equations`` (of the flat equations
+        ``sources``, in their order) over ``variables``: the whole model's, or one
+        independent part's.  A discrete state that constrains one motion twice (two
+        stuck friction elements on one shaft) is relaxed (:meth:`_relaxed`); other
+        structural errors are raised."""
+        try:
+            return compile_mode(key, description, context, equations, passes, self.partitioned, variables,
+                                cache, demand, relations)
+        except StructurallySingularError:
+            system = self._relaxed(key, description, context, equations, passes, sources, variables, cache,
+                                   demand, relations)
+            if system is None:
+                raise
+            return system
+
+    def _relaxed(self, key: tuple, description: str, context: str, equations: Sequence[FlatEquation],
+                 passes: PassLog, sources: Sequence[FlatEquation], variables: Mapping[str, FlatVariable],
+                 cache: ModelCache, demand: frozenset[str] | None,
+                 relations: Sequence[int] | None) -> ModeSystem | None:
         """The system of a discrete state that constrains one motion twice, made
-        solvable by :func:`relax_redundant` (None: not of that kind): the whole
-        model's, or with ``cluster`` that independent part's (``key`` its own)."""
+        solvable by :func:`relax_redundant` (None: not of that kind); the arguments
+        as :meth:`_compiled_or_relaxed`'s."""
         if not self.partitioned.is_hybrid or self.redundant_constraints != "relax":
             return None
-        if cluster is None:
-            sources, variables, cache, demand, relations = (
-                self.partitioned.equations, self.continuous, self.cache, self.demand, None)
-        else:
-            sources = [self.partitioned.equations[i] for i in cluster.equations]
-            variables = {n: self.continuous[n] for n in cluster.variables}
-            cache, demand, relations = (self._cluster_cache(cluster), self._cluster_demand(cluster),
-                                        cluster.relations)
         symbols = cache.parameters.symbols
         # the equations whose form the discrete state selects (not those that changed
         # only because a zero parameter was put in)
@@ -342,8 +351,8 @@ class Translation(PartSystems, Rebinding, PersistentSystems):
             return None
         relaxed, relaxation = found
         try:
-            system = compile_mode(key, description, context, relaxed, passes, self.partitioned,
-                                  variables, cache, demand, relations)
+            system = compile_mode(key, description, context, relaxed, passes, self.partitioned, variables,
+                                  cache, demand, relations)
         except StructuralError:
             return None
         # not warned here: every run that integrates in this state says so (the
