@@ -323,8 +323,12 @@ def remember(memo: dict, key, value, limit: int):
     (a dict keeps its insertion order); returns ``value``.  The bounded memos of generated
     functions and of the runtime's plans use it."""
     memo[key] = value
-    while len(memo) > limit:
-        memo.pop(next(iter(memo)))
+    excess = len(memo) - limit
+    if excess > 0:
+        # (from a snapshot of the keys, each dropped if still there: the threads of a sweep
+        # share these memos, and another may add or drop entries meanwhile)
+        for oldest in tuple(memo)[:excess]:
+            memo.pop(oldest, None)
     return value
 
 

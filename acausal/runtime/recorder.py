@@ -219,6 +219,8 @@ def _column_names(translation: CompiledModel) -> tuple[list[str], dict[str, int]
     """
     model = translation.data
     kept = getattr(translation, "extras", None)
+    # (one snapshot of the systems for the key and the names: the threads of a sweep share
+    # a translation, and another may enter a new discrete state meanwhile)
     systems = tuple(translation.systems.values())
     key = (model, translation.demand, systems)  # (kept: their addresses stay theirs)
     if kept is not None:
@@ -229,7 +231,7 @@ def _column_names(translation: CompiledModel) -> tuple[list[str], dict[str, int]
     continuous = [v.name for v in model.variables if not v.is_discrete]
     discrete_names = list(model.discrete_variables)
     derivative_names: dict[str, None] = {}  # (in order of first appearance)
-    for system in translation.systems.values():
+    for system in systems:
         derivative_names.update(dict.fromkeys(system.derivative_names))
     names = continuous + list(derivative_names) + discrete_names
     if translation.demand is not None:

@@ -595,8 +595,9 @@ class _Run:
     def _initialization_error(self, exc: BaseException) -> InitializationError:
         """A failure while solving for the initial values, naming the variable and the equation."""
         translation = self.translation
-        sources = [source for s in translation.initial_systems.values() for source in s.sources]
-        sources += [source for s in translation.systems.values() for source in s.sources]
+        # (snapshots of the tables: a sweep's threads share them and may add to them meanwhile)
+        sources = [source for s in tuple(translation.initial_systems.values()) for source in s.sources]
+        sources += [source for s in tuple(translation.systems.values()) for source in s.sources]
         variable, line = generated_line(exc, sources, translation.data.identifiers)
         what = exc.message if isinstance(exc, AcausalError) else f"{type(exc).__name__}: {exc}"
         where = (f" computing {variable} ({line})" if line and variable != "a value"

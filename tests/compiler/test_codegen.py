@@ -261,3 +261,23 @@ def test_a_function_whose_lines_do_not_parse_alone_is_taken_from_the_whole_sourc
     assert ast.dump(found, include_attributes=True) == ast.dump(_tree_of_whole_source(source, "crossings"),
                                                                 include_attributes=True)
     assert isinstance(found.body[-1], ast.Return)
+
+
+def test_a_bounded_memo_keeps_the_newest_and_bears_another_thread_dropping_too():
+    """generated.remember keeps the last ``limit`` entries in the order they came; the
+    threads of a sweep share its memos, so an entry another thread dropped first is no error."""
+    from acausal.compiler.generated import remember
+
+    memo: dict = {}
+    for k in range(10):
+        assert remember(memo, k, k * k, 4) == k * k
+    assert list(memo.items()) == [(6, 36), (7, 49), (8, 64), (9, 81)]
+
+    class DroppedMeanwhile(dict):
+        def pop(self, key, *default):
+            super().pop(key, None)  # the other thread's drop, just before this one's
+            return super().pop(key, *default)
+
+    shared = DroppedMeanwhile({k: k for k in range(4)})
+    remember(shared, 4, 4, 4)
+    assert list(shared) == [1, 2, 3, 4]

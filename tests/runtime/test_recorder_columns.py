@@ -94,3 +94,37 @@ def test_a_non_finite_output_in_a_later_block_cuts_the_rows_at_its_own_row(monke
     np.testing.assert_array_equal(whole.time, blocked.time)
     np.testing.assert_array_equal(whole["x"], blocked["x"])
     assert whole.error.message == blocked.error.message
+
+
+def test_the_column_names_come_from_one_snapshot_of_the_systems():
+    """The threads of a sweep share one translation: another thread may enter a new discrete
+    state (add a system) while a run names its columns. The names are made from the systems
+    as they were when asked for (a loop over the live table failed a sweep's run with
+    'dictionary changed size during iteration')."""
+    import types
+
+    from acausal.runtime.recorder import _column_names
+
+    translation = translate(get_case(suite().floor_case().case).make(), cache=False)
+    simulate(translation, stop_time=0.1)
+    systems: dict = {}
+
+    class EnteredMeanwhile:
+        """A system whose names, when read, coincide with another thread adding a system."""
+
+        def __init__(self, real):
+            self.real = real
+
+        @property
+        def derivative_names(self):
+            systems[("another", len(systems))] = self.real
+            return self.real.derivative_names
+
+    for key, system in translation.systems.items():
+        systems[key] = EnteredMeanwhile(system)
+    before = len(systems)
+    shared = types.SimpleNamespace(data=translation.data, demand=None, extras={}, systems=systems)
+    names, index, _parameters = _column_names(shared)
+    assert len(systems) > before  # the table grew while the names were made
+    expected = {d for s in translation.systems.values() for d in s.derivative_names}
+    assert expected <= set(names) and set(index) == set(names)
