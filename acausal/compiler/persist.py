@@ -581,8 +581,9 @@ class TranslationBundle:
         binding them to other values needs, as text.  JSON-able: no closure
         travels, only source.
     digest : str
-        SHA-256 of ``model`` and ``payloads``: a process keeps what it read
-        from a bundle by it.
+        SHA-256 of ``model``, ``demand``, ``redundant_constraints`` and
+        ``payloads``: a process keeps what it read from a bundle by it (two
+        sweeps of one model with other outputs are other bundles).
     """
 
     model: bytes
@@ -594,6 +595,8 @@ class TranslationBundle:
     def __post_init__(self) -> None:
         if not self.digest:
             digest = hashlib.sha256(self.model)
+            demand = None if self.demand is None else sorted(self.demand)
+            digest.update(json.dumps([demand, self.redundant_constraints]).encode())
             digest.update(json.dumps(self.payloads, sort_keys=True).encode())
             object.__setattr__(self, "digest", digest.hexdigest())
 

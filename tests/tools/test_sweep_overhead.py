@@ -210,3 +210,18 @@ def test_a_pool_of_threads_shares_one_reading_of_the_bundle(model, serial, taken
             result = module.sweep(model, GRID, OUTPUTS, executor=pool, chunk_size=1)
             _same_runs(result, serial)
     assert taken("read") == [os.getpid()]
+
+
+def test_bundles_of_one_model_with_other_outputs_are_other_bundles():
+    """A process keeps what it read of a bundle by its digest (a forked worker inherits it):
+    a bundle of the same model and systems with another output demand, or another choice for
+    redundant constraints, must not pass for it (a sweep of other outputs after a sweep in
+    threads once got the first sweep's columns: 'clutch1.tau' is not a variable)."""
+    same = dict(model=b"flat model", payloads={"mode (0,)": {"source": "..."}})
+    first = TranslationBundle(demand=frozenset({"J1.w", "J4.w"}), redundant_constraints="relax", **same)
+    assert TranslationBundle(demand=frozenset({"J4.w", "J1.w"}), redundant_constraints="relax",
+                             **same).digest == first.digest
+    others = [TranslationBundle(demand=frozenset({"J1.w", "clutch1.tau"}), redundant_constraints="relax", **same),
+              TranslationBundle(demand=None, redundant_constraints="relax", **same),
+              TranslationBundle(demand=frozenset({"J1.w", "J4.w"}), redundant_constraints="error", **same)]
+    assert len({first.digest, *(b.digest for b in others)}) == 4
